@@ -1,0 +1,36 @@
+#pragma once
+// Pairs images with poses. When the navigation names images, each such record
+// is a frame. When navigation is a time series and the images carry times
+// (an image-times CSV with columns image,time_s), poses are interpolated to
+// the image times: linear in position/altitude/depth/pitch/roll, on the circle
+// for heading. Images outside the navigation's time span are rejected.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/camera/vehicle_pose.h"
+#include "core/nav/nav_table.h"
+
+namespace seamap {
+
+struct FrameSpec {
+  int index = 0;                 // 0-based order of acquisition
+  std::string image_path;        // images_dir / image
+  std::string image;             // name as given
+  std::optional<double> time_s;
+  VehiclePose pose;
+  int nav_line = 0;              // source line (0 when interpolated)
+};
+
+struct FrameList {
+  std::vector<FrameSpec> frames;
+  std::vector<Rejection> rejected;
+};
+
+FrameList MatchFrames(const NavTable& nav, const std::string& images_dir,
+                      const std::optional<std::string>& image_times_csv);
+
+// Pose at time t interpolated from a time-sorted series; empty outside its span.
+std::optional<VehiclePose> InterpolatePose(const std::vector<NavRecord>& series, double t);
+
+}  // namespace seamap

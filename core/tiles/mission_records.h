@@ -1,0 +1,30 @@
+#pragma once
+// What a mission keeps besides tiles: every frame with its pose and footprint
+// (an index into the raw photos) and the vehicle track.
+#include <array>
+#include <optional>
+#include <string>
+
+#include "core/geo/lat_lon.h"
+
+namespace seamap {
+
+struct FrameRecord {
+  int id = 0;                    // frame index
+  std::string image;             // file name as in the navigation
+  std::string image_path;        // path used to read it
+  std::optional<double> time_s;
+  LatLon position;               // vehicle
+  double altitude_m = 0, depth_m = 0, heading_deg = 0, pitch_deg = 0, roll_deg = 0;
+  std::array<LatLon, 4> footprint{};  // image corners on the seabed (TL, TR, BR, BL)
+  std::string status;            // "used" or the rejection reason
+};
+
+struct TrackPoint {
+  int seq = 0;
+  std::optional<double> time_s;
+  LatLon position;
+  double altitude_m = 0, depth_m = 0, heading_deg = 0;
+};
+
+}  // namespace seamap

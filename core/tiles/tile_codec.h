@@ -1,0 +1,35 @@
+#pragma once
+// Tile image encoding. Tiles are 8-bit with alpha in RAM: CV_8UC2 (gray,
+// alpha) or CV_8UC4 (BGRA). PNG and WebP keep alpha; JPEG has none, so
+// transparent pixels are painted with the declared background colour.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+namespace seamap {
+
+enum class TileFormat { kPng, kJpeg, kWebp };
+
+// "png" | "jpg" | "jpeg" | "webp" -> format; throws InputError(source, 0, "tile_format", ...).
+TileFormat ParseTileFormat(const std::string& name, const std::string& source);
+std::string TileExtension(TileFormat f);  // "png", "jpg", "webp"
+std::string TileMimeType(TileFormat f);   // "image/png", ...
+
+struct TileEncoding {
+  TileFormat format = TileFormat::kPng;
+  int png_level = 1;       // zlib level 0..9
+  int jpeg_quality = 85;   // 1..100
+  int webp_quality = 85;   // 1..100 (101 = lossless)
+  cv::Scalar background{0, 0, 0};  // BGR used under transparent pixels in JPEG
+};
+
+std::vector<uint8_t> EncodeTile(const cv::Mat& tile, const TileEncoding& enc);
+
+// Decodes to CV_8UC2 when the data is gray (with or without alpha) and
+// CV_8UC4 otherwise; images without alpha come back fully opaque.
+// Throws std::runtime_error on undecodable data.
+cv::Mat DecodeTile(const std::vector<uint8_t>& bytes);
+
+}  // namespace seamap

@@ -1,0 +1,48 @@
+#pragma once
+// Where encoded tiles and the mission's records live. Implementations are
+// safe to call from several threads (one writer thread plus readers).
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/geo/web_mercator.h"
+#include "core/tiles/mission_records.h"
+
+namespace seamap {
+
+class TileStore {
+ public:
+  virtual ~TileStore() = default;
+
+  // Tiles. Put replaces any previous tile at the same id.
+  virtual void PutTile(const TileId& id, const std::vector<uint8_t>& bytes) = 0;
+  virtual std::optional<std::vector<uint8_t>> GetTile(const TileId& id) const = 0;
+  virtual int64_t TileCount() const = 0;
+
+  // Metadata (MBTiles metadata table / TileJSON keys). Values are strings as
+  // MBTiles 1.3 stores them ("bounds" = "w,s,e,n", "center" = "lon,lat,z").
+  virtual void SetMetadata(const std::string& key, const std::string& value) = 0;
+  virtual std::map<std::string, std::string> Metadata() const = 0;
+
+  // Mission records.
+  virtual void PutFrame(const FrameRecord& frame) = 0;
+  virtual void PutTrackPoint(const TrackPoint& point) = 0;
+  virtual std::vector<FrameRecord> Frames() const = 0;
+  virtual std::vector<TrackPoint> Track() const = 0;
+
+  // Makes everything written so far durable and visible to other readers
+  // (commits the open transaction / writes metadata files).
+  virtual void Flush() = 0;
+};
+
+// Opens or creates a store: a path ending in ".mbtiles" is an MBTiles file,
+// anything else a folder pyramid {z}/{x}/{y}.{ext} with metadata.json.
+// `extension` is the tile file extension used by folder stores ("png"...).
+// Throws InputError naming the path when it cannot be created or written.
+std::unique_ptr<TileStore> OpenTileStore(const std::string& path, const std::string& extension,
+                                         bool create);
+
+}  // namespace seamap

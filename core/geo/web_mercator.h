@@ -2,6 +2,7 @@
 // Web Mercator (EPSG:3857) XYZ tile arithmetic, as Leaflet and every web map
 // uses it: global pixel coordinates at zoom z run from (0,0) at the north-west
 // corner (lon -180, lat 85.051) to tile_size * 2^z at the south-east.
+#include <cstddef>
 #include <cstdint>
 
 #include "core/geo/lat_lon.h"

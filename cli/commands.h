@@ -1,0 +1,12 @@
+#pragma once
+// One function per subcommand; argv[first] is the first argument after the
+// subcommand name. Each returns the process exit code.
+namespace seamap::cli {
+
+int RunSimulate(int argc, char** argv, int first);        // cli/simulate_command.cc
+int RunBuild(int argc, char** argv, int first);           // cli/build_command.cc
+int RunInfo(int argc, char** argv, int first);            // cli/info_command.cc
+int RunEnhance(int argc, char** argv, int first);         // cli/enhance_command.cc
+int RunEnhanceReport(int argc, char** argv, int first);   // cli/enhance_command.cc
+
+}  // namespace seamap::cli

@@ -6,7 +6,8 @@ std::string Compose(const std::string& file, int line, const std::string& field,
                     const std::string& message) {
   std::string out = file;
   if (line > 0) out += ":" + std::to_string(line);
-  if (!field.empty()) out += (out.empty() ? "" : ": ") + std::string("field '") + field + "'";
+  // A bare parameter ("--origin") names itself; inside a file we say which field.
+  if (!field.empty()) out += out.empty() ? field : ": field '" + field + "'";
   if (!out.empty()) out += ": ";
   return out + message;
 }

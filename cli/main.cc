@@ -1,13 +1,48 @@
 // seamap: one executable, one subcommand per job.
 #include <cstdio>
 #include <cstring>
+#include <exception>
 #include <string>
 
+#include "cli/commands.h"
+#include "core/util/error.h"
+
+namespace {
+
+const char* kUsage =
+    "usage: seamap <command> [options]\n"
+    "\n"
+    "commands:\n"
+    "  simulate        render a test survey with exact ground truth\n"
+    "  build           build a georeferenced tile map from photos and navigation\n"
+    "  info            describe a built map (MBTiles file or tile folder)\n"
+    "  enhance         apply the image enhancement chain to one image\n"
+    "  enhance-report  measure what enhancement chains do to features and matches\n"
+    "\n"
+    "Run 'seamap <command> --help' for a command's options.\n";
+
+}  // namespace
+
 int main(int argc, char** argv) {
-  if (argc < 2 || !std::strcmp(argv[1], "--help")) {
-    std::puts("usage: seamap <simulate|build|info|enhance|enhance-report> [options]");
+  using namespace seamap::cli;
+  if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h")) {
+    std::fputs(kUsage, argc < 2 ? stderr : stdout);
     return argc < 2 ? 2 : 0;
   }
-  std::fprintf(stderr, "seamap: unknown command '%s'\n", argv[1]);
+  const std::string command = argv[1];
+  try {
+    if (command == "simulate") return RunSimulate(argc, argv, 2);
+    if (command == "build") return RunBuild(argc, argv, 2);
+    if (command == "info") return RunInfo(argc, argv, 2);
+    if (command == "enhance") return RunEnhance(argc, argv, 2);
+    if (command == "enhance-report") return RunEnhanceReport(argc, argv, 2);
+  } catch (const seamap::InputError& e) {
+    std::fprintf(stderr, "seamap %s: error: %s\n", command.c_str(), e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "seamap %s: failed: %s\n", command.c_str(), e.what());
+    return 1;
+  }
+  std::fprintf(stderr, "seamap: unknown command '%s'\n\n%s", command.c_str(), kUsage);
   return 2;
 }

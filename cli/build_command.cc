@@ -1,0 +1,106 @@
+// seamap build: photos + navigation + camera -> tile pyramid.
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <sstream>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "cli/args.h"
+#include "cli/build_setup.h"
+#include "cli/commands.h"
+#include "core/mosaic/mosaic_builder.h"
+#include "core/util/error.h"
+#include "core/util/progress.h"
+
+namespace seamap::cli {
+namespace {
+
+const char* kHelp =
+    "usage: seamap build --images DIR --nav FILE --camera FILE --out PATH [options]\n"
+    "\n"
+    "  --images DIR        folder with the photos named in the navigation\n"
+    "  --nav FILE          navigation CSV (or the seed paper's text format)\n"
+    "  --camera FILE       camera model: JSON, or OpenCV calibration YAML/XML\n"
+    "  --out PATH          NAME.mbtiles (one-file mission) or a folder for {z}/{x}/{y} tiles\n"
+    "  --origin LAT,LON    origin of local x_m/y_m positions (WGS84 degrees)\n"
+    "  --image-times FILE  CSV image,time_s when the navigation is a time series\n"
+    "  --config FILE       build settings (JSON, see config/)\n"
+    "  --tile-format F     png | jpg | webp        --tile-size 256|512\n"
+    "  --base-zoom Z       --min-zoom Z            --threads N\n"
+    "  --name TEXT         map name in the metadata\n"
+    "  --append            continue painting an existing map (tiles are read back and blended)\n"
+    "  --overwrite         replace an existing map\n"
+    "  --quiet             no progress bar\n";
+
+std::string Summary(const BuildStats& s) {
+  std::map<std::string, int> reasons;
+  for (const auto& r : s.rejections) ++reasons[r.reason.substr(0, r.reason.find(':'))];
+  std::ostringstream out;
+  out << "frames used " << s.frames_used << ", rejected " << s.rejections.size();
+  if (!reasons.empty()) {
+    out << " (";
+    bool first = true;
+    for (const auto& [reason, n] : reasons) {
+      out << (first ? "" : ", ") << n << " " << reason;
+      first = false;
+    }
+    out << ")";
+  }
+  int64_t distinct = 0;
+  for (const auto& [z, n] : s.tiles_per_zoom) distinct += n;
+  out << "; tiles written " << distinct << " (" << s.tiles_written << " writes, "
+      << s.tile_bytes / 1024 << " KiB); " << std::fixed;
+  out.precision(2);
+  out << s.seconds << " s";
+  if (s.seconds > 0) {
+    out.precision(1);
+    out << " (" << s.frames_seen / s.seconds << " frames/s)";
+  }
+  return out.str();
+}
+
+}  // namespace
+
+int RunBuild(int argc, char** argv, int first) {
+  Args args(argc, argv, first, {"append", "overwrite", "quiet", "help"});
+  if (args.Flag("help")) {
+    std::fputs(kHelp, stdout);
+    return 0;
+  }
+  BuildInputs in = ReadBuildInputs(args);
+  const std::string out = args.Require("out");
+  const bool append = args.Flag("append"), overwrite = args.Flag("overwrite");
+  const bool quiet = args.Flag("quiet");
+  args.RejectUnknown();
+
+  auto store = OpenOutput(out, in.config, append, overwrite);
+  MosaicPlan plan = PlanMosaic(in.config, in.camera, in.frame, in.frames.frames, in.channels);
+  std::fprintf(stderr,
+               "seamap build: %zu frames, GSD %.1f mm at %.3f N -> zooms %d..%d, %s tiles of %d px -> %s\n",
+               in.frames.frames.size(), plan.gsd_m * 1000, plan.latitude, plan.min_zoom,
+               plan.base_zoom, TileExtension(in.config.encoding.format).c_str(),
+               in.config.tile_size, out.c_str());
+  for (const auto& w : in.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+
+  MosaicBuilder builder(in.config, in.camera, in.frame, plan, store.get(), MakeHooks(in.config));
+  for (const auto& r : in.frames.rejected) builder.Reject(r);
+  ProgressBar progress("frames", static_cast<long>(in.frames.frames.size()), !quiet);
+  long n = 0;
+  for (const auto& f : in.frames.frames) {
+    builder.Push(f);
+    progress.Update(++n);
+  }
+  builder.Finish();
+  progress.Finish();
+  const BuildStats& s = builder.stats();
+  for (const auto& r : s.rejections) std::fprintf(stderr, "skipped: %s\n", r.Message().c_str());
+  std::printf("%s\n", Summary(s).c_str());
+  if (s.frames_used == 0) {
+    std::fprintf(stderr, "seamap build: error: no frame could be used\n");
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace seamap::cli

@@ -1,0 +1,92 @@
+#include "cli/build_setup.h"
+
+#include <filesystem>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "core/nav/nav_reader.h"
+#include "core/util/error.h"
+
+namespace seamap::cli {
+namespace fs = std::filesystem;
+
+namespace {
+
+// Gray or colour mosaic, from the first frame that can be read.
+int ProbeChannels(const FrameList& frames) {
+  for (const auto& f : frames.frames) {
+    std::error_code ec;
+    if (!fs::is_regular_file(f.image_path, ec)) continue;
+    cv::Mat m = cv::imread(f.image_path, cv::IMREAD_UNCHANGED);
+    if (!m.empty()) return m.channels() >= 3 ? 3 : 1;
+  }
+  return 1;
+}
+
+}  // namespace
+
+BuildInputs ReadBuildInputs(Args& args) {
+  BuildInputs in;
+  if (auto path = args.Get("config")) in.config = LoadBuildConfig(*path);
+  nlohmann::json overrides = nlohmann::json::object();
+  if (auto v = args.Get("tile-format")) overrides["tile_format"] = *v;
+  if (auto v = args.Get("name")) overrides["name"] = *v;
+  for (const char* key : {"tile-size", "base-zoom", "min-zoom", "threads"}) {
+    std::string k = key;
+    if (args.Get(k)) {
+      std::string json_key = k;
+      for (char& c : json_key)
+        if (c == '-') c = '_';
+      overrides[json_key] = args.GetInt(k, 0);
+    }
+  }
+  ApplyBuildConfig(overrides, "command line", &in.config);
+  if (auto v = args.Get("origin")) {
+    LatLonArg o = ParseLatLon(*v, "--origin");
+    in.config.nav.origin = LatLon{o.lat, o.lon};
+  }
+  if (auto v = args.Get("utm-zone")) in.config.nav.utm_zone = args.GetInt("utm-zone", 0);
+
+  in.camera = LoadCamera(args.Require("camera"));
+  const std::string images = args.Require("images");
+  std::error_code ec;
+  if (!fs::is_directory(images, ec))
+    throw InputError(images, 0, "--images", "is not a folder of photos");
+  NavTable nav = ReadNavigation(args.Require("nav"), in.config.nav);
+  in.frame = LocalFrame(nav.origin);
+  std::optional<std::string> image_times = args.Get("image-times");
+  in.frames = MatchFrames(nav, images, image_times);
+  in.frames.rejected.insert(in.frames.rejected.begin(), nav.rejected.begin(), nav.rejected.end());
+  in.channels = ProbeChannels(in.frames);
+  return in;
+}
+
+std::unique_ptr<TileStore> OpenOutput(const std::string& path, const BuildConfig& config,
+                                      bool append, bool overwrite) {
+  if (append && overwrite)
+    throw InputError("", 0, "--append", "cannot be combined with --overwrite");
+  const bool mbtiles = path.size() > 8 && path.compare(path.size() - 8, 8, ".mbtiles") == 0;
+  std::error_code ec;
+  const bool exists = mbtiles ? fs::exists(path, ec) : (fs::exists(path, ec) && !fs::is_empty(path, ec));
+  if (exists && !append) {
+    if (!overwrite)
+      throw InputError(path, 0, "--out",
+                       "already exists; use --append to continue painting it or --overwrite to replace it");
+    if (mbtiles) {
+      for (const char* suffix : {"", "-wal", "-shm"}) fs::remove(path + suffix, ec);
+    } else if (fs::exists(fs::path(path) / "metadata.json")) {
+      fs::remove_all(path, ec);
+    } else {
+      throw InputError(path, 0, "--out", "is a non-empty folder that is not a tile pyramid; refusing to delete it");
+    }
+  }
+  return OpenTileStore(path, TileExtension(config.encoding.format), /*create=*/true);
+}
+
+BuildHooks MakeHooks(const BuildConfig& config) {
+  BuildHooks hooks;
+  (void)config;  // the enhancement chain is wired in with core/enhance
+  return hooks;
+}
+
+}  // namespace seamap::cli

@@ -1,0 +1,38 @@
+#pragma once
+// What `build` (and later `replay`) read before the first frame: config,
+// camera, navigation, frame list, output store.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cli/args.h"
+#include "core/camera/camera_model.h"
+#include "core/geo/local_frame.h"
+#include "core/mosaic/build_config.h"
+#include "core/mosaic/mosaic_builder.h"
+#include "core/nav/frame_list.h"
+#include "core/tiles/tile_store.h"
+
+namespace seamap::cli {
+
+struct BuildInputs {
+  BuildConfig config;
+  CameraModel camera;
+  LocalFrame frame{LatLon{0, 0}};
+  FrameList frames;
+  int channels = 1;
+  std::vector<std::string> warnings;
+};
+
+// Reads --config, --camera, --nav, --images, --origin, --image-times and the
+// setting overrides (--tile-format, --tile-size, --base-zoom, ...).
+BuildInputs ReadBuildInputs(Args& args);
+
+// Opens the output map; an existing one is refused unless append/overwrite.
+std::unique_ptr<TileStore> OpenOutput(const std::string& path, const BuildConfig& config,
+                                      bool append, bool overwrite);
+
+// Hooks for the configured enhancement chain.
+BuildHooks MakeHooks(const BuildConfig& config);
+
+}  // namespace seamap::cli

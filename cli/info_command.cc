@@ -1,0 +1,60 @@
+// seamap info: what a built map holds.
+#include <cstdio>
+#include <filesystem>
+
+#include "cli/args.h"
+#include "cli/commands.h"
+#include "core/tiles/tile_store.h"
+#include "core/util/error.h"
+
+namespace seamap::cli {
+namespace fs = std::filesystem;
+
+namespace {
+uintmax_t SizeOnDisk(const std::string& path) {
+  std::error_code ec;
+  if (fs::is_regular_file(path, ec)) {
+    uintmax_t total = fs::file_size(path, ec);
+    for (const char* suffix : {"-wal", "-shm"})
+      if (fs::exists(path + suffix, ec)) total += fs::file_size(path + suffix, ec);
+    return total;
+  }
+  uintmax_t total = 0;
+  for (auto it = fs::recursive_directory_iterator(path, ec); it != fs::recursive_directory_iterator(); ++it)
+    if (it->is_regular_file(ec)) total += it->file_size(ec);
+  return total;
+}
+}  // namespace
+
+int RunInfo(int argc, char** argv, int first) {
+  Args args(argc, argv, first, {"help"});
+  if (args.Flag("help") || args.positionals().size() != 1) {
+    std::fputs("usage: seamap info MAP   (a .mbtiles file or a tile folder)\n",
+               args.Flag("help") ? stdout : stderr);
+    return args.Flag("help") ? 0 : 2;
+  }
+  args.RejectUnknown();
+  const std::string path = args.positionals()[0];
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw InputError(path, 0, "", "no such map");
+  auto store = OpenTileStore(path, "png", /*create=*/false);
+  auto meta = store->Metadata();
+  auto get = [&](const std::string& k) { return meta.count(k) ? meta[k] : std::string("-"); };
+  auto frames = store->Frames();
+  size_t used = 0;
+  for (const auto& f : frames) used += f.status == "used";
+  std::printf("map:       %s\n", path.c_str());
+  std::printf("name:      %s\n", get("name").c_str());
+  std::printf("format:    %s, %s px tiles\n", get("format").c_str(), get("seamap_tile_size").c_str());
+  std::printf("zooms:     %s..%s\n", get("minzoom").c_str(), get("maxzoom").c_str());
+  std::printf("bounds:    %s (w,s,e,n)\n", get("bounds").c_str());
+  std::printf("center:    %s\n", get("center").c_str());
+  std::printf("tiles:     %lld\n", static_cast<long long>(store->TileCount()));
+  std::printf("frames:    %zu (%zu used, %zu rejected)\n", frames.size(), used, frames.size() - used);
+  std::printf("track:     %zu points\n", store->Track().size());
+  std::printf("state:     %s\n", get("seamap_state").c_str());
+  std::printf("size:      %.1f MiB\n", SizeOnDisk(path) / 1048576.0);
+  return 0;
+}
+
+}  // namespace seamap::cli

@@ -1,0 +1,39 @@
+#pragma once
+// Everything that shapes a build, from a JSON config file (see config/*.json
+// and the README) with command-line overrides applied on top.
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "core/nav/nav_table.h"
+#include "core/tiles/tile_codec.h"
+
+namespace seamap {
+
+struct BuildConfig {
+  std::string name = "seamap mission";
+  std::string attribution = "SeaMap";
+  int tile_size = 256;                // 256 or 512
+  std::optional<int> base_zoom;       // default: from the ground sample distance
+  std::optional<int> min_zoom;        // default: where the survey fits one tile
+  TileEncoding encoding;
+  double feather_power = 1.0;         // weight = (edge tent)^power; higher favours frame centres
+  int linger_frames = 1;              // a tile is finished when this many frames in a row miss it
+  int memory_cap_mb = 512;            // base buffer + overview cache
+  int batch_frames = 25;              // overviews and a transaction are flushed this often
+  int threads = 0;                    // 0: one per core
+  double max_footprint_ratio = 25;    // reject frames whose footprint is this much larger than at nadir
+  int sixteen_bit_white = 65535;      // 16-bit frames are scaled to 8 bit by 255/white
+  NavReadOptions nav;                 // column names, utm zone, origin
+  std::optional<nlohmann::json> enhance;  // the enhancement chain (core/enhance), if any
+  std::string layers = "raw";         // "raw", "enhanced" or "both" (when enhance is set)
+};
+
+// Reads a config file; unknown keys and wrong types are InputErrors naming
+// the file and the key.
+BuildConfig LoadBuildConfig(const std::string& path);
+// Applies one JSON object of settings (the same keys as the file) onto config.
+void ApplyBuildConfig(const nlohmann::json& settings, const std::string& source, BuildConfig* config);
+
+}  // namespace seamap

@@ -1,0 +1,392 @@
+#include "core/mosaic/mosaic_builder.h"
+
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "core/camera/frame_projector.h"
+#include "core/util/error.h"
+
+namespace seamap {
+namespace {
+
+double Median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+// A JPEG that stops before its end-of-image marker decodes with grey garbage
+// at the bottom (libjpeg only warns), so check the marker ourselves.
+bool JpegLooksTruncated(const std::string& path) {
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  if (!in) return false;
+  const auto size = static_cast<std::streamoff>(in.tellg());
+  if (size < 4) return true;
+  const std::streamoff tail = std::min<std::streamoff>(size, 64);
+  std::string buf(static_cast<size_t>(tail), '\0');
+  in.seekg(size - tail);
+  in.read(buf.data(), tail);
+  // The marker may be followed by padding bytes.
+  return buf.rfind("\xFF\xD9") == std::string::npos;
+}
+
+bool IsJpegPath(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+  return ext == ".jpg" || ext == ".jpeg";
+}
+
+std::string FormatName(TileFormat f) { return TileExtension(f) == "jpg" ? "jpg" : TileExtension(f); }
+
+}  // namespace
+
+int64_t PeakRssBytes() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<int64_t>(usage.ru_maxrss) * 1024;
+}
+
+MosaicPlan PlanMosaic(const BuildConfig& config, const CameraModel& camera,
+                      const LocalFrame& frame, const std::vector<FrameSpec>& frames, int channels) {
+  MosaicPlan plan;
+  plan.channels = channels;
+  std::vector<double> altitudes, easts, norths;
+  double max_alt = 0;
+  for (const auto& f : frames) {
+    altitudes.push_back(f.pose.altitude_m);
+    easts.push_back(f.pose.east_m);
+    norths.push_back(f.pose.north_m);
+    max_alt = std::max(max_alt, f.pose.altitude_m);
+  }
+  const double median_alt = frames.empty() ? 2.0 : Median(altitudes);
+  plan.gsd_m = GroundSampleDistance(camera, median_alt);
+  LatLon centre = frame.ToLatLon({Median(easts), Median(norths)});
+  plan.latitude = centre.lat;
+  plan.base_zoom = config.base_zoom ? *config.base_zoom
+                                    : ZoomForGroundSampleDistance(plan.gsd_m, plan.latitude, config.tile_size);
+  plan.base_zoom = std::clamp(plan.base_zoom, 0, 30);
+  if (config.min_zoom) {
+    plan.min_zoom = std::min(*config.min_zoom, plan.base_zoom);
+  } else {
+    // The zoom at which the whole survey (positions plus the largest
+    // footprint radius) spans at most one tile.
+    double extent = 0;
+    if (!frames.empty()) {
+      auto [e0, e1] = std::minmax_element(easts.begin(), easts.end());
+      auto [n0, n1] = std::minmax_element(norths.begin(), norths.end());
+      const double radius = max_alt * std::hypot(camera.width / camera.fx, camera.height / camera.fy) / 2;
+      extent = std::max(*e1 - *e0, *n1 - *n0) + 2 * radius;
+    }
+    int z = plan.base_zoom;
+    while (z > 0 && extent > MetersPerPixel(plan.latitude, z, config.tile_size) * config.tile_size) --z;
+    plan.min_zoom = z;
+  }
+  return plan;
+}
+
+MosaicBuilder::MosaicBuilder(const BuildConfig& config, const CameraModel& camera,
+                             const LocalFrame& frame, const MosaicPlan& plan, TileStore* store,
+                             BuildHooks hooks)
+    : config_(config),
+      camera_(camera),
+      frame_(frame),
+      plan_(plan),
+      store_(store),
+      hooks_(std::move(hooks)),
+      warper_(camera, frame, plan.base_zoom, config.tile_size, plan.channels, config.feather_power),
+      pool_(std::make_unique<ThreadPool>(config.threads)),
+      start_(std::chrono::steady_clock::now()) {
+  writer_ = std::make_unique<TileWriter>(store, pool_.get(), config.encoding, hooks_.on_tile_written);
+  const size_t cap = static_cast<size_t>(config.memory_cap_mb) << 20;
+  pyramid_ = std::make_unique<OverviewPyramid>(writer_.get(), config.tile_size, plan.channels,
+                                               plan.min_zoom, plan.base_zoom, cap / 4);
+  WriteMetadata(false);
+  store_->Flush();
+}
+
+MosaicBuilder::~MosaicBuilder() {
+  // Let queued work drain before members go away (errors were already reported).
+  for (auto& f : in_flight_)
+    if (f.valid()) f.wait();
+}
+
+void MosaicBuilder::Push(const FrameSpec& spec) {
+  in_flight_.push_back(pool_->Submit([this, spec] { return Prepare(spec); }));
+  const size_t depth = static_cast<size_t>(2 * pool_->size() + 2);
+  while (in_flight_.size() > depth) {
+    Prepared p = in_flight_.front().get();
+    in_flight_.pop_front();
+    Consume(std::move(p));
+  }
+}
+
+void MosaicBuilder::Reject(const Rejection& rejection) {
+  ++stats_.frames_seen;
+  stats_.rejections.push_back(rejection);
+}
+
+MosaicBuilder::Prepared MosaicBuilder::Prepare(const FrameSpec& spec) const {
+  Prepared p;
+  p.spec = spec;
+  p.footprint = warper_.Footprint(spec.pose);
+  auto reject = [&](std::string field, std::string reason) {
+    p.reject_field = std::move(field);
+    p.reject_reason = std::move(reason);
+    return p;
+  };
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(spec.image_path, ec))
+    return reject("image", "missing image");
+  if (IsJpegPath(spec.image_path) && JpegLooksTruncated(spec.image_path))
+    return reject("image", "truncated JPEG (no end-of-image marker)");
+  cv::Mat raw = cv::imread(spec.image_path, cv::IMREAD_UNCHANGED);
+  if (raw.empty()) return reject("image", "unreadable image");
+  if (raw.cols != camera_.width || raw.rows != camera_.height) {
+    std::ostringstream s;
+    s << "image is " << raw.cols << "x" << raw.rows << ", the camera model expects "
+      << camera_.width << "x" << camera_.height;
+    return reject("image", s.str());
+  }
+  if (!p.footprint) return reject("pitch_deg/roll_deg", "the camera does not see the seabed in this attitude");
+  // Nearly horizontal views smear one frame over a huge area: refuse them.
+  const double nadir_area = (camera_.width * spec.pose.altitude_m / camera_.fx) *
+                            (camera_.height * spec.pose.altitude_m / camera_.fy);
+  double area = 0;
+  {
+    std::array<LocalXY, 4> pts;
+    for (int i = 0; i < 4; ++i) pts[i] = frame_.FromLatLon((*p.footprint)[i]);
+    for (int i = 0; i < 4; ++i) {
+      const auto& a = pts[i];
+      const auto& b = pts[(i + 1) % 4];
+      area += a.east * b.north - b.east * a.north;
+    }
+    area = std::fabs(area) / 2;
+  }
+  if (area > config_.max_footprint_ratio * nadir_area) {
+    std::ostringstream s;
+    s << "footprint is " << std::lround(area / nadir_area) << "x the nadir footprint (limit "
+      << config_.max_footprint_ratio << "): attitude too steep";
+    return reject("pitch_deg/roll_deg", s.str());
+  }
+  cv::Mat eight = ToEightBit(raw, plan_.channels, config_.sixteen_bit_white);
+  if (hooks_.preprocess) eight = hooks_.preprocess(eight);
+  p.warped = warper_.Warp(eight, spec.pose);
+  if (!p.warped) return reject("pitch_deg/roll_deg", "the camera does not see the seabed in this attitude");
+  return p;
+}
+
+void MosaicBuilder::Consume(Prepared p) {
+  ++stats_.frames_seen;
+  FrameRecord record;
+  record.id = p.spec.index;
+  record.image = p.spec.image;
+  record.image_path = p.spec.image_path;
+  record.time_s = p.spec.time_s;
+  record.position = frame_.ToLatLon({p.spec.pose.east_m, p.spec.pose.north_m});
+  record.altitude_m = p.spec.pose.altitude_m;
+  record.depth_m = p.spec.pose.depth_m;
+  record.heading_deg = p.spec.pose.heading_deg;
+  record.pitch_deg = p.spec.pose.pitch_deg;
+  record.roll_deg = p.spec.pose.roll_deg;
+  if (p.footprint) record.footprint = *p.footprint;
+
+  if (p.warped) {
+    Paint(*p.warped);
+    ++stats_.frames_used;
+    record.status = "used";
+    LatLonBounds fb{180, 90, -180, -90};
+    for (const auto& c : *p.footprint) {
+      fb.west = std::min(fb.west, c.lon); fb.east = std::max(fb.east, c.lon);
+      fb.south = std::min(fb.south, c.lat); fb.north = std::max(fb.north, c.lat);
+    }
+    if (!stats_.bounds) stats_.bounds = fb;
+    else {
+      stats_.bounds->west = std::min(stats_.bounds->west, fb.west);
+      stats_.bounds->east = std::max(stats_.bounds->east, fb.east);
+      stats_.bounds->south = std::min(stats_.bounds->south, fb.south);
+      stats_.bounds->north = std::max(stats_.bounds->north, fb.north);
+    }
+  } else {
+    record.status = p.reject_reason;
+    stats_.rejections.push_back({p.spec.image_path, p.spec.nav_line, p.reject_field, p.reject_reason});
+  }
+  store_->PutFrame(record);
+  TrackPoint point;
+  point.seq = track_seq_++;
+  point.time_s = p.spec.time_s;
+  point.position = record.position;
+  point.altitude_m = record.altitude_m;
+  point.depth_m = record.depth_m;
+  point.heading_deg = record.heading_deg;
+  store_->PutTrackPoint(point);
+  if (hooks_.on_frame) hooks_.on_frame(record);
+
+  ++consumed_;
+  FinishTiles(false);
+  if (consumed_ % config_.batch_frames == 0) FlushBatch();
+}
+
+void MosaicBuilder::Paint(const WarpedFrame& warped) {
+  const int ts = config_.tile_size;
+  const int64_t tx0 = warped.x0 / ts, ty0 = warped.y0 / ts;
+  const int64_t tx1 = (warped.x0 + warped.pixels.cols - 1) / ts;
+  const int64_t ty1 = (warped.y0 + warped.pixels.rows - 1) / ts;
+  // The footprint in global pixels, to skip tiles inside the bounding box
+  // that the (rotated) frame does not actually reach.
+  std::vector<cv::Point2f> quad;
+  for (const auto& c : warped.footprint) {
+    GlobalPixel g = LatLonToPixel(c, plan_.base_zoom, ts);
+    quad.emplace_back(static_cast<float>(g.x - warped.x0), static_cast<float>(g.y - warped.y0));
+  }
+  for (int64_t ty = ty0; ty <= ty1; ++ty) {
+    for (int64_t tx = tx0; tx <= tx1; ++tx) {
+      const float rx = static_cast<float>(tx * ts - warped.x0), ry = static_cast<float>(ty * ts - warped.y0);
+      std::vector<cv::Point2f> rect{{rx, ry}, {rx + ts, ry}, {rx + ts, ry + ts}, {rx, ry + ts}};
+      std::vector<cv::Point2f> overlap;
+      if (cv::intersectConvexConvex(quad, rect, overlap, true) <= 0.0f) continue;
+      TileId id{plan_.base_zoom, static_cast<int>(tx), static_cast<int>(ty)};
+      auto it = buffer_.find(id);
+      if (it == buffer_.end()) {
+        Slot slot;
+        slot.accumulator = std::make_unique<TileAccumulator>(ts, plan_.channels, tx * ts, ty * ts);
+        cv::Mat previous = ReadBack(id);
+        if (!previous.empty()) {
+          slot.accumulator->Seed(previous);
+          ++stats_.readbacks;
+        }
+        buffer_bytes_ += slot.accumulator->Bytes();
+        it = buffer_.emplace(id, std::move(slot)).first;
+      }
+      it->second.accumulator->Blend(warped);
+      it->second.last_frame = consumed_;
+    }
+  }
+}
+
+cv::Mat MosaicBuilder::ReadBack(const TileId& id) {
+  auto tile = writer_->Read(id);
+  if (!tile || tile->rows != config_.tile_size) return {};
+  cv::Mat t = *tile;
+  if (t.channels() != plan_.channels + 1) {
+    cv::Mat converted;
+    cv::cvtColor(t, converted, plan_.channels == 1 ? cv::COLOR_BGRA2GRAY : cv::COLOR_GRAY2BGRA);
+    if (plan_.channels == 1) {  // keep alpha
+      std::vector<cv::Mat> planes;
+      cv::split(t, planes);
+      cv::Mat pair[] = {converted, planes[3]};
+      cv::merge(pair, 2, converted);
+    }
+    t = converted;
+  }
+  if (config_.encoding.format == TileFormat::kJpeg) {
+    // JPEG has no alpha: pixels that still show the background colour are empty.
+    const cv::Scalar& bg = config_.encoding.background;
+    for (int y = 0; y < t.rows; ++y) {
+      uint8_t* p = t.ptr<uint8_t>(y);
+      for (int x = 0; x < t.cols; ++x, p += t.channels()) {
+        bool is_bg = true;
+        for (int c = 0; c < plan_.channels; ++c)
+          is_bg &= std::abs(p[c] - static_cast<int>(plan_.channels == 1 ? bg[0] : bg[c])) <= 3;
+        if (is_bg) p[plan_.channels] = 0;
+      }
+    }
+  }
+  return t;
+}
+
+void MosaicBuilder::FinishTiles(bool all) {
+  std::vector<TileId> done;
+  for (const auto& [id, slot] : buffer_)
+    if (all || consumed_ - slot.last_frame >= config_.linger_frames) done.push_back(id);
+  // Memory cap: finish the least recently painted tiles first.
+  const size_t cap = (static_cast<size_t>(config_.memory_cap_mb) << 20) * 3 / 4;
+  if (!all && buffer_bytes_ > cap) {
+    std::vector<std::pair<int, TileId>> by_age;
+    for (const auto& [id, slot] : buffer_)
+      if (consumed_ - slot.last_frame < config_.linger_frames) by_age.push_back({slot.last_frame, id});
+    std::sort(by_age.begin(), by_age.end());
+    size_t bytes = buffer_bytes_;
+    for (const auto& [age, id] : by_age) {
+      if (bytes <= cap) break;
+      bytes -= buffer_.at(id).accumulator->Bytes();
+      done.push_back(id);
+    }
+  }
+  std::sort(done.begin(), done.end());
+  for (const TileId& id : done) FinishTile(id);
+}
+
+void MosaicBuilder::FinishTile(const TileId& id) {
+  auto it = buffer_.find(id);
+  cv::Mat tile = it->second.accumulator->Finalize();
+  buffer_bytes_ -= it->second.accumulator->Bytes();
+  buffer_.erase(it);
+  writer_->Submit(id, tile);
+  pyramid_->UpdateChild(id, tile);
+}
+
+void MosaicBuilder::FlushBatch() {
+  pyramid_->Flush();
+  WriteMetadata(false);
+  writer_->Flush();
+}
+
+void MosaicBuilder::Finish() {
+  if (finished_) return;
+  while (!in_flight_.empty()) {
+    Prepared p = in_flight_.front().get();
+    in_flight_.pop_front();
+    Consume(std::move(p));
+  }
+  FinishTiles(true);
+  pyramid_->Flush();
+  writer_->Flush();
+  stats_.tiles_written = writer_->tiles_written();
+  stats_.tile_bytes = writer_->bytes_written();
+  stats_.tiles_per_zoom = writer_->distinct_tiles_per_zoom();
+  WriteMetadata(true);
+  store_->Flush();
+  stats_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  finished_ = true;
+}
+
+void MosaicBuilder::WriteMetadata(bool complete) {
+  auto num = [](double v) {
+    std::ostringstream s;
+    s.precision(10);
+    s << v;
+    return s.str();
+  };
+  store_->SetMetadata("name", config_.name);
+  store_->SetMetadata("format", FormatName(config_.encoding.format));
+  store_->SetMetadata("type", "overlay");
+  store_->SetMetadata("version", "1");
+  store_->SetMetadata("description", "Seabed photo map built by SeaMap");
+  store_->SetMetadata("attribution", config_.attribution);
+  store_->SetMetadata("minzoom", std::to_string(plan_.min_zoom));
+  store_->SetMetadata("maxzoom", std::to_string(plan_.base_zoom));
+  store_->SetMetadata("seamap_tile_size", std::to_string(config_.tile_size));
+  store_->SetMetadata("seamap_gsd_m", num(plan_.gsd_m));
+  store_->SetMetadata("seamap_channels", std::to_string(plan_.channels));
+  store_->SetMetadata("seamap_origin", num(frame_.origin().lat) + "," + num(frame_.origin().lon));
+  store_->SetMetadata("seamap_state", complete ? "complete" : "building");
+  store_->SetMetadata("seamap_frames_used", std::to_string(stats_.frames_used));
+  store_->SetMetadata("seamap_frames_rejected", std::to_string(stats_.rejections.size()));
+  if (stats_.bounds) {
+    const auto& b = *stats_.bounds;
+    store_->SetMetadata("bounds", num(b.west) + "," + num(b.south) + "," + num(b.east) + "," + num(b.north));
+    const int centre_zoom = std::max(plan_.min_zoom, std::min(plan_.base_zoom, plan_.min_zoom + 2));
+    store_->SetMetadata("center", num((b.west + b.east) / 2) + "," + num((b.south + b.north) / 2) + "," +
+                                      std::to_string(centre_zoom));
+  }
+}
+
+}  // namespace seamap

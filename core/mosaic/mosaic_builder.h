@@ -1,0 +1,125 @@
+#pragma once
+// The frame pipeline: frames are loaded, checked and warped in parallel on a
+// thread pool, then blended in acquisition order into base-zoom tiles kept in
+// a RAM buffer. A tile is finished when `linger_frames` frames in a row have
+// missed it (the seed paper's rule for linger 1) or when the buffer reaches
+// its memory cap; finished tiles are encoded and written in the background and
+// feed the overview pyramid. A tile that is touched again after it was
+// written is read back and blended, never overwritten.
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <future>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "core/camera/camera_model.h"
+#include "core/geo/local_frame.h"
+#include "core/geo/web_mercator.h"
+#include "core/mosaic/build_config.h"
+#include "core/mosaic/frame_warper.h"
+#include "core/mosaic/overview_pyramid.h"
+#include "core/mosaic/tile_accumulator.h"
+#include "core/mosaic/tile_writer.h"
+#include "core/nav/frame_list.h"
+#include "core/tiles/tile_store.h"
+#include "core/util/thread_pool.h"
+
+namespace seamap {
+
+// Decisions made before the first frame: zooms, colour, bounds estimate.
+struct MosaicPlan {
+  int base_zoom = 0;
+  int min_zoom = 0;
+  int channels = 1;         // 1 gray, 3 colour
+  double gsd_m = 0;         // ground sample distance at the median altitude
+  double latitude = 0;      // survey latitude used for the zoom choice
+};
+
+MosaicPlan PlanMosaic(const BuildConfig& config, const CameraModel& camera,
+                      const LocalFrame& frame, const std::vector<FrameSpec>& frames, int channels);
+
+struct BuildStats {
+  int frames_seen = 0;
+  int frames_used = 0;
+  std::vector<Rejection> rejections;  // frames skipped, with reasons
+  int64_t tiles_written = 0;          // store writes, rewrites included
+  int64_t tile_bytes = 0;
+  std::map<int, int64_t> tiles_per_zoom;  // distinct tiles
+  int64_t readbacks = 0;              // tiles read back to continue painting
+  double seconds = 0;
+  std::optional<LatLonBounds> bounds;
+};
+
+struct BuildHooks {
+  std::function<void(const TileId&, uint64_t version)> on_tile_written;  // worker thread
+  std::function<void(const FrameRecord&)> on_frame;                        // builder's thread
+  // Applied to every 8-bit frame before warping (the enhancement chain); thread-safe.
+  std::function<cv::Mat(const cv::Mat&)> preprocess;
+};
+
+class MosaicBuilder {
+ public:
+  MosaicBuilder(const BuildConfig& config, const CameraModel& camera, const LocalFrame& frame,
+                const MosaicPlan& plan, TileStore* store, BuildHooks hooks = {});
+  ~MosaicBuilder();
+
+  // Queues a frame; blocks while the pipeline is full. Frames must come in acquisition order.
+  void Push(const FrameSpec& frame);
+  // Rejects a frame before it enters the pipeline (e.g. navigation problems).
+  void Reject(const Rejection& rejection);
+  // Blends everything queued, writes all tiles, overviews and metadata, commits.
+  void Finish();
+
+  const BuildStats& stats() const { return stats_; }
+  const MosaicPlan& plan() const { return plan_; }
+
+ private:
+  struct Prepared {
+    FrameSpec spec;
+    std::optional<WarpedFrame> warped;
+    std::optional<std::array<LatLon, 4>> footprint;
+    std::string reject_field, reject_reason;
+  };
+  struct Slot {
+    std::unique_ptr<TileAccumulator> accumulator;
+    int last_frame = 0;
+  };
+
+  Prepared Prepare(const FrameSpec& spec) const;
+  void Consume(Prepared prepared);
+  void Paint(const WarpedFrame& warped);
+  void FinishTiles(bool all);
+  void FinishTile(const TileId& id);
+  void FlushBatch();
+  void WriteMetadata(bool complete);
+  cv::Mat ReadBack(const TileId& id);
+
+  BuildConfig config_;
+  CameraModel camera_;
+  LocalFrame frame_;
+  MosaicPlan plan_;
+  TileStore* store_;
+  BuildHooks hooks_;
+  FrameWarper warper_;
+  std::unique_ptr<ThreadPool> pool_;
+  std::unique_ptr<TileWriter> writer_;
+  std::unique_ptr<OverviewPyramid> pyramid_;
+  std::deque<std::future<Prepared>> in_flight_;
+  std::unordered_map<TileId, Slot, TileIdHash> buffer_;
+  size_t buffer_bytes_ = 0;
+  int consumed_ = 0;
+  int track_seq_ = 0;
+  BuildStats stats_;
+  std::chrono::steady_clock::time_point start_;
+  bool finished_ = false;
+};
+
+// Peak resident memory of this process so far, bytes.
+int64_t PeakRssBytes();
+
+}  // namespace seamap

@@ -1,0 +1,83 @@
+#include "core/mosaic/tile_accumulator.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace seamap {
+
+TileAccumulator::TileAccumulator(int tile_size, int channels, int64_t origin_x, int64_t origin_y)
+    : tile_size_(tile_size),
+      channels_(channels),
+      origin_x_(origin_x),
+      origin_y_(origin_y),
+      sum_(tile_size, tile_size, CV_32FC(channels), cv::Scalar::all(0)),
+      weight_(tile_size, tile_size, CV_32F, cv::Scalar(0)) {}
+
+void TileAccumulator::Seed(const cv::Mat& tile) {
+  CV_Assert(tile.rows == tile_size_ && tile.cols == tile_size_ && tile.channels() == channels_ + 1);
+  for (int y = 0; y < tile_size_; ++y) {
+    const uint8_t* src = tile.ptr<uint8_t>(y);
+    float* s = sum_.ptr<float>(y);
+    float* w = weight_.ptr<float>(y);
+    for (int x = 0; x < tile_size_; ++x, src += channels_ + 1, s += channels_) {
+      if (src[channels_] == 0) continue;
+      for (int c = 0; c < channels_; ++c) s[c] += src[c];
+      w[x] += 1.0f;
+    }
+  }
+}
+
+bool TileAccumulator::Blend(const WarpedFrame& frame) {
+  const int64_t x_begin = std::max(origin_x_, frame.x0);
+  const int64_t y_begin = std::max(origin_y_, frame.y0);
+  const int64_t x_end = std::min(origin_x_ + tile_size_, frame.x0 + frame.pixels.cols);
+  const int64_t y_end = std::min(origin_y_ + tile_size_, frame.y0 + frame.pixels.rows);
+  if (x_begin >= x_end || y_begin >= y_end) return false;
+  const int n = static_cast<int>(x_end - x_begin);
+  const int stride = channels_ + 1;
+  constexpr float kScale = 1.0f / 255.0f;
+  for (int64_t gy = y_begin; gy < y_end; ++gy) {
+    const uint8_t* src = frame.pixels.ptr<uint8_t>(static_cast<int>(gy - frame.y0)) +
+                         (x_begin - frame.x0) * stride;
+    const int ty = static_cast<int>(gy - origin_y_);
+    const int tx = static_cast<int>(x_begin - origin_x_);
+    float* s = sum_.ptr<float>(ty) + tx * channels_;
+    float* w = weight_.ptr<float>(ty) + tx;
+    if (channels_ == 1) {
+      for (int i = 0; i < n; ++i) {
+        const float wt = src[2 * i + 1] * kScale;
+        s[i] += wt * src[2 * i];
+        w[i] += wt;
+      }
+    } else {
+      for (int i = 0; i < n; ++i) {
+        const uint8_t* p = src + 4 * i;
+        const float wt = p[3] * kScale;
+        s[3 * i] += wt * p[0];
+        s[3 * i + 1] += wt * p[1];
+        s[3 * i + 2] += wt * p[2];
+        w[i] += wt;
+      }
+    }
+  }
+  return true;
+}
+
+cv::Mat TileAccumulator::Finalize() const {
+  cv::Mat out(tile_size_, tile_size_, CV_8UC(channels_ + 1), cv::Scalar::all(0));
+  for (int y = 0; y < tile_size_; ++y) {
+    const float* s = sum_.ptr<float>(y);
+    const float* w = weight_.ptr<float>(y);
+    uint8_t* d = out.ptr<uint8_t>(y);
+    for (int x = 0; x < tile_size_; ++x, s += channels_, d += channels_ + 1) {
+      if (w[x] <= 0) continue;
+      const float inv = 1.0f / w[x];
+      for (int c = 0; c < channels_; ++c)
+        d[c] = static_cast<uint8_t>(std::min(255.0f, s[c] * inv + 0.5f));
+      d[channels_] = 255;
+    }
+  }
+  return out;
+}
+
+}  // namespace seamap

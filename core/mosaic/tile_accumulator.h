@@ -1,0 +1,37 @@
+#pragma once
+// One base-zoom tile being painted: a running weighted sum of every frame
+// that touched it, so overlaps blend by feather weight instead of the seed's
+// hard overwrite. Finalised to 8-bit colour plus alpha (255 where any frame
+// contributed, 0 elsewhere).
+#include <cstdint>
+
+#include <opencv2/core.hpp>
+
+#include "core/mosaic/frame_warper.h"
+
+namespace seamap {
+
+class TileAccumulator {
+ public:
+  TileAccumulator(int tile_size, int channels, int64_t origin_x, int64_t origin_y);
+
+  // Continues from a tile written earlier (CV_8UC2 / CV_8UC4 with alpha):
+  // its covered pixels count as one full-weight observation.
+  void Seed(const cv::Mat& tile);
+
+  // Adds the part of `frame` that overlaps this tile. Returns true if it overlapped.
+  bool Blend(const WarpedFrame& frame);
+
+  // CV_8UC2 (gray, alpha) or CV_8UC4 (BGRA).
+  cv::Mat Finalize() const;
+
+  size_t Bytes() const { return sum_.total() * sum_.elemSize() + weight_.total() * weight_.elemSize(); }
+
+ private:
+  int tile_size_, channels_;
+  int64_t origin_x_, origin_y_;  // global pixel of the tile's top-left pixel
+  cv::Mat sum_;     // CV_32FC(channels): sum of weight * value
+  cv::Mat weight_;  // CV_32F: sum of weights
+};
+
+}  // namespace seamap

@@ -1,0 +1,83 @@
+#include "core/mosaic/tile_writer.h"
+
+namespace seamap {
+
+TileWriter::TileWriter(TileStore* store, ThreadPool* pool, TileEncoding encoding,
+                       std::function<void(const TileId&, uint64_t)> on_written)
+    : store_(store), pool_(pool), encoding_(encoding), on_written_(std::move(on_written)) {}
+
+TileWriter::~TileWriter() {
+  for (auto& f : in_flight_)
+    if (f.valid()) f.wait();
+}
+
+void TileWriter::Submit(const TileId& id, const cv::Mat& tile) {
+  uint64_t version;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    version = next_version_++;
+    pending_[id] = {tile, version};
+    seen_[id] = true;
+    // Drop futures that are done so the list stays short.
+    if (in_flight_.size() > 256) {
+      std::vector<std::future<void>> still;
+      for (auto& f : in_flight_) {
+        if (f.wait_for(std::chrono::seconds(0)) == std::future_status::ready) f.get();
+        else still.push_back(std::move(f));
+      }
+      in_flight_.swap(still);
+    }
+  }
+  auto job = pool_->Submit([this, id, tile, version] { Encode(id, tile, version); });
+  std::lock_guard<std::mutex> lock(mutex_);
+  in_flight_.push_back(std::move(job));
+}
+
+void TileWriter::Encode(TileId id, cv::Mat tile, uint64_t version) {
+  std::vector<uint8_t> bytes = EncodeTile(tile, encoding_);
+  std::lock_guard<std::mutex> order(store_mutex_);
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto it = pending_.find(id);
+    if (it == pending_.end() || it->second.version != version) return;  // a newer one follows
+  }
+  store_->PutTile(id, bytes);
+  ++written_;
+  bytes_ += static_cast<int64_t>(bytes.size());
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto it = pending_.find(id);
+    if (it != pending_.end() && it->second.version == version) pending_.erase(it);
+  }
+  if (on_written_) on_written_(id, version);
+}
+
+std::optional<cv::Mat> TileWriter::Read(const TileId& id) const {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto it = pending_.find(id);
+    if (it != pending_.end()) return it->second.tile.clone();
+  }
+  auto bytes = store_->GetTile(id);
+  if (!bytes) return std::nullopt;
+  return DecodeTile(*bytes);
+}
+
+void TileWriter::Flush() {
+  std::vector<std::future<void>> jobs;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    jobs.swap(in_flight_);
+  }
+  for (auto& f : jobs) f.get();  // rethrows encoder/store errors
+  store_->Flush();
+}
+
+std::map<int, int64_t> TileWriter::distinct_tiles_per_zoom() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::map<int, int64_t> out;
+  for (const auto& [id, _] : seen_) ++out[id.z];
+  return out;
+}
+
+}  // namespace seamap

@@ -1,0 +1,64 @@
+#pragma once
+// Encodes finished tiles on the thread pool and writes them to the store,
+// newest version wins. Until a tile is in the store its raw pixels stay in
+// `pending_`, so reading a tile back always sees the latest version.
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <future>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <unordered_map>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "core/geo/web_mercator.h"
+#include "core/tiles/tile_codec.h"
+#include "core/tiles/tile_store.h"
+#include "core/util/thread_pool.h"
+
+namespace seamap {
+
+class TileWriter {
+ public:
+  // on_written(id, version) runs on a worker thread after each store write.
+  TileWriter(TileStore* store, ThreadPool* pool, TileEncoding encoding,
+             std::function<void(const TileId&, uint64_t)> on_written = nullptr);
+  ~TileWriter();
+
+  // tile: CV_8UC2 / CV_8UC4 with alpha; takes a reference, do not modify it later.
+  void Submit(const TileId& id, const cv::Mat& tile);
+
+  // The latest version of a tile (pending or stored), decoded; nullopt if none.
+  std::optional<cv::Mat> Read(const TileId& id) const;
+
+  // Waits for every submitted tile to be written, then commits the store.
+  void Flush();
+
+  int64_t tiles_written() const { return written_; }       // store writes
+  int64_t bytes_written() const { return bytes_; }
+  std::map<int, int64_t> distinct_tiles_per_zoom() const;  // tiles that exist, by zoom
+
+ private:
+  struct Pending {
+    cv::Mat tile;
+    uint64_t version;
+  };
+  void Encode(TileId id, cv::Mat tile, uint64_t version);
+
+  TileStore* store_;
+  ThreadPool* pool_;
+  TileEncoding encoding_;
+  std::function<void(const TileId&, uint64_t)> on_written_;
+  mutable std::mutex mutex_;
+  std::unordered_map<TileId, Pending, TileIdHash> pending_;
+  std::unordered_map<TileId, bool, TileIdHash> seen_;
+  std::vector<std::future<void>> in_flight_;
+  uint64_t next_version_ = 1;
+  std::atomic<int64_t> written_{0}, bytes_{0};
+  std::mutex store_mutex_;  // orders the check-newest-then-put step
+};
+
+}  // namespace seamap

@@ -1,9 +1,16 @@
 #pragma once
 // Pinhole camera with OpenCV's Brown-Conrady distortion (k1,k2,p1,p2,k3) and
-// its mounting on the vehicle. Default mounting: optical axis straight down,
-// image top towards the vehicle's bow, image right towards starboard.
+// its mounting on the vehicle.
+//
+// Frames:
+//  - camera (OpenCV): x = image right, y = image down, z = optical axis.
+//  - body: x forward (bow), y starboard, z down.
+// Default mounting: optical axis straight down, image top towards the bow,
+// image right towards starboard (camera x -> body +y, camera y -> body -x,
+// camera z -> body +z).
 #include <array>
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
@@ -13,13 +20,15 @@ namespace seamap {
 struct CameraModel {
   int width = 0;
   int height = 0;
-  double fx = 0, fy = 0, cx = 0, cy = 0;
-  std::array<double, 5> distortion{};  // k1, k2, p1, p2, k3
+  double fx = 0, fy = 0, cx = 0, cy = 0;  // pixels; pixel centres at integers
+  std::array<double, 5> distortion{};    // k1, k2, p1, p2, k3
 
   // Extra rotation of the camera relative to the default downward mounting,
-  // degrees, applied as roll (about image y... see camera_model.cc), and the
-  // camera's offset from the navigation reference point in the vehicle frame
-  // (x forward, y starboard, z down), metres.
+  // degrees, as (roll, pitch, yaw) about the BODY axes (x fwd, y stbd, z down):
+  // R_mount = Rz(yaw) * Ry(pitch) * Rx(roll), so pitch +10 tilts the optical
+  // axis forward, roll +10 tilts it towards port, yaw +90 turns image right
+  // towards aft. And the camera's offset from the navigation reference point
+  // in the body frame (x forward, y starboard, z down), metres.
   Eigen::Vector3d mount_rpy_deg = Eigen::Vector3d::Zero();
   Eigen::Vector3d mount_offset_m = Eigen::Vector3d::Zero();
 
@@ -27,22 +36,33 @@ struct CameraModel {
   cv::Mat DistortionCoeffs() const;  // 1x5 CV_64F
   bool HasDistortion() const;
 
-  // Rotation taking camera-frame vectors (OpenCV: x right, y down, z forward
-  // along the optical axis) to the vehicle body frame (x fwd, y stbd, z down).
+  // Rotation taking camera-frame vectors to the vehicle body frame:
+  // R_mount * R_default (see above).
   Eigen::Matrix3d CameraToBody() const;
 
-  // Throws InputError naming the parameter when a value is missing/invalid.
+  // Raw (distorted) pixels to ideal pinhole pixels and back (same K).
+  std::vector<cv::Point2d> Undistort(const std::vector<cv::Point2d>& raw) const;
+  std::vector<cv::Point2d> Distort(const std::vector<cv::Point2d>& ideal) const;
+
+  // Throws InputError(source, 0, field, ...) naming the first invalid parameter.
   void Validate(const std::string& source) const;
 };
 
-// Loads a camera from JSON (our format, see README) or an OpenCV calibration
-// YAML/XML (camera_matrix, distortion_coefficients, image_width, image_height),
-// chosen by extension. Throws InputError naming file and field.
+// Loads a camera, chosen by extension:
+//  .json: {"width", "height", "fx", "fy", "cx", "cy",
+//          "distortion": [k1, k2, p1, p2, k3] (optional; 0-5, 8, 12 or 14 values,
+//                        coefficients past k3 must be zero),
+//          "mount": {"roll_deg", "pitch_deg", "yaw_deg", "offset_m": [x, y, z]} (optional)}
+//         or the seed shortcut {"width", "height", "focal_mm", "pixel_pitch_um"}
+//         (optional "cx", "cy", "distortion", "mount").
+//  .yaml/.yml/.xml: OpenCV calibration (camera_matrix, distortion_coefficients,
+//         image_width, image_height), as written by cv::FileStorage or ROS.
+// Throws InputError naming file and field.
 CameraModel LoadCamera(const std::string& path);
 void SaveCameraJson(const CameraModel& camera, const std::string& path);
 
 // The seed paper's shortcut: focal length in mm and pixel pitch in micrometres,
-// principal point at the image centre, no distortion.
+// principal point at the image centre (w/2 - 0.5, h/2 - 0.5), no distortion.
 CameraModel CameraFromFocalLength(double focal_mm, double pixel_pitch_um, int width, int height);
 
 }  // namespace seamap

@@ -1,0 +1,372 @@
+#include "core/camera/camera_model.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include <Eigen/Geometry>
+#include <nlohmann/json.hpp>
+#include <opencv2/calib3d.hpp>
+
+#include "core/util/error.h"
+
+namespace seamap {
+namespace {
+
+using nlohmann::json;
+
+constexpr double kDegToRad = M_PI / 180.0;
+
+// Brown-Conrady coefficient counts OpenCV knows; we model the first five and
+// accept longer vectors only when the extra (rational/thin-prism/tilt) terms are 0.
+bool IsSupportedDistortionCount(size_t n) { return n <= 5 || n == 8 || n == 12 || n == 14; }
+
+std::string Lowercase(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
+  return s;
+}
+
+// Fills camera.distortion from any supported coefficient count.
+void SetDistortion(CameraModel& camera, const std::vector<double>& coeffs, const std::string& path,
+                   const std::string& field) {
+  if (!IsSupportedDistortionCount(coeffs.size()))
+    throw InputError(path, 0, field,
+                     "expected 0-5, 8, 12 or 14 coefficients (k1, k2, p1, p2, k3, ...), got " +
+                         std::to_string(coeffs.size()));
+  for (size_t i = 0; i < coeffs.size(); ++i) {
+    if (!std::isfinite(coeffs[i]))
+      throw InputError(path, 0, field, "expected finite numbers, element " + std::to_string(i) +
+                                           " is not");
+    if (i >= 5 && coeffs[i] != 0)
+      throw InputError(path, 0, field,
+                       "expected only k1, k2, p1, p2, k3 to be non-zero: the rational, thin-prism "
+                       "and tilt terms (element " + std::to_string(i) + ") are not supported");
+  }
+  camera.distortion = {};
+  for (size_t i = 0; i < std::min<size_t>(5, coeffs.size()); ++i) camera.distortion[i] = coeffs[i];
+}
+
+// ---------- JSON ----------
+
+struct JsonReader {
+  const std::string& path;
+
+  const json* Find(const json& obj, const std::string& key) const {
+    auto it = obj.find(key);
+    return it == obj.end() ? nullptr : &*it;
+  }
+  double Number(const json& obj, const std::string& key, const std::string& field) const {
+    const json* v = Find(obj, key);
+    if (!v) throw InputError(path, 0, field, "missing; expected a number");
+    if (!v->is_number()) throw InputError(path, 0, field, "expected a number, got " + v->dump());
+    return v->get<double>();
+  }
+  double NumberOr(const json& obj, const std::string& key, const std::string& field,
+                  double fallback) const {
+    return Find(obj, key) ? Number(obj, key, field) : fallback;
+  }
+  int Integer(const json& obj, const std::string& key) const {
+    const json* v = Find(obj, key);
+    if (!v) throw InputError(path, 0, key, "missing; expected a positive integer");
+    if (!v->is_number_integer())
+      throw InputError(path, 0, key, "expected a positive integer, got " + v->dump());
+    return v->get<int>();
+  }
+  std::vector<double> Numbers(const json& v, const std::string& field) const {
+    if (!v.is_array()) throw InputError(path, 0, field, "expected an array of numbers");
+    std::vector<double> out;
+    for (const auto& x : v) {
+      if (!x.is_number()) throw InputError(path, 0, field, "expected numbers, got " + x.dump());
+      out.push_back(x.get<double>());
+    }
+    return out;
+  }
+  void RejectUnknownKeys(const json& obj, const std::set<std::string>& known,
+                         const std::string& prefix) const {
+    for (const auto& item : obj.items()) {
+      if (known.count(item.key())) continue;
+      std::string list;
+      for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+      throw InputError(path, 0, prefix + item.key(), "unknown field; expected one of " + list);
+    }
+  }
+};
+
+int LineOfByte(const std::string& text, size_t byte) {
+  byte = std::min(byte, text.size());
+  return 1 + static_cast<int>(std::count(text.begin(), text.begin() + byte, '\n'));
+}
+
+CameraModel LoadJson(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, 0, "", "cannot open camera file");
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  const std::string text = buffer.str();
+  json j;
+  try {
+    j = json::parse(text);
+  } catch (const json::parse_error& e) {
+    // e.byte is 1-based position of the offending character.
+    throw InputError(path, LineOfByte(text, e.byte > 0 ? e.byte - 1 : 0), "",
+                     std::string("invalid JSON: ") + e.what());
+  }
+  if (!j.is_object()) throw InputError(path, 1, "", "expected a JSON object");
+
+  JsonReader r{path};
+  r.RejectUnknownKeys(j, {"width", "height", "fx", "fy", "cx", "cy", "focal_mm", "pixel_pitch_um",
+                          "distortion", "mount", "name", "comment"},
+                      "");
+  CameraModel c;
+  c.width = r.Integer(j, "width");
+  c.height = r.Integer(j, "height");
+  if (c.width <= 0) throw InputError(path, 0, "width", "expected a positive integer");
+  if (c.height <= 0) throw InputError(path, 0, "height", "expected a positive integer");
+
+  if (!r.Find(j, "fx") && r.Find(j, "focal_mm")) {
+    const double focal = r.Number(j, "focal_mm", "focal_mm");
+    const double pitch = r.Number(j, "pixel_pitch_um", "pixel_pitch_um");
+    if (!(focal > 0) || !std::isfinite(focal))
+      throw InputError(path, 0, "focal_mm", "expected a positive focal length in millimetres");
+    if (!(pitch > 0) || !std::isfinite(pitch))
+      throw InputError(path, 0, "pixel_pitch_um", "expected a positive pixel pitch in micrometres");
+    const CameraModel shortcut = CameraFromFocalLength(focal, pitch, c.width, c.height);
+    c.fx = shortcut.fx;
+    c.fy = shortcut.fy;
+    c.cx = r.NumberOr(j, "cx", "cx", shortcut.cx);
+    c.cy = r.NumberOr(j, "cy", "cy", shortcut.cy);
+  } else {
+    if (!r.Find(j, "fx"))
+      throw InputError(path, 0, "fx",
+                       "missing; expected fx, fy, cx, cy in pixels (or focal_mm and "
+                       "pixel_pitch_um)");
+    c.fx = r.Number(j, "fx", "fx");
+    c.fy = r.Number(j, "fy", "fy");
+    c.cx = r.Number(j, "cx", "cx");
+    c.cy = r.Number(j, "cy", "cy");
+  }
+
+  if (const json* d = r.Find(j, "distortion"))
+    SetDistortion(c, r.Numbers(*d, "distortion"), path, "distortion");
+
+  if (const json* m = r.Find(j, "mount")) {
+    if (!m->is_object()) throw InputError(path, 0, "mount", "expected an object");
+    r.RejectUnknownKeys(*m, {"roll_deg", "pitch_deg", "yaw_deg", "offset_m"}, "mount.");
+    c.mount_rpy_deg = {r.NumberOr(*m, "roll_deg", "mount.roll_deg", 0),
+                       r.NumberOr(*m, "pitch_deg", "mount.pitch_deg", 0),
+                       r.NumberOr(*m, "yaw_deg", "mount.yaw_deg", 0)};
+    if (const json* o = r.Find(*m, "offset_m")) {
+      const auto xyz = r.Numbers(*o, "mount.offset_m");
+      if (xyz.size() != 3)
+        throw InputError(path, 0, "mount.offset_m",
+                         "expected [forward, starboard, down] in metres (3 numbers)");
+      c.mount_offset_m = {xyz[0], xyz[1], xyz[2]};
+    }
+  }
+  c.Validate(path);
+  return c;
+}
+
+// ---------- OpenCV FileStorage (YAML / XML) ----------
+
+// Reads a matrix written by cv::FileStorage (!!opencv-matrix) or the ROS
+// camera_info layout ({rows, cols, data: [...]}) into a flat vector.
+std::vector<double> ReadMatrix(const cv::FileNode& node, const std::string& path,
+                               const std::string& field, int* rows, int* cols) {
+  if (node.empty() || node.isNone()) throw InputError(path, 0, field, "missing; expected a matrix");
+  cv::Mat m;
+  try {
+    node >> m;
+  } catch (const cv::Exception&) {
+    m.release();
+  }
+  if (m.empty() && node.isMap() && node["data"].isSeq()) {
+    std::vector<double> data;
+    node["data"] >> data;
+    const int r = node["rows"].empty() ? 1 : static_cast<int>(node["rows"]);
+    const int c = node["cols"].empty() ? static_cast<int>(data.size()) : static_cast<int>(node["cols"]);
+    if (r * c != static_cast<int>(data.size()))
+      throw InputError(path, 0, field, "expected rows*cols data values");
+    *rows = r;
+    *cols = c;
+    return data;
+  }
+  if (m.empty())
+    throw InputError(path, 0, field, "expected a matrix (!!opencv-matrix or {rows, cols, data})");
+  m.convertTo(m, CV_64F);
+  *rows = m.rows;
+  *cols = m.cols;
+  return std::vector<double>(m.begin<double>(), m.end<double>());
+}
+
+int ReadImageSize(const cv::FileStorage& fs, const std::string& key, const std::string& path) {
+  const cv::FileNode n = fs[key];
+  if (n.empty() || n.isNone()) throw InputError(path, 0, key, "missing; expected a positive integer");
+  if (!n.isInt() && !n.isReal()) throw InputError(path, 0, key, "expected a positive integer");
+  const double v = static_cast<double>(n);
+  if (!(v > 0) || v != std::floor(v)) throw InputError(path, 0, key, "expected a positive integer");
+  return static_cast<int>(v);
+}
+
+CameraModel LoadFileStorage(const std::string& path) {
+  cv::FileStorage fs;
+  try {
+    std::ifstream in(path, std::ios::binary);
+    std::stringstream text;
+    text << in.rdbuf();
+    std::string content = text.str();
+    const std::string ext = Lowercase(std::filesystem::path(path).extension().string());
+    // ROS camera_info files are plain YAML without OpenCV's "%YAML:1.0" line,
+    // which OpenCV needs to recognise the format.
+    int format = cv::FileStorage::FORMAT_XML;
+    if (ext != ".xml") {
+      format = cv::FileStorage::FORMAT_YAML;
+      if (content.rfind("%YAML", 0) != 0) content = "%YAML:1.0\n" + content;
+    }
+    fs.open(content, cv::FileStorage::READ | cv::FileStorage::MEMORY | format);
+  } catch (const cv::Exception& e) {
+    throw InputError(path, 0, "", "cannot parse OpenCV calibration file: " + e.msg);
+  }
+  if (!fs.isOpened()) throw InputError(path, 0, "", "cannot open OpenCV calibration file");
+
+  CameraModel c;
+  c.width = ReadImageSize(fs, "image_width", path);
+  c.height = ReadImageSize(fs, "image_height", path);
+
+  int rows = 0, cols = 0;
+  const auto k = ReadMatrix(fs["camera_matrix"], path, "camera_matrix", &rows, &cols);
+  if (rows != 3 || cols != 3) throw InputError(path, 0, "camera_matrix", "expected a 3x3 matrix");
+  if (k[1] != 0 || k[3] != 0 || k[6] != 0 || k[7] != 0 || k[8] != 1)
+    throw InputError(path, 0, "camera_matrix",
+                     "expected [fx 0 cx; 0 fy cy; 0 0 1] (no skew)");
+  c.fx = k[0];
+  c.cx = k[2];
+  c.fy = k[4];
+  c.cy = k[5];
+
+  const auto d = ReadMatrix(fs["distortion_coefficients"], path, "distortion_coefficients", &rows,
+                            &cols);
+  if (rows != 1 && cols != 1)
+    throw InputError(path, 0, "distortion_coefficients", "expected a 1xN or Nx1 vector");
+  SetDistortion(c, d, path, "distortion_coefficients");
+  c.Validate(path);
+  return c;
+}
+
+Eigen::Matrix3d RotationZYX(const Eigen::Vector3d& rpy_deg) {
+  using Eigen::AngleAxisd;
+  using Eigen::Vector3d;
+  return (AngleAxisd(rpy_deg.z() * kDegToRad, Vector3d::UnitZ()) *
+          AngleAxisd(rpy_deg.y() * kDegToRad, Vector3d::UnitY()) *
+          AngleAxisd(rpy_deg.x() * kDegToRad, Vector3d::UnitX()))
+      .toRotationMatrix();
+}
+
+}  // namespace
+
+cv::Mat CameraModel::DistortionCoeffs() const {
+  cv::Mat d(1, 5, CV_64F);
+  for (int i = 0; i < 5; ++i) d.at<double>(0, i) = distortion[i];
+  return d;
+}
+
+bool CameraModel::HasDistortion() const {
+  return std::any_of(distortion.begin(), distortion.end(), [](double v) { return v != 0; });
+}
+
+Eigen::Matrix3d CameraModel::CameraToBody() const {
+  // Columns: camera x, y, z expressed in the body frame (stbd, aft, down).
+  Eigen::Matrix3d down_bow_up;
+  down_bow_up << 0, -1, 0,
+                 1, 0, 0,
+                 0, 0, 1;
+  return RotationZYX(mount_rpy_deg) * down_bow_up;
+}
+
+std::vector<cv::Point2d> CameraModel::Undistort(const std::vector<cv::Point2d>& raw) const {
+  if (!HasDistortion() || raw.empty()) return raw;
+  std::vector<cv::Point2d> out;
+  // More iterations than OpenCV's default 5 so strong lenses invert to ~1e-9 px.
+  cv::undistortPoints(raw, out, K(), DistortionCoeffs(), cv::noArray(), K(),
+                      cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 100, 1e-12));
+  return out;
+}
+
+std::vector<cv::Point2d> CameraModel::Distort(const std::vector<cv::Point2d>& ideal) const {
+  if (!HasDistortion() || ideal.empty()) return ideal;
+  std::vector<cv::Point3d> rays;
+  rays.reserve(ideal.size());
+  for (const auto& p : ideal) rays.emplace_back((p.x - cx) / fx, (p.y - cy) / fy, 1.0);
+  std::vector<cv::Point2d> out;
+  cv::projectPoints(rays, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), K(), DistortionCoeffs(), out);
+  return out;
+}
+
+void CameraModel::Validate(const std::string& source) const {
+  if (width <= 0) throw InputError(source, 0, "width", "expected a positive image width in pixels");
+  if (height <= 0)
+    throw InputError(source, 0, "height", "expected a positive image height in pixels");
+  if (!(fx > 0) || !std::isfinite(fx))
+    throw InputError(source, 0, "fx", "expected a positive finite focal length in pixels");
+  if (!(fy > 0) || !std::isfinite(fy))
+    throw InputError(source, 0, "fy", "expected a positive finite focal length in pixels");
+  if (!(cx >= 0 && cx <= width))
+    throw InputError(source, 0, "cx", "expected a principal point in [0, width]");
+  if (!(cy >= 0 && cy <= height))
+    throw InputError(source, 0, "cy", "expected a principal point in [0, height]");
+  for (double d : distortion)
+    if (!std::isfinite(d)) throw InputError(source, 0, "distortion", "expected finite coefficients");
+  if (!mount_rpy_deg.allFinite())
+    throw InputError(source, 0, "mount", "expected finite roll/pitch/yaw in degrees");
+  if (!mount_offset_m.allFinite())
+    throw InputError(source, 0, "mount.offset_m", "expected finite offsets in metres");
+}
+
+CameraModel LoadCamera(const std::string& path) {
+  if (!std::filesystem::is_regular_file(path))
+    throw InputError(path, 0, "", "camera file not found");
+  const std::string ext = Lowercase(std::filesystem::path(path).extension().string());
+  if (ext == ".json") return LoadJson(path);
+  if (ext == ".yaml" || ext == ".yml" || ext == ".xml") return LoadFileStorage(path);
+  throw InputError(path, 0, "", "unknown camera file type '" + ext +
+                                    "'; expected .json, .yaml, .yml or .xml");
+}
+
+void SaveCameraJson(const CameraModel& camera, const std::string& path) {
+  json j = {{"width", camera.width},
+            {"height", camera.height},
+            {"fx", camera.fx},
+            {"fy", camera.fy},
+            {"cx", camera.cx},
+            {"cy", camera.cy},
+            {"distortion", camera.distortion},
+            {"mount",
+             {{"roll_deg", camera.mount_rpy_deg.x()},
+              {"pitch_deg", camera.mount_rpy_deg.y()},
+              {"yaw_deg", camera.mount_rpy_deg.z()},
+              {"offset_m",
+               {camera.mount_offset_m.x(), camera.mount_offset_m.y(), camera.mount_offset_m.z()}}}}};
+  std::ofstream out(path);
+  out << j.dump(2) << "\n";
+  if (!out) throw InputError(path, 0, "", "cannot write camera file");
+}
+
+CameraModel CameraFromFocalLength(double focal_mm, double pixel_pitch_um, int width, int height) {
+  if (!(focal_mm > 0) || !std::isfinite(focal_mm))
+    throw InputError("", 0, "focal_mm", "expected a positive focal length in millimetres");
+  if (!(pixel_pitch_um > 0) || !std::isfinite(pixel_pitch_um))
+    throw InputError("", 0, "pixel_pitch_um", "expected a positive pixel pitch in micrometres");
+  CameraModel c;
+  c.width = width;
+  c.height = height;
+  c.fx = c.fy = focal_mm * 1000.0 / pixel_pitch_um;
+  // Pixel centres sit at integer coordinates, so the image centre is at (w-1)/2.
+  c.cx = width / 2.0 - 0.5;
+  c.cy = height / 2.0 - 0.5;
+  return c;
+}
+
+}  // namespace seamap

@@ -25,11 +25,16 @@ struct TileEncoding {
   cv::Scalar background{0, 0, 0};  // BGR used under transparent pixels in JPEG
 };
 
+// Gray+alpha PNGs are written as PNG gray-alpha (colour type 4, via libpng),
+// BGRA as RGBA. Fully opaque tiles drop alpha (gray / RGB PNG, RGB WebP) to
+// save bytes. Gray WebP is written as RGB (WebP has no gray mode).
+// Throws std::invalid_argument unless tile is CV_8UC2 or CV_8UC4.
 std::vector<uint8_t> EncodeTile(const cv::Mat& tile, const TileEncoding& enc);
 
-// Decodes to CV_8UC2 when the data is gray (with or without alpha) and
-// CV_8UC4 otherwise; images without alpha come back fully opaque.
-// Throws std::runtime_error on undecodable data.
+// Decodes to CV_8UC2 when the data is gray (with or without alpha): a gray
+// or gray+alpha PNG, a gray JPEG, or any image whose B, G and R are equal at
+// every pixel; CV_8UC4 otherwise. Images without alpha come back fully
+// opaque (alpha 255). Throws std::runtime_error on undecodable data.
 cv::Mat DecodeTile(const std::vector<uint8_t>& bytes);
 
 }  // namespace seamap

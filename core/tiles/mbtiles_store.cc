@@ -1,0 +1,316 @@
+#include "core/tiles/mbtiles_store.h"
+
+#include <sqlite3.h>
+
+#include <filesystem>
+#include <stdexcept>
+
+#include "core/tiles/record_json.h"
+#include "core/util/error.h"
+
+namespace seamap {
+namespace {
+
+constexpr const char* kSchema = R"sql(
+CREATE TABLE IF NOT EXISTS metadata (name text, value text);
+CREATE UNIQUE INDEX IF NOT EXISTS metadata_name ON metadata (name);
+CREATE TABLE IF NOT EXISTS tiles (zoom_level integer, tile_column integer, tile_row integer,
+                                  tile_data blob);
+CREATE UNIQUE INDEX IF NOT EXISTS tile_index ON tiles (zoom_level, tile_column, tile_row);
+CREATE TABLE IF NOT EXISTS frames (id integer primary key, image text, image_path text,
+                                   time_s real, lat real, lon real, altitude_m real,
+                                   depth_m real, heading_deg real, pitch_deg real,
+                                   roll_deg real, footprint text, status text);
+CREATE TABLE IF NOT EXISTS track (seq integer primary key, time_s real, lat real, lon real,
+                                  altitude_m real, depth_m real, heading_deg real);
+)sql";
+
+// Resets a reused statement when the scope ends, whatever happens.
+class StatementReset {
+ public:
+  explicit StatementReset(sqlite3_stmt* s) : s_(s) {}
+  ~StatementReset() {
+    sqlite3_reset(s_);
+    sqlite3_clear_bindings(s_);
+  }
+
+ private:
+  sqlite3_stmt* s_;
+};
+
+// A statement run once (reads of whole tables).
+struct OneShot {
+  sqlite3_stmt* s;
+  ~OneShot() { sqlite3_finalize(s); }
+};
+
+void BindOptional(sqlite3_stmt* s, int col, const std::optional<double>& v) {
+  if (v) {
+    sqlite3_bind_double(s, col, *v);
+  } else {
+    sqlite3_bind_null(s, col);
+  }
+}
+
+std::optional<double> ColumnOptional(sqlite3_stmt* s, int col) {
+  if (sqlite3_column_type(s, col) == SQLITE_NULL) return std::nullopt;
+  return sqlite3_column_double(s, col);
+}
+
+std::string ColumnText(sqlite3_stmt* s, int col) {
+  const unsigned char* text = sqlite3_column_text(s, col);
+  return text ? reinterpret_cast<const char*>(text) : "";
+}
+
+}  // namespace
+
+MBTilesStore::MBTilesStore(const std::string& path, Mode mode) : path_(path), mode_(mode) {
+  const bool read_only = mode == Mode::kReadOnly;
+  const std::string field = read_only ? "" : "--out";
+  const std::string action = read_only ? "cannot open MBTiles file: " : "cannot create MBTiles file: ";
+  if (read_only && !std::filesystem::is_regular_file(path))
+    throw InputError(path, 0, field, action + "no such file");
+  const int flags = read_only ? SQLITE_OPEN_READONLY : SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE;
+  int rc = sqlite3_open_v2(path.c_str(), &db_, flags | SQLITE_OPEN_NOMUTEX, nullptr);
+  try {
+    if (rc != SQLITE_OK) Fail("open");
+    sqlite3_busy_timeout(db_, 5000);  // another process may hold the write lock briefly
+    if (read_only) {
+      OneShot check{Prepare("SELECT 1 FROM sqlite_master WHERE type='table' AND name='tiles'")};
+      rc = sqlite3_step(check.s);
+      if (rc == SQLITE_DONE) throw std::runtime_error("not an MBTiles file (no 'tiles' table)");
+      if (rc != SQLITE_ROW) Fail("read");
+    } else {
+      Exec("PRAGMA journal_mode=WAL");
+      Exec("PRAGMA synchronous=NORMAL");
+      Exec(kSchema);
+      put_tile_ = Prepare(
+          "INSERT OR REPLACE INTO tiles (zoom_level, tile_column, tile_row, tile_data) "
+          "VALUES (?, ?, ?, ?)");
+      put_meta_ = Prepare("INSERT OR REPLACE INTO metadata (name, value) VALUES (?, ?)");
+      put_frame_ = Prepare(
+          "INSERT OR REPLACE INTO frames (id, image, image_path, time_s, lat, lon, altitude_m, "
+          "depth_m, heading_deg, pitch_deg, roll_deg, footprint, status) "
+          "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
+      put_track_ = Prepare(
+          "INSERT OR REPLACE INTO track (seq, time_s, lat, lon, altitude_m, depth_m, "
+          "heading_deg) VALUES (?, ?, ?, ?, ?, ?, ?)");
+    }
+    get_tile_ = Prepare(
+        "SELECT tile_data FROM tiles WHERE zoom_level = ? AND tile_column = ? AND tile_row = ?");
+    opened_ = true;
+  } catch (const std::exception& e) {
+    std::string message = e.what();
+    for (sqlite3_stmt* s : {put_tile_, get_tile_, put_meta_, put_frame_, put_track_})
+      sqlite3_finalize(s);
+    sqlite3_close(db_);
+    db_ = nullptr;
+    throw InputError(path, 0, field, action + message);
+  }
+}
+
+MBTilesStore::~MBTilesStore() {
+  try {
+    Flush();
+  } catch (...) {  // destructors must not throw; Flush() explicitly to see errors
+  }
+  for (sqlite3_stmt* s : {put_tile_, get_tile_, put_meta_, put_frame_, put_track_})
+    sqlite3_finalize(s);
+  sqlite3_close(db_);
+}
+
+void MBTilesStore::Fail(const std::string& what) const {
+  // While opening, the constructor wraps this in an InputError naming the path.
+  std::string message = what + ": " + (db_ ? sqlite3_errmsg(db_) : "out of memory");
+  throw std::runtime_error(opened_ ? path_ + ": " + message : message);
+}
+
+sqlite3_stmt* MBTilesStore::Prepare(const char* sql) const {
+  sqlite3_stmt* s = nullptr;
+  if (sqlite3_prepare_v2(db_, sql, -1, &s, nullptr) != SQLITE_OK) Fail("prepare");
+  return s;
+}
+
+void MBTilesStore::Exec(const char* sql) const {
+  if (sqlite3_exec(db_, sql, nullptr, nullptr, nullptr) != SQLITE_OK) Fail(sql);
+}
+
+void MBTilesStore::BeginWrite() {
+  if (mode_ == Mode::kReadOnly) throw std::runtime_error(path_ + ": opened read-only");
+  if (!in_transaction_) {
+    Exec("BEGIN IMMEDIATE");
+    in_transaction_ = true;
+  }
+}
+
+void MBTilesStore::EndWrite() {
+  if (++pending_writes_ >= kMaxPendingWrites) CommitLocked();
+}
+
+void MBTilesStore::CommitLocked() {
+  if (!in_transaction_) return;
+  Exec("COMMIT");
+  in_transaction_ = false;
+  pending_writes_ = 0;
+}
+
+void MBTilesStore::Flush() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  CommitLocked();
+}
+
+void MBTilesStore::PutTile(const TileId& id, const std::vector<uint8_t>& bytes) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  BeginWrite();
+  StatementReset reset(put_tile_);
+  sqlite3_bind_int(put_tile_, 1, id.z);
+  sqlite3_bind_int(put_tile_, 2, id.x);
+  sqlite3_bind_int(put_tile_, 3, id.TmsRow());
+  sqlite3_bind_blob(put_tile_, 4, bytes.data(), static_cast<int>(bytes.size()), SQLITE_STATIC);
+  if (sqlite3_step(put_tile_) != SQLITE_DONE) Fail("write tile");
+  EndWrite();
+}
+
+std::optional<std::vector<uint8_t>> MBTilesStore::GetTile(const TileId& id) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  StatementReset reset(get_tile_);
+  sqlite3_bind_int(get_tile_, 1, id.z);
+  sqlite3_bind_int(get_tile_, 2, id.x);
+  sqlite3_bind_int(get_tile_, 3, id.TmsRow());
+  const int rc = sqlite3_step(get_tile_);
+  if (rc == SQLITE_DONE) return std::nullopt;
+  if (rc != SQLITE_ROW) Fail("read tile");
+  const auto* data = static_cast<const uint8_t*>(sqlite3_column_blob(get_tile_, 0));
+  return std::vector<uint8_t>(data, data + sqlite3_column_bytes(get_tile_, 0));
+}
+
+int64_t MBTilesStore::TileCount() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  OneShot q{Prepare("SELECT COUNT(*) FROM tiles")};
+  if (sqlite3_step(q.s) != SQLITE_ROW) Fail("count tiles");
+  return sqlite3_column_int64(q.s, 0);
+}
+
+void MBTilesStore::SetMetadata(const std::string& key, const std::string& value) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  BeginWrite();
+  StatementReset reset(put_meta_);
+  sqlite3_bind_text(put_meta_, 1, key.c_str(), -1, SQLITE_STATIC);
+  sqlite3_bind_text(put_meta_, 2, value.c_str(), -1, SQLITE_STATIC);
+  if (sqlite3_step(put_meta_) != SQLITE_DONE) Fail("write metadata");
+  EndWrite();
+}
+
+std::map<std::string, std::string> MBTilesStore::Metadata() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::map<std::string, std::string> out;
+  OneShot q{Prepare("SELECT name, value FROM metadata")};
+  int rc;
+  while ((rc = sqlite3_step(q.s)) == SQLITE_ROW) out[ColumnText(q.s, 0)] = ColumnText(q.s, 1);
+  if (rc != SQLITE_DONE) Fail("read metadata");
+  return out;
+}
+
+void MBTilesStore::PutFrame(const FrameRecord& f) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  BeginWrite();
+  StatementReset reset(put_frame_);
+  const std::string footprint = FootprintToJson(f.footprint).dump();
+  sqlite3_stmt* s = put_frame_;
+  sqlite3_bind_int(s, 1, f.id);
+  sqlite3_bind_text(s, 2, f.image.c_str(), -1, SQLITE_STATIC);
+  sqlite3_bind_text(s, 3, f.image_path.c_str(), -1, SQLITE_STATIC);
+  BindOptional(s, 4, f.time_s);
+  sqlite3_bind_double(s, 5, f.position.lat);
+  sqlite3_bind_double(s, 6, f.position.lon);
+  sqlite3_bind_double(s, 7, f.altitude_m);
+  sqlite3_bind_double(s, 8, f.depth_m);
+  sqlite3_bind_double(s, 9, f.heading_deg);
+  sqlite3_bind_double(s, 10, f.pitch_deg);
+  sqlite3_bind_double(s, 11, f.roll_deg);
+  sqlite3_bind_text(s, 12, footprint.c_str(), -1, SQLITE_STATIC);
+  sqlite3_bind_text(s, 13, f.status.c_str(), -1, SQLITE_STATIC);
+  if (sqlite3_step(s) != SQLITE_DONE) Fail("write frame");
+  EndWrite();
+}
+
+void MBTilesStore::PutTrackPoint(const TrackPoint& p) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  BeginWrite();
+  StatementReset reset(put_track_);
+  sqlite3_stmt* s = put_track_;
+  sqlite3_bind_int(s, 1, p.seq);
+  BindOptional(s, 2, p.time_s);
+  sqlite3_bind_double(s, 3, p.position.lat);
+  sqlite3_bind_double(s, 4, p.position.lon);
+  sqlite3_bind_double(s, 5, p.altitude_m);
+  sqlite3_bind_double(s, 6, p.depth_m);
+  sqlite3_bind_double(s, 7, p.heading_deg);
+  if (sqlite3_step(s) != SQLITE_DONE) Fail("write track point");
+  EndWrite();
+}
+
+std::vector<FrameRecord> MBTilesStore::Frames() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::vector<FrameRecord> out;
+  sqlite3_stmt* s = nullptr;
+  // A plain MBTiles file from another tool has no frames table: no frames.
+  if (sqlite3_prepare_v2(db_,
+                         "SELECT id, image, image_path, time_s, lat, lon, altitude_m, depth_m, "
+                         "heading_deg, pitch_deg, roll_deg, footprint, status FROM frames "
+                         "ORDER BY id",
+                         -1, &s, nullptr) != SQLITE_OK) {
+    sqlite3_finalize(s);
+    return out;
+  }
+  OneShot q{s};
+  int rc;
+  while ((rc = sqlite3_step(s)) == SQLITE_ROW) {
+    FrameRecord f;
+    f.id = sqlite3_column_int(s, 0);
+    f.image = ColumnText(s, 1);
+    f.image_path = ColumnText(s, 2);
+    f.time_s = ColumnOptional(s, 3);
+    f.position = {sqlite3_column_double(s, 4), sqlite3_column_double(s, 5)};
+    f.altitude_m = sqlite3_column_double(s, 6);
+    f.depth_m = sqlite3_column_double(s, 7);
+    f.heading_deg = sqlite3_column_double(s, 8);
+    f.pitch_deg = sqlite3_column_double(s, 9);
+    f.roll_deg = sqlite3_column_double(s, 10);
+    const std::string footprint = ColumnText(s, 11);
+    if (!footprint.empty()) f.footprint = FootprintFromJson(nlohmann::json::parse(footprint));
+    f.status = ColumnText(s, 12);
+    out.push_back(std::move(f));
+  }
+  if (rc != SQLITE_DONE) Fail("read frames");
+  return out;
+}
+
+std::vector<TrackPoint> MBTilesStore::Track() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::vector<TrackPoint> out;
+  sqlite3_stmt* s = nullptr;
+  if (sqlite3_prepare_v2(db_,
+                         "SELECT seq, time_s, lat, lon, altitude_m, depth_m, heading_deg "
+                         "FROM track ORDER BY seq",
+                         -1, &s, nullptr) != SQLITE_OK) {
+    sqlite3_finalize(s);
+    return out;
+  }
+  OneShot q{s};
+  int rc;
+  while ((rc = sqlite3_step(s)) == SQLITE_ROW) {
+    TrackPoint p;
+    p.seq = sqlite3_column_int(s, 0);
+    p.time_s = ColumnOptional(s, 1);
+    p.position = {sqlite3_column_double(s, 2), sqlite3_column_double(s, 3)};
+    p.altitude_m = sqlite3_column_double(s, 4);
+    p.depth_m = sqlite3_column_double(s, 5);
+    p.heading_deg = sqlite3_column_double(s, 6);
+    out.push_back(p);
+  }
+  if (rc != SQLITE_DONE) Fail("read track");
+  return out;
+}
+
+}  // namespace seamap

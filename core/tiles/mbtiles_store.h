@@ -1,0 +1,75 @@
+#pragma once
+// MBTiles 1.3 file (SQLite): `metadata` and `tiles` (TMS rows) tables, plus
+// the mission's `frames` and `track` tables in the same file. Writes are
+// batched in a transaction that Flush() commits (and every 500 writes).
+#include <cstdint>
+#include <mutex>
+#include <string>
+
+#include "core/tiles/tile_store.h"
+
+struct sqlite3;
+struct sqlite3_stmt;
+
+namespace seamap {
+
+class MBTilesStore : public TileStore {
+ public:
+  enum class Mode {
+    kCreate,    // create the file if missing, or open it to continue writing
+    kReadOnly,  // the file must exist and hold a `tiles` table; Put* throw
+  };
+
+  // Throws InputError(path, 0, "--out", "cannot create MBTiles file: ...") in
+  // kCreate mode, InputError(path, 0, "", "cannot open MBTiles file: ...") in
+  // kReadOnly mode.
+  explicit MBTilesStore(const std::string& path, Mode mode = Mode::kCreate);
+  ~MBTilesStore() override;  // commits pending writes
+  MBTilesStore(const MBTilesStore&) = delete;
+  MBTilesStore& operator=(const MBTilesStore&) = delete;
+
+  void PutTile(const TileId& id, const std::vector<uint8_t>& bytes) override;
+  std::optional<std::vector<uint8_t>> GetTile(const TileId& id) const override;
+  int64_t TileCount() const override;
+
+  void SetMetadata(const std::string& key, const std::string& value) override;
+  std::map<std::string, std::string> Metadata() const override;
+
+  void PutFrame(const FrameRecord& frame) override;
+  void PutTrackPoint(const TrackPoint& point) override;
+  std::vector<FrameRecord> Frames() const override;
+  std::vector<TrackPoint> Track() const override;
+
+  void Flush() override;
+
+  const std::string& path() const { return path_; }
+
+ private:
+  static constexpr int kMaxPendingWrites = 500;
+
+  void CreateSchema();
+  sqlite3_stmt* Prepare(const char* sql) const;
+  void Exec(const char* sql) const;
+  [[noreturn]] void Fail(const std::string& what) const;
+  // Opens a transaction if none is open; call with mutex_ held.
+  void BeginWrite();
+  // Counts a write and commits when the batch is full; call with mutex_ held.
+  void EndWrite();
+  void CommitLocked();
+
+  std::string path_;
+  Mode mode_;
+  sqlite3* db_ = nullptr;
+  mutable std::mutex mutex_;
+  bool opened_ = false;
+  bool in_transaction_ = false;
+  int pending_writes_ = 0;
+  // Prepared once, reused (reset after each step).
+  sqlite3_stmt* put_tile_ = nullptr;
+  sqlite3_stmt* get_tile_ = nullptr;
+  sqlite3_stmt* put_meta_ = nullptr;
+  sqlite3_stmt* put_frame_ = nullptr;
+  sqlite3_stmt* put_track_ = nullptr;
+};
+
+}  // namespace seamap

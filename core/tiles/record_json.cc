@@ -1,0 +1,85 @@
+#include "core/tiles/record_json.h"
+
+namespace seamap {
+namespace {
+
+nlohmann::json OptionalToJson(const std::optional<double>& v) {
+  return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
+}
+
+std::optional<double> OptionalFromJson(const nlohmann::json& j, const char* key) {
+  auto it = j.find(key);
+  if (it == j.end() || it->is_null()) return std::nullopt;
+  return it->get<double>();
+}
+
+}  // namespace
+
+nlohmann::json FootprintToJson(const std::array<LatLon, 4>& footprint) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const LatLon& c : footprint) out.push_back({c.lon, c.lat});
+  return out;
+}
+
+std::array<LatLon, 4> FootprintFromJson(const nlohmann::json& j) {
+  std::array<LatLon, 4> out{};
+  for (size_t i = 0; i < out.size() && i < j.size(); ++i)
+    out[i] = {j.at(i).at(1).get<double>(), j.at(i).at(0).get<double>()};
+  return out;
+}
+
+nlohmann::json FrameToJson(const FrameRecord& f) {
+  return {{"id", f.id},
+          {"image", f.image},
+          {"image_path", f.image_path},
+          {"time_s", OptionalToJson(f.time_s)},
+          {"lat", f.position.lat},
+          {"lon", f.position.lon},
+          {"altitude_m", f.altitude_m},
+          {"depth_m", f.depth_m},
+          {"heading_deg", f.heading_deg},
+          {"pitch_deg", f.pitch_deg},
+          {"roll_deg", f.roll_deg},
+          {"footprint", FootprintToJson(f.footprint)},
+          {"status", f.status}};
+}
+
+FrameRecord FrameFromJson(const nlohmann::json& j) {
+  FrameRecord f;
+  f.id = j.at("id").get<int>();
+  f.image = j.value("image", "");
+  f.image_path = j.value("image_path", "");
+  f.time_s = OptionalFromJson(j, "time_s");
+  f.position = {j.at("lat").get<double>(), j.at("lon").get<double>()};
+  f.altitude_m = j.value("altitude_m", 0.0);
+  f.depth_m = j.value("depth_m", 0.0);
+  f.heading_deg = j.value("heading_deg", 0.0);
+  f.pitch_deg = j.value("pitch_deg", 0.0);
+  f.roll_deg = j.value("roll_deg", 0.0);
+  if (j.contains("footprint")) f.footprint = FootprintFromJson(j.at("footprint"));
+  f.status = j.value("status", "");
+  return f;
+}
+
+nlohmann::json TrackPointToJson(const TrackPoint& p) {
+  return {{"seq", p.seq},
+          {"time_s", OptionalToJson(p.time_s)},
+          {"lat", p.position.lat},
+          {"lon", p.position.lon},
+          {"altitude_m", p.altitude_m},
+          {"depth_m", p.depth_m},
+          {"heading_deg", p.heading_deg}};
+}
+
+TrackPoint TrackPointFromJson(const nlohmann::json& j) {
+  TrackPoint p;
+  p.seq = j.at("seq").get<int>();
+  p.time_s = OptionalFromJson(j, "time_s");
+  p.position = {j.at("lat").get<double>(), j.at("lon").get<double>()};
+  p.altitude_m = j.value("altitude_m", 0.0);
+  p.depth_m = j.value("depth_m", 0.0);
+  p.heading_deg = j.value("heading_deg", 0.0);
+  return p;
+}
+
+}  // namespace seamap

@@ -1,0 +1,25 @@
+#pragma once
+// JSON form of the mission records, shared by the stores (and usable by a
+// server): frames and track points as objects, footprints as [[lon,lat],...].
+#include <array>
+
+#include <nlohmann/json.hpp>
+
+#include "core/tiles/mission_records.h"
+
+namespace seamap {
+
+// [[lon,lat] x 4] in GeoJSON axis order.
+nlohmann::json FootprintToJson(const std::array<LatLon, 4>& footprint);
+std::array<LatLon, 4> FootprintFromJson(const nlohmann::json& j);
+
+// {"id","image","image_path","time_s" (null when unknown),"lat","lon","altitude_m",
+//  "depth_m","heading_deg","pitch_deg","roll_deg","footprint","status"}
+nlohmann::json FrameToJson(const FrameRecord& f);
+FrameRecord FrameFromJson(const nlohmann::json& j);  // throws nlohmann::json::exception
+
+// {"seq","time_s","lat","lon","altitude_m","depth_m","heading_deg"}
+nlohmann::json TrackPointToJson(const TrackPoint& p);
+TrackPoint TrackPointFromJson(const nlohmann::json& j);
+
+}  // namespace seamap

@@ -1,0 +1,200 @@
+#include "core/tiles/tile_codec.h"
+
+#include <png.h>
+
+#include <algorithm>
+#include <stdexcept>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "core/util/error.h"
+
+namespace seamap {
+namespace {
+
+bool FullyOpaque(const cv::Mat& tile) {
+  cv::Mat alpha;
+  cv::extractChannel(tile, alpha, tile.channels() - 1);
+  double min_alpha = 0;
+  cv::minMaxLoc(alpha, &min_alpha);
+  return min_alpha >= 255;
+}
+
+// Colour channels only (gray or BGR), dropping alpha.
+cv::Mat WithoutAlpha(const cv::Mat& tile) {
+  cv::Mat out;
+  if (tile.channels() == 2) {
+    cv::extractChannel(tile, out, 0);
+  } else {
+    cv::cvtColor(tile, out, cv::COLOR_BGRA2BGR);
+  }
+  return out;
+}
+
+cv::Mat GrayAlphaToBgra(const cv::Mat& tile) {
+  cv::Mat out(tile.size(), CV_8UC4);
+  const int from_to[] = {0, 0, 0, 1, 0, 2, 1, 3};
+  cv::mixChannels(&tile, 1, &out, 1, from_to, 4);
+  return out;
+}
+
+// Paints the tile over `background`: JPEG cannot store transparency.
+cv::Mat CompositeOver(const cv::Mat& tile, const cv::Scalar& background) {
+  const int colours = tile.channels() - 1;
+  cv::Scalar bg = background;
+  if (colours == 1) {  // gray tile: the background's luminance
+    cv::Mat px(1, 1, CV_8UC3, background), gray;
+    cv::cvtColor(px, gray, cv::COLOR_BGR2GRAY);
+    bg = cv::Scalar(gray.at<uint8_t>(0, 0));
+  }
+  cv::Mat out(tile.size(), CV_8UC(colours));
+  for (int r = 0; r < tile.rows; ++r) {
+    const uint8_t* src = tile.ptr<uint8_t>(r);
+    uint8_t* dst = out.ptr<uint8_t>(r);
+    for (int c = 0; c < tile.cols; ++c, src += colours + 1, dst += colours) {
+      const int a = src[colours];
+      for (int k = 0; k < colours; ++k) {
+        const int b = cv::saturate_cast<uint8_t>(bg[k]);
+        dst[k] = static_cast<uint8_t>((src[k] * a + b * (255 - a) + 127) / 255);
+      }
+    }
+  }
+  return out;
+}
+
+// OpenCV cannot write 2-channel PNGs, so gray+alpha goes through libpng.
+std::vector<uint8_t> EncodeGrayAlphaPng(const cv::Mat& tile, int level) {
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = png ? png_create_info_struct(png) : nullptr;
+  if (!info) {
+    png_destroy_write_struct(&png, nullptr);
+    throw std::runtime_error("libpng: out of memory");
+  }
+  std::vector<uint8_t> out;
+  cv::Mat rows = tile.isContinuous() ? tile : tile.clone();
+  std::vector<png_bytep> row_ptrs(rows.rows);
+  for (int r = 0; r < rows.rows; ++r) row_ptrs[r] = rows.ptr<png_byte>(r);
+  if (setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    throw std::runtime_error("libpng: cannot encode gray+alpha tile");
+  }
+  png_set_write_fn(
+      png, &out,
+      [](png_structp p, png_bytep data, png_size_t n) {
+        auto* buf = static_cast<std::vector<uint8_t>*>(png_get_io_ptr(p));
+        buf->insert(buf->end(), data, data + n);
+      },
+      nullptr);
+  png_set_compression_level(png, level);
+  png_set_IHDR(png, info, rows.cols, rows.rows, 8, PNG_COLOR_TYPE_GRAY_ALPHA, PNG_INTERLACE_NONE,
+               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_set_rows(png, info, row_ptrs.data());
+  png_write_png(png, info, PNG_TRANSFORM_IDENTITY, nullptr);
+  png_destroy_write_struct(&png, &info);
+  return out;
+}
+
+std::vector<uint8_t> Encode(const std::string& ext, const cv::Mat& img,
+                            const std::vector<int>& params) {
+  std::vector<uint8_t> out;
+  if (!cv::imencode(ext, img, out, params))
+    throw std::runtime_error("cannot encode tile as " + ext.substr(1));
+  return out;
+}
+
+// PNG colour type from the IHDR chunk, or -1 when the bytes are not a PNG.
+int PngColorType(const std::vector<uint8_t>& bytes) {
+  static const uint8_t kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (bytes.size() < 26 || !std::equal(kSignature, kSignature + 8, bytes.begin())) return -1;
+  return bytes[25];
+}
+
+bool ColoursEqual(const cv::Mat& bgra) {
+  for (int r = 0; r < bgra.rows; ++r) {
+    const cv::Vec4b* px = bgra.ptr<cv::Vec4b>(r);
+    for (int c = 0; c < bgra.cols; ++c)
+      if (px[c][0] != px[c][1] || px[c][0] != px[c][2]) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+TileFormat ParseTileFormat(const std::string& name, const std::string& source) {
+  std::string lower = name;
+  std::transform(lower.begin(), lower.end(), lower.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (lower == "png") return TileFormat::kPng;
+  if (lower == "jpg" || lower == "jpeg") return TileFormat::kJpeg;
+  if (lower == "webp") return TileFormat::kWebp;
+  throw InputError(source, 0, "tile_format",
+                   "unknown tile format '" + name + "', expected png, jpg, jpeg or webp");
+}
+
+std::string TileExtension(TileFormat f) {
+  switch (f) {
+    case TileFormat::kJpeg: return "jpg";
+    case TileFormat::kWebp: return "webp";
+    default: return "png";
+  }
+}
+
+std::string TileMimeType(TileFormat f) {
+  switch (f) {
+    case TileFormat::kJpeg: return "image/jpeg";
+    case TileFormat::kWebp: return "image/webp";
+    default: return "image/png";
+  }
+}
+
+std::vector<uint8_t> EncodeTile(const cv::Mat& tile, const TileEncoding& enc) {
+  if (tile.depth() != CV_8U || (tile.channels() != 2 && tile.channels() != 4))
+    throw std::invalid_argument("EncodeTile expects CV_8UC2 or CV_8UC4");
+  const bool opaque = FullyOpaque(tile);
+  switch (enc.format) {
+    case TileFormat::kJpeg:
+      return Encode(".jpg", CompositeOver(tile, enc.background),
+                    {cv::IMWRITE_JPEG_QUALITY, enc.jpeg_quality});
+    case TileFormat::kWebp: {
+      // Opaque tiles drop alpha: smaller, and WebP decodes them as opaque.
+      cv::Mat img = opaque ? WithoutAlpha(tile)
+                           : (tile.channels() == 2 ? GrayAlphaToBgra(tile) : tile);
+      if (img.channels() == 1) cv::cvtColor(img, img, cv::COLOR_GRAY2BGR);
+      return Encode(".webp", img, {cv::IMWRITE_WEBP_QUALITY, enc.webp_quality});
+    }
+    default: {
+      if (!opaque && tile.channels() == 2) return EncodeGrayAlphaPng(tile, enc.png_level);
+      return Encode(".png", opaque ? WithoutAlpha(tile) : tile,
+                    {cv::IMWRITE_PNG_COMPRESSION, enc.png_level, cv::IMWRITE_PNG_STRATEGY,
+                     cv::IMWRITE_PNG_STRATEGY_DEFAULT});
+    }
+  }
+}
+
+cv::Mat DecodeTile(const std::vector<uint8_t>& bytes) {
+  cv::Mat img = bytes.empty() ? cv::Mat() : cv::imdecode(bytes, cv::IMREAD_UNCHANGED);
+  if (img.empty()) throw std::runtime_error("cannot decode tile image data");
+  if (img.depth() != CV_8U) img.convertTo(img, CV_8U, 1.0 / 257);  // 16-bit PNGs
+  const int color_type = PngColorType(bytes);
+  cv::Mat out;
+  switch (img.channels()) {
+    case 1: {
+      cv::Mat opaque(img.size(), CV_8UC1, cv::Scalar(255));
+      cv::merge(std::vector<cv::Mat>{img, opaque}, out);
+      return out;
+    }
+    case 3: cv::cvtColor(img, out, cv::COLOR_BGR2BGRA); break;
+    default: out = img; break;
+  }
+  // Gray data (a gray PNG, or colour channels all equal) comes back as gray+alpha.
+  if (color_type == PNG_COLOR_TYPE_GRAY_ALPHA || ColoursEqual(out)) {
+    cv::Mat gray(out.size(), CV_8UC2);
+    const int from_to[] = {0, 0, 3, 1};
+    cv::mixChannels(&out, 1, &gray, 1, from_to, 2);
+    return gray;
+  }
+  return out;
+}
+
+}  // namespace seamap

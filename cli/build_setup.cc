@@ -56,6 +56,8 @@ BuildInputs ReadBuildInputs(Args& args) {
   in.frame = LocalFrame(nav.origin);
   std::optional<std::string> image_times = args.Get("image-times");
   in.frames = MatchFrames(nav, images, image_times);
+  in.warnings = nav.warnings;
+  in.warnings.insert(in.warnings.end(), in.frames.warnings.begin(), in.frames.warnings.end());
   in.frames.rejected.insert(in.frames.rejected.begin(), nav.rejected.begin(), nav.rejected.end());
   in.channels = ProbeChannels(in.frames);
   return in;

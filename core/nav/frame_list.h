@@ -25,12 +25,14 @@ struct FrameSpec {
 struct FrameList {
   std::vector<FrameSpec> frames;
   std::vector<Rejection> rejected;
+  std::vector<std::string> warnings;  // e.g. image times given but not needed
 };
 
 FrameList MatchFrames(const NavTable& nav, const std::string& images_dir,
                       const std::optional<std::string>& image_times_csv);
 
-// Pose at time t interpolated from a time-sorted series; empty outside its span.
+// Pose at time t interpolated from a time-sorted series whose records all
+// have time_s; empty outside its span.
 std::optional<VehiclePose> InterpolatePose(const std::vector<NavRecord>& series, double t);
 
 }  // namespace seamap

@@ -45,8 +45,11 @@ struct NavTable {
   LatLon origin;       // origin of the local frame the poses are in
   std::vector<NavRecord> records;
   std::vector<Rejection> rejected;  // lines skipped, with reasons
-  bool has_images = false;
-  bool has_times = false;
+  bool has_images = false;  // an image column with at least one name
+  bool has_times = false;   // a time column
+  // Things the user should know that did not stop reading, e.g.
+  // "nav.csv:1: ignoring unknown columns: foo, bar".
+  std::vector<std::string> warnings;
 };
 
 }  // namespace seamap

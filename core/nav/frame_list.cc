@@ -1,0 +1,179 @@
+#include "core/nav/frame_list.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+
+#include "core/nav/column_aliases.h"
+#include "core/nav/csv_table.h"
+#include "core/nav/nav_values.h"
+#include "core/util/error.h"
+
+namespace seamap {
+namespace {
+
+struct ImageTime {
+  std::string image;
+  double time_s = 0;
+  int line = 0;
+};
+
+std::string JoinNames(const std::vector<std::string>& items) {
+  std::string out;
+  for (const auto& item : items) out += (out.empty() ? "" : ", ") + item;
+  return out;
+}
+
+// Reads image,time_s rows with the navigation's CSV rules and aliases.
+std::vector<ImageTime> ReadImageTimes(const std::string& path, FrameList* out) {
+  const CsvTable table = ParseCsv(ReadTextLines(path));
+  const ColumnMap map = MapColumns(table.header, {}, path, table.header_line);
+  for (const char* needed : {"image", "time_s"})
+    if (!map.Has(needed))
+      throw InputError(path, table.header_line, needed,
+                       std::string("image times need a '") + needed + "' column; found: " + JoinNames(table.header) +
+                           "; accepted names: " + AcceptedNames(needed));
+  const int image_col = map.index.at("image"), time_col = map.index.at("time_s");
+  const bool decimal_comma = table.separator != ',';
+
+  std::vector<ImageTime> times;
+  std::map<std::string, int> first_line;
+  for (const CsvRow& row : table.rows) {
+    auto reject = [&](const std::string& field, const std::string& reason) {
+      out->rejected.push_back({path, row.line, field, reason});
+    };
+    const int needed = std::max(image_col, time_col) + 1;
+    if (static_cast<int>(row.fields.size()) < needed) {
+      const int missing = static_cast<int>(row.fields.size());
+      reject(missing == image_col ? "image" : missing == time_col ? "time_s" : table.header[missing],
+             "line has " + std::to_string(row.fields.size()) + " fields but the header has " +
+                 std::to_string(table.header.size()) + "; missing column '" + table.header[missing] + "'");
+      continue;
+    }
+    const std::string image = Trim(row.fields[image_col]);
+    if (image.empty()) {
+      reject("image", "image is empty");
+      continue;
+    }
+    std::string why;
+    const auto time = ParseTimeSeconds(row.fields[time_col], &why, decimal_comma);
+    if (!time) {
+      reject("time_s", "time_s " + why);
+      continue;
+    }
+    auto [it, inserted] = first_line.emplace(image, row.line);
+    if (!inserted) {
+      reject("image", "duplicate image '" + image + "' (first at line " + std::to_string(it->second) + ")");
+      continue;
+    }
+    times.push_back({image, *time, row.line});
+  }
+  return times;
+}
+
+std::string ImagePath(const std::string& images_dir, const std::string& image) {
+  return (std::filesystem::path(images_dir) / image).string();
+}
+
+void OrderAndIndex(std::vector<FrameSpec>& frames) {
+  const bool all_timed = std::all_of(frames.begin(), frames.end(), [](const FrameSpec& f) { return f.time_s.has_value(); });
+  if (all_timed)
+    std::stable_sort(frames.begin(), frames.end(),
+                     [](const FrameSpec& a, const FrameSpec& b) { return *a.time_s < *b.time_s; });
+  for (size_t i = 0; i < frames.size(); ++i) frames[i].index = static_cast<int>(i);
+}
+
+double Lerp(double a, double b, double f) { return a + (b - a) * f; }
+
+}  // namespace
+
+std::optional<VehiclePose> InterpolatePose(const std::vector<NavRecord>& series, double t) {
+  if (series.empty() || !std::isfinite(t)) return std::nullopt;
+  const double first = *series.front().time_s, last = *series.back().time_s;
+  if (t < first || t > last) return std::nullopt;
+  auto after = std::upper_bound(series.begin(), series.end(), t,
+                                [](double time, const NavRecord& r) { return time < *r.time_s; });
+  if (after == series.end()) return series.back().pose;  // t is the last time
+  const NavRecord& before = *(after - 1);
+  const double f = (t - *before.time_s) / (*after->time_s - *before.time_s);
+  const VehiclePose& a = before.pose;
+  const VehiclePose& b = after->pose;
+  VehiclePose pose;
+  pose.east_m = Lerp(a.east_m, b.east_m, f);
+  pose.north_m = Lerp(a.north_m, b.north_m, f);
+  pose.altitude_m = Lerp(a.altitude_m, b.altitude_m, f);
+  pose.depth_m = Lerp(a.depth_m, b.depth_m, f);
+  pose.pitch_deg = Lerp(a.pitch_deg, b.pitch_deg, f);
+  pose.roll_deg = Lerp(a.roll_deg, b.roll_deg, f);
+  // Heading along the shorter arc: 350 -> 10 passes through 0, not 180.
+  const double turn = std::remainder(b.heading_deg - a.heading_deg, 360.0);
+  double heading = std::fmod(a.heading_deg + turn * f, 360.0);
+  if (heading < 0) heading += 360.0;
+  pose.heading_deg = heading >= 360.0 ? 0 : heading;
+  return pose;
+}
+
+FrameList MatchFrames(const NavTable& nav, const std::string& images_dir,
+                      const std::optional<std::string>& image_times_csv) {
+  FrameList out;
+  if (nav.has_images) {
+    if (image_times_csv)
+      out.warnings.push_back(*image_times_csv + ": image times ignored: " + nav.source + " names the images");
+    std::map<std::string, int> first_line;
+    for (const NavRecord& record : nav.records) {
+      if (record.image.empty()) continue;  // a navigation sample between photos
+      auto [it, inserted] = first_line.emplace(record.image, record.line);
+      if (!inserted) {
+        out.rejected.push_back({nav.source, record.line, "image",
+                                "duplicate image '" + record.image + "' (first at line " +
+                                    std::to_string(it->second) + ")"});
+        continue;
+      }
+      FrameSpec frame;
+      frame.image = record.image;
+      frame.image_path = ImagePath(images_dir, record.image);
+      frame.time_s = record.time_s;
+      frame.pose = record.pose;
+      frame.nav_line = record.line;
+      out.frames.push_back(std::move(frame));
+    }
+    OrderAndIndex(out.frames);
+    return out;
+  }
+  if (!nav.has_times || !image_times_csv)
+    throw InputError(nav.source, 0, "image",
+                     "navigation has no image column; give image times with --image-times FILE");
+
+  std::vector<NavRecord> series;
+  for (const NavRecord& record : nav.records)
+    if (record.time_s) series.push_back(record);
+  std::stable_sort(series.begin(), series.end(),
+                   [](const NavRecord& a, const NavRecord& b) { return *a.time_s < *b.time_s; });
+
+  for (const ImageTime& shot : ReadImageTimes(*image_times_csv, &out)) {
+    auto pose = series.empty() ? std::nullopt : InterpolatePose(series, shot.time_s);
+    if (!pose) {
+      const std::string span = series.empty() ? "(no timed records)"
+                                              : "[" + FormatNumber(*series.front().time_s) + ", " +
+                                                    FormatNumber(*series.back().time_s) + "] s";
+      out.rejected.push_back({*image_times_csv, shot.line, "time_s",
+                              "time_s " + FormatNumber(shot.time_s) + " is outside the navigation's time span " +
+                                  span + " in " + nav.source});
+      continue;
+    }
+    FrameSpec frame;
+    frame.image = shot.image;
+    frame.image_path = ImagePath(images_dir, shot.image);
+    frame.time_s = shot.time_s;
+    frame.pose = *pose;
+    out.frames.push_back(std::move(frame));
+  }
+  // Read problems and out-of-span times, back in file order.
+  std::stable_sort(out.rejected.begin(), out.rejected.end(),
+                   [](const Rejection& a, const Rejection& b) { return a.line < b.line; });
+  OrderAndIndex(out.frames);
+  return out;
+}
+
+}  // namespace seamap

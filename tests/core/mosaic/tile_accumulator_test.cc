@@ -1,0 +1,66 @@
+#include "core/mosaic/tile_accumulator.h"
+
+#include <gtest/gtest.h>
+
+namespace seamap {
+namespace {
+
+// A gray frame covering [x0, x0+w) x [y0, y0+h) with one value and weight.
+WarpedFrame Constant(int64_t x0, int64_t y0, int w, int h, uint8_t value, uint8_t weight) {
+  WarpedFrame f;
+  f.x0 = x0;
+  f.y0 = y0;
+  f.pixels = cv::Mat(h, w, CV_8UC2, cv::Scalar(value, weight));
+  return f;
+}
+
+TEST(TileAccumulator, UntouchedPixelsStayTransparent) {
+  TileAccumulator acc(256, 1, 1000, 2000);
+  EXPECT_TRUE(acc.Blend(Constant(1000, 2000, 10, 10, 77, 255)));
+  cv::Mat t = acc.Finalize();
+  ASSERT_EQ(t.type(), CV_8UC2);
+  EXPECT_EQ(t.at<cv::Vec2b>(5, 5), cv::Vec2b(77, 255));
+  EXPECT_EQ(t.at<cv::Vec2b>(50, 50), cv::Vec2b(0, 0));
+}
+
+TEST(TileAccumulator, OverlapIsWeightedMeanNotOverwrite) {
+  TileAccumulator acc(256, 1, 0, 0);
+  acc.Blend(Constant(0, 0, 100, 100, 100, 255));  // weight 1
+  acc.Blend(Constant(0, 0, 100, 100, 200, 85));   // weight 1/3
+  // (100*1 + 200/3) / (4/3) = 125
+  EXPECT_EQ(acc.Finalize().at<cv::Vec2b>(10, 10)[0], 125);
+}
+
+TEST(TileAccumulator, ClipsFramesToTheTile) {
+  TileAccumulator acc(256, 1, 256, 256);
+  EXPECT_FALSE(acc.Blend(Constant(0, 0, 256, 256, 9, 255)));  // the neighbour tile
+  EXPECT_TRUE(acc.Blend(Constant(200, 200, 100, 100, 9, 255)));
+  cv::Mat t = acc.Finalize();
+  EXPECT_EQ(t.at<cv::Vec2b>(0, 0), cv::Vec2b(9, 255));    // global (256,256)
+  EXPECT_EQ(t.at<cv::Vec2b>(43, 43), cv::Vec2b(9, 255));  // global (299,299)
+  EXPECT_EQ(t.at<cv::Vec2b>(44, 44), cv::Vec2b(0, 0));
+}
+
+TEST(TileAccumulator, SeedFromWrittenTileBlendsInsteadOfOverwriting) {
+  cv::Mat written(256, 256, CV_8UC2, cv::Scalar(0, 0));
+  written(cv::Rect(0, 0, 128, 256)).setTo(cv::Scalar(60, 255));
+  TileAccumulator acc(256, 1, 0, 0);
+  acc.Seed(written);
+  acc.Blend(Constant(0, 0, 256, 256, 180, 255));
+  cv::Mat t = acc.Finalize();
+  EXPECT_EQ(t.at<cv::Vec2b>(10, 10)[0], 120);   // old and new averaged
+  EXPECT_EQ(t.at<cv::Vec2b>(10, 200)[0], 180);  // only new
+}
+
+TEST(TileAccumulator, Colour) {
+  TileAccumulator acc(256, 3, 0, 0);
+  WarpedFrame f;
+  f.pixels = cv::Mat(4, 4, CV_8UC4, cv::Scalar(10, 20, 30, 255));
+  acc.Blend(f);
+  cv::Mat t = acc.Finalize();
+  ASSERT_EQ(t.type(), CV_8UC4);
+  EXPECT_EQ(t.at<cv::Vec4b>(1, 1), cv::Vec4b(10, 20, 30, 255));
+}
+
+}  // namespace
+}  // namespace seamap

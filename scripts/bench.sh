@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# Speed and memory figures (never asserted by tests). Prints one line per figure.
+#   scripts/bench.sh            gray seed-geometry survey, colour survey, 2,000-frame memory run
+#   SEAMAP_BENCH_QUICK=1 ...    smaller surveys, for a quick look
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+build="${SEAMAP_BUILD_DIR:-$root/build}"
+out="$root/out/bench"
+"$root/scripts/setup.sh"
+"$root/scripts/build.sh" >/dev/null
+seamap="$build/seamap"
+mkdir -p "$out"
+
+quick="${SEAMAP_BENCH_QUICK:-0}"
+gray_frames=400; colour_frames=200; long_frames=2000
+[[ "$quick" == 1 ]] && { gray_frames=100; colour_frames=40; long_frames=300; }
+
+simulate() {  # name, frames, extra simulate args
+  local dir="$out/$1"
+  if [[ ! -f "$dir/nav.csv" ]] || [[ "$(($(wc -l <"$dir/nav.csv") - 1))" != "$2" ]]; then
+    "$seamap" simulate --out "$dir" --frames "$2" --force ${3:-} >/dev/null 2>&1
+  fi
+}
+
+build() {  # name, config json (inline), label
+  local dir="$out/$1" cfg="$out/$1.config.json" report="$out/$1.report.json"
+  echo "$2" >"$cfg"
+  "$seamap" build --quiet --images "$dir/photo" --nav "$dir/nav.csv" --camera "$dir/camera.json" \
+    --origin 43.1,131.9 --config "$cfg" --out "$out/$1.mbtiles" --overwrite --report "$report" >/dev/null
+  python3 - "$report" "$3" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+print(f"{sys.argv[2]:<34} {r['ms_per_frame']:7.2f} ms/frame  {r['frames_per_s']:7.1f} frames/s  "
+      f"tiles {r['tiles']:6d} ({r['tile_writes']} writes)  bytes {r['tile_bytes']:>11,d}  "
+      f"peak RSS {r['peak_rss_bytes'] / 2**20:6.1f} MiB")
+PY
+}
+
+echo "seamap bench on $(nproc) cores, $(date -u +%Y-%m-%dT%H:%MZ)"
+simulate gray "$gray_frames" "--image-format jpg"
+simulate colour "$colour_frames" "--color --width 1392 --height 1040 --pixel-pitch-um 6.45 --image-format jpg"
+build gray '{"tile_format":"png","png_level":1}' "gray 696x520 x$gray_frames, png fast"
+build gray '{"tile_format":"png","png_level":6}' "gray 696x520 x$gray_frames, png zlib-6"
+build colour '{"tile_format":"png","png_level":1}' "colour 1392x1040 x$colour_frames, png fast"
+build colour '{"tile_format":"jpg"}' "colour 1392x1040 x$colour_frames, jpeg"
+echo "camera rate: 5 frames/s (200 ms/frame budget); seed paper: 173 ms/frame on an Atom Z8350"
+simulate long "$long_frames" "--image-format jpg --line-length 40"
+build long '{"tile_format":"png","png_level":1}' "gray x$long_frames (memory)"

@@ -1,0 +1,18 @@
+#!/usr/bin/env bash
+# Installs what is missing, builds, runs every test and prints a summary.
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+build="${SEAMAP_BUILD_DIR:-$root/build}"
+"$root/scripts/setup.sh"
+"$root/scripts/build.sh"
+
+cd "$build"
+set +e
+ctest --output-on-failure -j"$(nproc)" --timeout 600 2>&1 | tee "$build/ctest.log"
+status=${PIPESTATUS[0]}
+set -e
+total=$(grep -oE 'tests failed out of [0-9]+' "$build/ctest.log" | grep -oE '[0-9]+$' || echo 0)
+failed=$(grep -oE '[0-9]+ tests failed' "$build/ctest.log" | grep -oE '^[0-9]+' || echo 0)
+echo
+echo "summary: $((total - failed)) passed, $failed failed"
+exit "$status"

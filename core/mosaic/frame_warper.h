@@ -1,12 +1,14 @@
 #pragma once
-// Places one frame on the map: undistorts it, projects it through the
-// seabed-plane homography into Web Mercator global pixels at the base zoom,
-// and carries a feather weight (a tent that is highest at the image centre
-// and falls to zero at the edges) as an extra channel for blending.
+// Places one frame on the map. For every output pixel (Web Mercator global
+// pixels at the base zoom, inside the frame's bounding box) one pass computes
+// where it comes from in the raw image — inverse seabed homography, then the
+// lens distortion model — and the feather weight there (a tent that is 1 at
+// the image centre and falls to 0 at the raw image edges); one cv::remap then
+// samples the frame. No separate undistortion pass, no warped weight image.
 #include <array>
 #include <cstdint>
 #include <optional>
-#include <string>
+#include <vector>
 
 #include <opencv2/core.hpp>
 
@@ -18,9 +20,10 @@
 namespace seamap {
 
 struct WarpedFrame {
-  int64_t x0 = 0, y0 = 0;          // global pixel of pixels(0,0) at the base zoom
-  cv::Mat pixels;                  // CV_8UC2 (gray, weight) or CV_8UC4 (B, G, R, weight)
-  std::array<LatLon, 4> footprint; // image corners on the seabed (TL, TR, BR, BL)
+  int64_t x0 = 0, y0 = 0;           // global pixel of pixels(0,0) at the base zoom
+  cv::Mat pixels;                   // CV_8UC1 (gray) or CV_8UC3 (BGR)
+  cv::Mat weight;                   // CV_8UC1, 0 outside the frame, 1..255 inside
+  std::array<LatLon, 4> footprint;  // raw image corners on the seabed (TL, TR, BR, BL)
 };
 
 class FrameWarper {
@@ -29,21 +32,24 @@ class FrameWarper {
   FrameWarper(const CameraModel& camera, const LocalFrame& frame, int zoom, int tile_size,
               int channels, double feather_power);
 
-  // Where the frame's corners land, or nullopt when it does not see the seabed.
+  // Where the raw image corners land, or nullopt when the frame does not see the seabed.
   std::optional<std::array<LatLon, 4>> Footprint(const VehiclePose& pose) const;
 
   // image: CV_8UC1 / CV_8UC3 matching `channels`, of the camera's size.
   // Returns nullopt when the frame does not see the seabed.
   std::optional<WarpedFrame> Warp(const cv::Mat& image, const VehiclePose& pose) const;
 
-  const cv::Mat& weight() const { return weight_; }  // undistorted feather weight, CV_8U
-
  private:
+  // Map pixel (relative to the box) -> raw image pixel, through the inverse
+  // homography m (to normalised coordinates) and the lens distortion.
+  cv::Point2d MapToImage(const cv::Matx33d& m, double x, double y) const;
+
   CameraModel camera_;
   LocalFrame frame_;
   int zoom_, tile_size_, channels_;
-  cv::Mat map1_, map2_;  // raw -> undistorted remap tables (empty without distortion)
-  cv::Mat weight_;
+  double feather_power_;
+  std::vector<cv::Point2d> border_;  // raw image border samples, undistorted
+  std::vector<float> weight_lut_;    // tent^power, indexed by tent * (kLut - 1)
 };
 
 // Converts any image OpenCV reads (gray/colour/alpha, 8/16 bit) to 8-bit with

@@ -104,6 +104,9 @@ MosaicBuilder::MosaicBuilder(const BuildConfig& config, const CameraModel& camer
       warper_(camera, frame, plan.base_zoom, config.tile_size, plan.channels, config.feather_power),
       pool_(std::make_unique<ThreadPool>(config.threads)),
       start_(std::chrono::steady_clock::now()) {
+  // We parallelise across frames and tiles; OpenCV's own threads inside each
+  // call would only compete with ours on a small on-board CPU.
+  cv::setNumThreads(1);
   writer_ = std::make_unique<TileWriter>(store, pool_.get(), config.encoding, hooks_.on_tile_written);
   const size_t cap = static_cast<size_t>(config.memory_cap_mb) << 20;
   pyramid_ = std::make_unique<OverviewPyramid>(writer_.get(), config.tile_size, plan.channels,
@@ -185,6 +188,7 @@ MosaicBuilder::Prepared MosaicBuilder::Prepare(const FrameSpec& spec) const {
 
 void MosaicBuilder::Consume(Prepared p) {
   ++stats_.frames_seen;
+  ++consumed_;  // this frame's number: tiles it paints are stamped with it
   FrameRecord record;
   record.id = p.spec.index;
   record.image = p.spec.image;
@@ -229,7 +233,6 @@ void MosaicBuilder::Consume(Prepared p) {
   store_->PutTrackPoint(point);
   if (hooks_.on_frame) hooks_.on_frame(record);
 
-  ++consumed_;
   FinishTiles(false);
   if (consumed_ % config_.batch_frames == 0) FlushBatch();
 }
@@ -239,19 +242,15 @@ void MosaicBuilder::Paint(const WarpedFrame& warped) {
   const int64_t tx0 = warped.x0 / ts, ty0 = warped.y0 / ts;
   const int64_t tx1 = (warped.x0 + warped.pixels.cols - 1) / ts;
   const int64_t ty1 = (warped.y0 + warped.pixels.rows - 1) / ts;
-  // The footprint in global pixels, to skip tiles inside the bounding box
-  // that the (rotated) frame does not actually reach.
-  std::vector<cv::Point2f> quad;
-  for (const auto& c : warped.footprint) {
-    GlobalPixel g = LatLonToPixel(c, plan_.base_zoom, ts);
-    quad.emplace_back(static_cast<float>(g.x - warped.x0), static_cast<float>(g.y - warped.y0));
-  }
   for (int64_t ty = ty0; ty <= ty1; ++ty) {
     for (int64_t tx = tx0; tx <= tx1; ++tx) {
-      const float rx = static_cast<float>(tx * ts - warped.x0), ry = static_cast<float>(ty * ts - warped.y0);
-      std::vector<cv::Point2f> rect{{rx, ry}, {rx + ts, ry}, {rx + ts, ry + ts}, {rx, ry + ts}};
-      std::vector<cv::Point2f> overlap;
-      if (cv::intersectConvexConvex(quad, rect, overlap, true) <= 0.0f) continue;
+      // Skip tiles inside the bounding box that the (rotated) frame misses.
+      const int64_t x_begin = std::max(tx * ts, warped.x0), y_begin = std::max(ty * ts, warped.y0);
+      const int64_t x_end = std::min((tx + 1) * ts, warped.x0 + warped.pixels.cols);
+      const int64_t y_end = std::min((ty + 1) * ts, warped.y0 + warped.pixels.rows);
+      const cv::Rect roi(static_cast<int>(x_begin - warped.x0), static_cast<int>(y_begin - warped.y0),
+                         static_cast<int>(x_end - x_begin), static_cast<int>(y_end - y_begin));
+      if (roi.width <= 0 || roi.height <= 0 || cv::countNonZero(warped.weight(roi)) == 0) continue;
       TileId id{plan_.base_zoom, static_cast<int>(tx), static_cast<int>(ty)};
       auto it = buffer_.find(id);
       if (it == buffer_.end()) {

@@ -34,29 +34,28 @@ bool TileAccumulator::Blend(const WarpedFrame& frame) {
   const int64_t y_end = std::min(origin_y_ + tile_size_, frame.y0 + frame.pixels.rows);
   if (x_begin >= x_end || y_begin >= y_end) return false;
   const int n = static_cast<int>(x_end - x_begin);
-  const int stride = channels_ + 1;
   constexpr float kScale = 1.0f / 255.0f;
   for (int64_t gy = y_begin; gy < y_end; ++gy) {
-    const uint8_t* src = frame.pixels.ptr<uint8_t>(static_cast<int>(gy - frame.y0)) +
-                         (x_begin - frame.x0) * stride;
+    const int fy = static_cast<int>(gy - frame.y0), fx = static_cast<int>(x_begin - frame.x0);
+    const uint8_t* src = frame.pixels.ptr<uint8_t>(fy) + fx * channels_;
+    const uint8_t* wt = frame.weight.ptr<uint8_t>(fy) + fx;
     const int ty = static_cast<int>(gy - origin_y_);
     const int tx = static_cast<int>(x_begin - origin_x_);
     float* s = sum_.ptr<float>(ty) + tx * channels_;
     float* w = weight_.ptr<float>(ty) + tx;
     if (channels_ == 1) {
       for (int i = 0; i < n; ++i) {
-        const float wt = src[2 * i + 1] * kScale;
-        s[i] += wt * src[2 * i];
-        w[i] += wt;
+        const float k = wt[i] * kScale;
+        s[i] += k * src[i];
+        w[i] += k;
       }
     } else {
       for (int i = 0; i < n; ++i) {
-        const uint8_t* p = src + 4 * i;
-        const float wt = p[3] * kScale;
-        s[3 * i] += wt * p[0];
-        s[3 * i + 1] += wt * p[1];
-        s[3 * i + 2] += wt * p[2];
-        w[i] += wt;
+        const float k = wt[i] * kScale;
+        s[3 * i] += k * src[3 * i];
+        s[3 * i + 1] += k * src[3 * i + 1];
+        s[3 * i + 2] += k * src[3 * i + 2];
+        w[i] += k;
       }
     }
   }

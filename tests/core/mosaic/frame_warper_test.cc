@@ -18,10 +18,8 @@ CameraModel TestCamera() {
 
 // Global pixel of a warped frame's pixel with the highest value in one channel.
 cv::Point2d Brightest(const WarpedFrame& f) {
-  cv::Mat gray;
-  cv::extractChannel(f.pixels, gray, 0);
   cv::Point p;
-  cv::minMaxLoc(gray, nullptr, nullptr, nullptr, &p);
+  cv::minMaxLoc(f.pixels, nullptr, nullptr, nullptr, &p, f.weight > 0);
   return {f.x0 + p.x + 0.5, f.y0 + p.y + 0.5};
 }
 
@@ -82,8 +80,7 @@ TEST(FrameWarper, WeightIsHighestInTheCentreAndZeroOutside) {
   pose.heading_deg = 30;  // rotated: bounding-box corners are outside the frame
   auto warped = warper.Warp(cv::Mat(cam.height, cam.width, CV_8U, cv::Scalar(80)), pose);
   ASSERT_TRUE(warped);
-  cv::Mat weight;
-  cv::extractChannel(warped->pixels, weight, 1);
+  const cv::Mat& weight = warped->weight;
   EXPECT_EQ(weight.at<uint8_t>(0, 0), 0);
   EXPECT_GT(weight.at<uint8_t>(weight.rows / 2, weight.cols / 2), 240);
 }

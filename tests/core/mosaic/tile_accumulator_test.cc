@@ -10,7 +10,8 @@ WarpedFrame Constant(int64_t x0, int64_t y0, int w, int h, uint8_t value, uint8_
   WarpedFrame f;
   f.x0 = x0;
   f.y0 = y0;
-  f.pixels = cv::Mat(h, w, CV_8UC2, cv::Scalar(value, weight));
+  f.pixels = cv::Mat(h, w, CV_8UC1, cv::Scalar(value));
+  f.weight = cv::Mat(h, w, CV_8UC1, cv::Scalar(weight));
   return f;
 }
 
@@ -55,7 +56,8 @@ TEST(TileAccumulator, SeedFromWrittenTileBlendsInsteadOfOverwriting) {
 TEST(TileAccumulator, Colour) {
   TileAccumulator acc(256, 3, 0, 0);
   WarpedFrame f;
-  f.pixels = cv::Mat(4, 4, CV_8UC4, cv::Scalar(10, 20, 30, 255));
+  f.pixels = cv::Mat(4, 4, CV_8UC3, cv::Scalar(10, 20, 30));
+  f.weight = cv::Mat(4, 4, CV_8UC1, cv::Scalar(255));
   acc.Blend(f);
   cv::Mat t = acc.Finalize();
   ASSERT_EQ(t.type(), CV_8UC4);

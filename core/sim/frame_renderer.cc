@@ -1,0 +1,169 @@
+#include "core/sim/frame_renderer.h"
+
+#include <cmath>
+
+#include <Eigen/Dense>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "core/camera/frame_projector.h"
+
+namespace seamap {
+namespace {
+
+// Where camera rays (normalised x, y, 1) meet the seabed plane.
+struct RayCaster {
+  Eigen::Matrix3d rotation;  // camera -> NED
+  Eigen::Vector3d centre;    // camera: local north, east; down below the nav point
+  double height = 0;         // camera above the seabed
+
+  RayCaster(const CameraModel& camera, const VehiclePose& pose) {
+    const Eigen::Matrix3d body_to_ned = BodyToNed(pose);
+    rotation = body_to_ned * camera.CameraToBody();
+    const Eigen::Vector3d offset = body_to_ned * camera.mount_offset_m;
+    centre = {pose.north_m + offset.x(), pose.east_m + offset.y(), offset.z()};
+    height = pose.altitude_m - offset.z();
+  }
+
+  // False when the ray does not go down to the seabed.
+  bool Hit(double x, double y, double* east, double* north, double* range) const {
+    const Eigen::Vector3d d = rotation.col(0) * x + rotation.col(1) * y + rotation.col(2);
+    if (height <= 0 || d.z() < 1e-6) return false;
+    const double t = height / d.z();
+    *north = centre.x() + t * d.x();
+    *east = centre.y() + t * d.y();
+    *range = t * d.norm();
+    return true;
+  }
+};
+
+constexpr float kMiss = -1e6f;  // remap coordinate far outside any texture
+
+}  // namespace
+
+FrameRenderer::FrameRenderer(const CameraModel& camera, const Degradations& degradations)
+    : camera_(camera), degradations_(degradations) {
+  if (degradations.noise_sigma > 0) {
+    noise_pool_.create(1, 4 * camera.width * camera.height * 3 + 1024);
+    cv::RNG(0x6e6f697365).fill(noise_pool_, cv::RNG::NORMAL, 0, degradations.noise_sigma);
+  }
+  std::vector<cv::Point2d> pixels;
+  pixels.reserve(static_cast<size_t>(camera.width) * camera.height);
+  for (int v = 0; v < camera.height; ++v)
+    for (int u = 0; u < camera.width; ++u) pixels.emplace_back(u, v);
+  std::vector<cv::Point2d> normalised;
+  // No P matrix: the output is the normalised ray (x, y) with z = 1.
+  cv::undistortPoints(pixels, normalised, camera.K(), camera.DistortionCoeffs(), cv::noArray(),
+                      cv::noArray(),
+                      cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 50, 1e-12));
+  rays_.create(camera.height, camera.width);
+  ray_norm_.create(camera.height, camera.width);
+  gain_gray_.create(camera.height, camera.width);
+  gain_bgr_.create(camera.height, camera.width);
+  // Water absorbs red strongly, blue a little.
+  const float cast_b = static_cast<float>(1 - 0.10 * degradations.color_cast);
+  const float cast_g = static_cast<float>(1 - 0.02 * degradations.color_cast);
+  const float cast_r = static_cast<float>(1 - 0.65 * degradations.color_cast);
+  const double half_diagonal = std::hypot(camera.width, camera.height) / 2;
+  for (int v = 0; v < camera.height; ++v)
+    for (int u = 0; u < camera.width; ++u) {
+      const cv::Point2d& r = normalised[static_cast<size_t>(v) * camera.width + u];
+      rays_(v, u) = cv::Vec2f(static_cast<float>(r.x), static_cast<float>(r.y));
+      // Lamp: cos^4 off-axis falloff times a soft spot centred on the image.
+      const double cos2 = 1 / (1 + r.x * r.x + r.y * r.y);
+      ray_norm_(v, u) = static_cast<float>(std::sqrt(1 / cos2));
+      const double rho = std::hypot(u - camera.cx, v - camera.cy) / half_diagonal;
+      const double light = cos2 * cos2 * std::exp(-rho * rho);
+      const float gain = static_cast<float>(1 - degradations.vignetting * (1 - light));
+      gain_gray_(v, u) = gain;
+      gain_bgr_(v, u) = cv::Vec3f(gain * cast_b, gain * cast_g, gain * cast_r);
+    }
+}
+
+bool FrameRenderer::GroundBounds(const VehiclePose& pose, cv::Rect2d* bounds) const {
+  const RayCaster caster(camera_, pose);
+  double e_min = INFINITY, e_max = -INFINITY, n_min = INFINITY, n_max = -INFINITY;
+  const auto visit = [&](int u, int v) {
+    const cv::Vec2f r = rays_(v, u);
+    double east, north, range;
+    if (!caster.Hit(r[0], r[1], &east, &north, &range)) return false;
+    e_min = std::min(e_min, east), e_max = std::max(e_max, east);
+    n_min = std::min(n_min, north), n_max = std::max(n_max, north);
+    return true;
+  };
+  const int w = camera_.width, h = camera_.height;
+  for (int u = 0; u < w; ++u)
+    if (!visit(u, 0) || !visit(u, h - 1)) return false;
+  for (int v = 0; v < h; ++v)
+    if (!visit(0, v) || !visit(w - 1, v)) return false;
+  *bounds = cv::Rect2d(e_min, n_min, e_max - e_min, n_max - n_min);
+  return true;
+}
+
+cv::Mat FrameRenderer::Render(const SeabedTexture& texture, const VehiclePose& pose,
+                              uint64_t noise_seed) const {
+  const RayCaster caster(camera_, pose);
+  const Degradations& deg = degradations_;
+  // Texture coordinates are a homography of the ray (x, y, 1): with d = R (x, y, 1),
+  // column = (e0 - east_min) / res - 0.5 + (h / res) d_east / d_down, and likewise the row.
+  const Eigen::Matrix3d& r = caster.rotation;
+  const double scale = caster.height / texture.res_m;
+  const double col0 = texture.Column(caster.centre.y()), row0 = texture.Row(caster.centre.x());
+  const Eigen::RowVector3d num_x = col0 * r.row(2) + scale * r.row(1);
+  const Eigen::RowVector3d num_y = row0 * r.row(2) - scale * r.row(0);
+  const Eigen::RowVector3d den = r.row(2);
+  cv::Mat1f map_x(rays_.size()), map_y(rays_.size()), range;
+  if (deg.haze > 0) range.create(rays_.size());
+  cv::parallel_for_(cv::Range(0, rays_.rows), [&](const cv::Range& rows) {
+    for (int v = rows.start; v < rows.end; ++v) {
+      const cv::Vec2f* ray = rays_[v];
+      float* mx = map_x[v];
+      float* my = map_y[v];
+      for (int u = 0; u < rays_.cols; ++u) {
+        const double x = ray[u][0], y = ray[u][1];
+        const double w = den[0] * x + den[1] * y + den[2];  // d_down
+        const bool hit = caster.height > 0 && w > 1e-6;
+        const double inv_w = hit ? 1 / w : 0;
+        mx[u] = hit ? static_cast<float>((num_x[0] * x + num_x[1] * y + num_x[2]) * inv_w) : kMiss;
+        my[u] = hit ? static_cast<float>((num_y[0] * x + num_y[1] * y + num_y[2]) * inv_w) : kMiss;
+        // |d| = |(x, y, 1)|; a ray that misses sees only water.
+        if (!range.empty()) range(v, u) = hit ? static_cast<float>(caster.height * ray_norm_(v, u) * inv_w) : 1e3f;
+      }
+    }
+  });
+  cv::Mat frame;
+  cv::remap(texture.image, frame, map_x, map_y, cv::INTER_LINEAR, cv::BORDER_CONSTANT,
+            cv::Scalar::all(0));
+  if (!deg.Any()) return frame;
+
+  // Degradations, in float and 8-bit units whatever the depth, with
+  // vectorised whole-image operations.
+  const int channels = frame.channels();
+  const double unit = frame.depth() == CV_16U ? 257.0 : 1.0;
+  cv::Mat work;
+  frame.convertTo(work, CV_MAKETYPE(CV_32F, channels), 1 / unit);
+  if (deg.vignetting > 0 || (deg.color_cast > 0 && channels == 3))
+    cv::multiply(work, channels == 3 ? cv::Mat(gain_bgr_) : cv::Mat(gain_gray_), work);
+  if (!range.empty()) {
+    cv::Mat1f t;  // transmission exp(-0.4 haze range)
+    cv::exp(range * (-0.4 * deg.haze), t);
+    cv::Mat t_n = t;
+    if (channels == 3) cv::merge(std::vector<cv::Mat>{t, t, t}, t_n);
+    // I = J t + A (1 - t) = (J - A) t + A, with bluish-green (or mid gray) veiling light A.
+    const cv::Scalar veil = channels == 3 ? cv::Scalar(140, 115, 45) : cv::Scalar(100);
+    cv::subtract(work, veil, work);
+    cv::multiply(work, t_n, work);
+    cv::add(work, veil, work);
+  }
+  if (deg.noise_sigma > 0) {
+    // A window of the precomputed pool at a seeded offset: as random as fresh
+    // gaussian noise for any use here, and much cheaper.
+    const int n = static_cast<int>(work.total()) * channels;
+    const int offset = cv::RNG(noise_seed).uniform(0, static_cast<int>(noise_pool_.total()) - n);
+    work += cv::Mat(work.size(), work.type(), const_cast<float*>(noise_pool_.ptr<float>()) + offset);
+  }
+  work.convertTo(frame, frame.type(), unit);
+  return frame;
+}
+
+}  // namespace seamap

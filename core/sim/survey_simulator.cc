@@ -1,0 +1,265 @@
+#include "core/sim/survey_simulator.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "core/sim/seabed_texture.h"
+#include "core/util/error.h"
+
+namespace seamap {
+namespace fs = std::filesystem;
+namespace {
+
+constexpr double kTextureMargin_m = 0.25;   // around the union of footprints
+constexpr double kMaxTexturePixels = 1.5e9;
+
+void Require(bool ok, const std::string& param, const std::string& expected) {
+  if (!ok) throw InputError("", 0, param, expected);
+}
+
+void Validate(const SimulationOptions& o) {
+  Require(!o.out_dir.empty(), "--out", "is required: the folder to write the survey to");
+  const TrajectoryOptions& t = o.trajectory;
+  Require(t.frames > 0, "--frames", "expected a positive number of frames");
+  Require(t.fps > 0, "--fps", "expected a positive frame rate");
+  Require(t.speed_mps > 0, "--speed", "expected a positive speed in m/s");
+  Require(t.altitude_min_m > 0, "--altitude-min", "expected a positive altitude in metres");
+  Require(t.altitude_max_m >= t.altitude_min_m, "--altitude-max", "expected at least --altitude-min");
+  Require(t.pitch_amp_deg >= 0 && t.pitch_amp_deg < 60, "--pitch-amp", "expected 0-60 degrees");
+  Require(t.roll_amp_deg >= 0 && t.roll_amp_deg < 60, "--roll-amp", "expected 0-60 degrees");
+  Require(o.line_length_m > 0, "--line-length", "expected a positive length in metres");
+  Require(o.line_spacing_m >= 0, "--line-spacing", "expected a positive spacing in metres");
+  Require(o.texture_res_m >= 0, "--texture-res", "expected a positive resolution in metres per pixel");
+  Require(o.image_format == "png" || o.image_format == "jpg", "--image-format", "expected png or jpg");
+  Require(o.jpeg_quality >= 1 && o.jpeg_quality <= 100, "--jpeg-quality", "expected 1-100");
+  Require(o.bit_depth == 8 || o.bit_depth == 16, "--bit-depth", "expected 8 or 16");
+  Require(o.bit_depth == 8 || o.image_format == "png", "--bit-depth",
+          "16-bit frames need --image-format png (JPEG is 8-bit)");
+  const Degradations& d = o.degradations;
+  Require(d.vignetting >= 0 && d.vignetting <= 1, "--vignetting", "expected a strength in 0-1");
+  Require(d.color_cast >= 0 && d.color_cast <= 1, "--color-cast", "expected a strength in 0-1");
+  Require(d.haze >= 0 && d.haze <= 5, "--haze", "expected a strength in 0-5");
+  Require(d.noise_sigma >= 0, "--noise", "expected a non-negative sigma in 8-bit units");
+  const NavErrorOptions& n = o.nav_errors;
+  Require(n.position_sigma_m >= 0, "--nav-noise", "expected a non-negative sigma in metres");
+  Require(n.heading_sigma_deg >= 0, "--heading-noise", "expected a non-negative sigma in degrees");
+  Require(n.drift_m_per_min >= 0, "--nav-drift", "expected a non-negative drift in metres per minute");
+  o.camera.Validate("camera");
+}
+
+// Refuses a non-empty folder unless forced.
+void CheckOutput(const SimulationOptions& o) {
+  const fs::path out(o.out_dir);
+  if (fs::exists(out) && !fs::is_directory(out))
+    throw InputError(o.out_dir, 0, "--out", "exists and is not a folder");
+  if (fs::exists(out) && !fs::is_empty(out) && !o.force)
+    throw InputError(o.out_dir, 0, "--out", "folder is not empty; use --force to overwrite it");
+}
+
+// Removes only our own previous outputs, then creates the folders.
+void PrepareOutput(const SimulationOptions& o) {
+  const fs::path out(o.out_dir);
+  std::error_code ec;
+  if (fs::exists(out) && !fs::is_empty(out)) {
+    for (const char* name : {"photo", "truth"}) fs::remove_all(out / name, ec);
+    for (const char* name : {"nav.csv", "nav_truth.csv", "camera.json", "survey.json"})
+      fs::remove(out / name, ec);
+  }
+  fs::create_directories(out / "photo", ec);
+  fs::create_directories(out / "truth", ec);
+  if (ec || !fs::is_directory(out / "photo"))
+    throw InputError(o.out_dir, 0, "--out", "cannot create the folder: " + ec.message());
+}
+
+std::string FrameName(int i, const std::string& ext) {
+  char name[32];
+  std::snprintf(name, sizeof name, "frame_%06d.%s", i, ext.c_str());
+  return name;
+}
+
+void WriteNav(const std::string& path, const std::vector<TimedPose>& poses, const std::string& ext) {
+  std::FILE* f = std::fopen(path.c_str(), "w");
+  if (!f) throw InputError(path, 0, "", "cannot write the navigation file");
+  std::fprintf(f, "image,time_s,x_m,y_m,altitude_m,depth_m,heading_deg,pitch_deg,roll_deg\n");
+  for (size_t i = 0; i < poses.size(); ++i) {
+    const VehiclePose& p = poses[i].pose;
+    std::fprintf(f, "%s,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f\n",
+                 FrameName(static_cast<int>(i), ext).c_str(), poses[i].time_s, p.east_m, p.north_m,
+                 p.altitude_m, p.depth_m, p.heading_deg, p.pitch_deg, p.roll_deg);
+  }
+  if (std::fclose(f) != 0) throw InputError(path, 0, "", "cannot write the navigation file");
+}
+
+void WriteJson(const std::string& path, const nlohmann::json& j) {
+  std::ofstream out(path);
+  out << j.dump(2) << "\n";
+  if (!out) throw InputError(path, 0, "", "cannot write the file");
+}
+
+nlohmann::json SurveyJson(const SimulationOptions& o, const SimulationSummary& s) {
+  const CameraModel& c = o.camera;
+  const TrajectoryOptions& t = o.trajectory;
+  const Degradations& d = o.degradations;
+  const NavErrorOptions& n = o.nav_errors;
+  return {{"origin", {o.origin.lat, o.origin.lon}},
+          {"seed", o.seed},
+          {"frames", s.frames},
+          {"camera", {{"width", c.width}, {"height", c.height}, {"fx", c.fx}, {"fy", c.fy},
+                      {"cx", c.cx}, {"cy", c.cy}, {"distortion", c.distortion}}},
+          {"image", {{"format", o.image_format}, {"jpeg_quality", o.jpeg_quality},
+                     {"bit_depth", o.bit_depth}, {"color", o.color}}},
+          {"path", {{"type", o.path_file.empty() ? "lawnmower" : "file"}, {"file", o.path_file},
+                    {"line_length_m", o.line_length_m}, {"line_spacing_m", s.line_spacing_m},
+                    {"length_m", s.path_length_m}}},
+          {"trajectory", {{"speed_mps", t.speed_mps}, {"fps", t.fps}, {"frames_requested", t.frames},
+                          {"altitude_min_m", t.altitude_min_m}, {"altitude_max_m", t.altitude_max_m},
+                          {"pitch_amp_deg", t.pitch_amp_deg}, {"roll_amp_deg", t.roll_amp_deg},
+                          {"sea_depth_m", t.sea_depth_m}}},
+          {"texture", {{"source", o.texture_file.empty() ? "procedural" : o.texture_file},
+                       {"res_m", s.texture_res_m}, {"width", s.texture_size.width},
+                       {"height", s.texture_size.height}}},
+          {"degradations", {{"vignetting", d.vignetting}, {"color_cast", d.color_cast},
+                            {"haze", d.haze}, {"noise_sigma", d.noise_sigma}}},
+          {"nav_errors", {{"position_sigma_m", n.position_sigma_m},
+                          {"heading_sigma_deg", n.heading_sigma_deg},
+                          {"drift_m_per_min", n.drift_m_per_min}}},
+          {"area_m2", s.area_m2}};
+}
+
+}  // namespace
+
+CameraModel DefaultSimCamera() {
+  CameraModel c = CameraFromFocalLength(8.0, 12.9, 696, 520);
+  c.distortion = {-0.05, 0.01, 0, 0, 0};
+  return c;
+}
+
+SimulationSummary SimulateSurvey(const SimulationOptions& o,
+                                 const std::function<void(int, int)>& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  Validate(o);
+  CheckOutput(o);
+  const CameraModel& cam = o.camera;
+  const TrajectoryOptions& traj = o.trajectory;
+  SimulationSummary summary;
+
+  // Path and poses.
+  const double needed_m = (traj.frames - 1) * traj.speed_mps / traj.fps;
+  SurveyPath path = SurveyPath::FromWaypoints({{0, 0}, {0, 1}});
+  if (o.path_file.empty()) {
+    summary.line_spacing_m = o.line_spacing_m > 0
+                                 ? o.line_spacing_m
+                                 : 0.7 * cam.width / cam.fx * traj.altitude_min_m;
+    path = SurveyPath::Lawnmower(o.line_length_m, summary.line_spacing_m, needed_m);
+  } else {
+    path = SurveyPath::LoadCsv(o.path_file);
+  }
+  summary.path_length_m = path.Length();
+  const std::vector<TimedPose> truth = MakeTrajectory(path, traj, o.seed);
+  const std::vector<TimedPose> nav = AddNavigationErrors(truth, o.nav_errors, o.seed);
+  summary.frames = static_cast<int>(truth.size());
+
+  // Texture covering every footprint.
+  const FrameRenderer renderer(cam, o.degradations);
+  cv::Rect2d area;
+  bool first_bounds = true;
+  for (const TimedPose& tp : truth) {
+    cv::Rect2d b;
+    if (!renderer.GroundBounds(tp.pose, &b))
+      throw InputError("", 0, "--pitch-amp", "a frame's view does not reach the seabed; reduce "
+                                              "--pitch-amp/--roll-amp");
+    area = first_bounds ? b : (area | b);
+    first_bounds = false;
+  }
+  summary.area_m2 = area.area();
+  SeabedTexture texture;
+  texture.res_m = o.texture_res_m > 0 ? o.texture_res_m : 0.55 * traj.altitude_min_m / cam.fx;
+  const double need_w = area.width + 2 * kTextureMargin_m, need_h = area.height + 2 * kTextureMargin_m;
+  if (o.texture_file.empty()) {
+    const cv::Size size(static_cast<int>(std::ceil(need_w / texture.res_m)),
+                        static_cast<int>(std::ceil(need_h / texture.res_m)));
+    if (static_cast<double>(size.width) * size.height > kMaxTexturePixels)
+      throw InputError("", 0, "--texture-res",
+                       "the seabed texture would need " + std::to_string(size.width) + "x" +
+                           std::to_string(size.height) + " pixels; use a coarser --texture-res or a shorter survey");
+    texture.image = MakeProceduralTexture(size, texture.res_m, o.color, o.bit_depth, o.seed);
+  } else {
+    texture.image = LoadTextureImage(o.texture_file, o.color, o.bit_depth);
+    const double w = texture.image.cols * texture.res_m, h = texture.image.rows * texture.res_m;
+    if (w < need_w || h < need_h) {
+      char msg[256];
+      std::snprintf(msg, sizeof msg,
+                    "covers %.2f x %.2f m at %.5f m/px but the survey needs %.2f x %.2f m; use a "
+                    "larger --texture-res or a shorter path",
+                    w, h, texture.res_m, need_w, need_h);
+      throw InputError(o.texture_file, 0, "--texture", msg);
+    }
+  }
+  // Centre the texture on the surveyed area.
+  const double centre_e = area.x + area.width / 2, centre_n = area.y + area.height / 2;
+  texture.east_min = centre_e - texture.image.cols * texture.res_m / 2;
+  texture.north_max = centre_n + texture.image.rows * texture.res_m / 2;
+  summary.texture_size = texture.image.size();
+  summary.texture_res_m = texture.res_m;
+
+  // Small files first, so a bad folder fails fast.
+  PrepareOutput(o);
+  const fs::path out(o.out_dir);
+  SaveCameraJson(cam, (out / "camera.json").string());
+  WriteNav((out / "nav.csv").string(), nav, o.image_format);
+  WriteNav((out / "nav_truth.csv").string(), truth, o.image_format);
+
+  // The large truth PNG is encoded while the frames render.
+  std::exception_ptr truth_error;
+  std::thread truth_writer([&] {
+    try {
+      SaveTruth(texture, o.origin, (out / "truth").string());
+    } catch (...) {
+      truth_error = std::current_exception();
+    }
+  });
+
+  std::vector<int> params;
+  if (o.image_format == "jpg") params = {cv::IMWRITE_JPEG_QUALITY, o.jpeg_quality};
+  std::exception_ptr frame_error;
+  std::mutex error_mutex;
+  const int total = summary.frames, batch = 16;
+  for (int first = 0; first < total; first += batch) {
+    const int last = std::min(total, first + batch);
+    cv::parallel_for_(cv::Range(first, last), [&](const cv::Range& range) {
+      for (int i = range.start; i < range.end; ++i) {
+        try {
+          const uint64_t noise_seed = o.seed * 1000003ull + static_cast<uint64_t>(i) + 1;
+          const cv::Mat frame = renderer.Render(texture, truth[i].pose, noise_seed);
+          const std::string file = (out / "photo" / FrameName(i, o.image_format)).string();
+          if (!cv::imwrite(file, frame, params)) throw InputError(file, 0, "", "cannot write the frame");
+        } catch (...) {
+          std::lock_guard<std::mutex> lock(error_mutex);
+          if (!frame_error) frame_error = std::current_exception();
+        }
+      }
+    });
+    if (frame_error) break;
+    if (progress) progress(last, total);
+  }
+  truth_writer.join();
+  if (frame_error) std::rethrow_exception(frame_error);
+  if (truth_error) std::rethrow_exception(truth_error);
+
+  summary.seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  WriteJson((out / "survey.json").string(), SurveyJson(o, summary));
+  return summary;
+}
+
+}  // namespace seamap

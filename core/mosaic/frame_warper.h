@@ -1,10 +1,10 @@
 #pragma once
 // Places one frame on the map. For every output pixel (Web Mercator global
-// pixels at the base zoom, inside the frame's bounding box) one pass computes
-// where it comes from in the raw image — inverse seabed homography, then the
-// lens distortion model — and the feather weight there (a tent that is 1 at
-// the image centre and falls to 0 at the raw image edges); one cv::remap then
-// samples the frame. No separate undistortion pass, no warped weight image.
+// pixels at the base zoom, inside the frame's bounding box) it computes where
+// the pixel comes from in the raw image — inverse seabed homography, then the
+// lens distortion model — samples the raw frame there with one cv::remap (no
+// separate undistortion pass) and computes the feather weight there: a tent
+// that is 1 at the image centre and falls to 0 at the raw image edges.
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -40,9 +40,12 @@ class FrameWarper {
   std::optional<WarpedFrame> Warp(const cv::Mat& image, const VehiclePose& pose) const;
 
  private:
-  // Map pixel (relative to the box) -> raw image pixel, through the inverse
-  // homography m (to normalised coordinates) and the lens distortion.
-  cv::Point2d MapToImage(const cv::Matx33d& m, double x, double y) const;
+  // For map row y (relative to the box): where each pixel samples the raw
+  // image, through the inverse homography m (to normalised coordinates) and
+  // the lens distortion, as fixed-point remap tables, and the tent weight
+  // there (-1 outside the image).
+  void RowMapping(const cv::Matx33d& m, int y, int width, int16_t* __restrict xy,
+                  uint16_t* __restrict frac, float* __restrict tent) const;
 
   CameraModel camera_;
   LocalFrame frame_;

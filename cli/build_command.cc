@@ -1,5 +1,7 @@
 // seamap build: photos + navigation + camera -> tile pyramid.
 #include <cstdio>
+#include <fstream>
+#include <optional>
 #include <filesystem>
 #include <map>
 #include <sstream>
@@ -26,12 +28,14 @@ const char* kHelp =
     "  --origin LAT,LON    origin of local x_m/y_m positions (WGS84 degrees)\n"
     "  --image-times FILE  CSV image,time_s when the navigation is a time series\n"
     "  --config FILE       build settings (JSON, see config/)\n"
+    "  --enhance OPS       enhancement chain, e.g. default or flatfield,dehaze,clahe (see enhance)\n"
     "  --tile-format F     png | jpg | webp        --tile-size 256|512\n"
     "  --base-zoom Z       --min-zoom Z            --threads N\n"
     "  --name TEXT         map name in the metadata\n"
     "  --append            continue painting an existing map (tiles are read back and blended)\n"
     "  --overwrite         replace an existing map\n"
-    "  --quiet             no progress bar\n";
+    "  --quiet             no progress bar\n"
+    "  --report FILE       write the run's figures as JSON (frames, seconds, tiles, bytes, peak RSS)\n";
 
 std::string Summary(const BuildStats& s) {
   std::map<std::string, int> reasons;
@@ -60,6 +64,32 @@ std::string Summary(const BuildStats& s) {
   return out.str();
 }
 
+void WriteReport(const std::string& path, const BuildStats& s, const MosaicPlan& plan) {
+  int64_t distinct = 0;
+  nlohmann::json per_zoom = nlohmann::json::object();
+  for (const auto& [z, n] : s.tiles_per_zoom) {
+    distinct += n;
+    per_zoom[std::to_string(z)] = n;
+  }
+  nlohmann::json j = {{"frames_seen", s.frames_seen},
+                      {"frames_used", s.frames_used},
+                      {"frames_rejected", s.rejections.size()},
+                      {"seconds", s.seconds},
+                      {"ms_per_frame", s.frames_seen ? 1000 * s.seconds / s.frames_seen : 0},
+                      {"frames_per_s", s.seconds > 0 ? s.frames_seen / s.seconds : 0},
+                      {"tiles", distinct},
+                      {"tile_writes", s.tiles_written},
+                      {"tile_bytes", s.tile_bytes},
+                      {"readbacks", s.readbacks},
+                      {"tiles_per_zoom", per_zoom},
+                      {"base_zoom", plan.base_zoom},
+                      {"min_zoom", plan.min_zoom},
+                      {"peak_rss_bytes", PeakRssBytes()}};
+  std::ofstream out(path);
+  if (!out) throw InputError(path, 0, "--report", "cannot write the report file");
+  out << j.dump(2) << "\n";
+}
+
 }  // namespace
 
 int RunBuild(int argc, char** argv, int first) {
@@ -72,6 +102,7 @@ int RunBuild(int argc, char** argv, int first) {
   const std::string out = args.Require("out");
   const bool append = args.Flag("append"), overwrite = args.Flag("overwrite");
   const bool quiet = args.Flag("quiet");
+  const std::optional<std::string> report = args.Get("report");
   args.RejectUnknown();
 
   auto store = OpenOutput(out, in.config, append, overwrite);
@@ -83,19 +114,20 @@ int RunBuild(int argc, char** argv, int first) {
                in.config.tile_size, out.c_str());
   for (const auto& w : in.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
 
-  MosaicBuilder builder(in.config, in.camera, in.frame, plan, store.get(), MakeHooks(in.config));
+  MosaicBuilder builder(in.config, in.camera, in.frame, plan, store.get(), MakeHooks(in));
   for (const auto& r : in.frames.rejected) builder.Reject(r);
   ProgressBar progress("frames", static_cast<long>(in.frames.frames.size()), !quiet);
-  long n = 0;
   for (const auto& f : in.frames.frames) {
     builder.Push(f);
-    progress.Update(++n);
+    progress.Update(builder.stats().frames_seen - static_cast<long>(in.frames.rejected.size()));
   }
   builder.Finish();
+  progress.Update(static_cast<long>(in.frames.frames.size()));
   progress.Finish();
   const BuildStats& s = builder.stats();
   for (const auto& r : s.rejections) std::fprintf(stderr, "skipped: %s\n", r.Message().c_str());
   std::printf("%s\n", Summary(s).c_str());
+  if (report) WriteReport(*report, s, plan);
   if (s.frames_used == 0) {
     std::fprintf(stderr, "seamap build: error: no frame could be used\n");
     return 1;

@@ -4,6 +4,8 @@
 
 #include <opencv2/imgcodecs.hpp>
 
+#include "core/enhance/enhance_chain.h"
+#include "core/mosaic/frame_warper.h"
 #include "core/nav/nav_reader.h"
 #include "core/util/error.h"
 
@@ -27,7 +29,14 @@ int ProbeChannels(const FrameList& frames) {
 
 BuildInputs ReadBuildInputs(Args& args) {
   BuildInputs in;
-  if (auto path = args.Get("config")) in.config = LoadBuildConfig(*path);
+  if (auto path = args.Get("config")) {
+    in.config = LoadBuildConfig(*path);
+    in.config_source = *path;
+  }
+  if (auto ops = args.Get("enhance")) {
+    in.config.enhance = EnhanceChain::FromOpList(*ops, "--enhance").ToJson();
+    if (in.config.layers == "raw") in.config.layers = "enhanced";
+  }
   nlohmann::json overrides = nlohmann::json::object();
   if (auto v = args.Get("tile-format")) overrides["tile_format"] = *v;
   if (auto v = args.Get("name")) overrides["name"] = *v;
@@ -85,9 +94,22 @@ std::unique_ptr<TileStore> OpenOutput(const std::string& path, const BuildConfig
   return OpenTileStore(path, TileExtension(config.encoding.format), /*create=*/true);
 }
 
-BuildHooks MakeHooks(const BuildConfig& config) {
+BuildHooks MakeHooks(const BuildInputs& in) {
   BuildHooks hooks;
-  (void)config;  // the enhancement chain is wired in with core/enhance
+  if (!in.config.enhance || in.config.layers == "raw") return hooks;
+  auto chain = std::make_shared<EnhanceChain>(EnhanceChain::FromJson(*in.config.enhance, in.config_source));
+  // Stateful ops (the flat field) learn from the survey's first frames.
+  std::vector<cv::Mat> samples;
+  for (const auto& f : in.frames.frames) {
+    if (static_cast<int>(samples.size()) >= chain->SeedFrames()) break;
+    std::error_code ec;
+    if (!fs::is_regular_file(f.image_path, ec)) continue;
+    cv::Mat m = cv::imread(f.image_path, cv::IMREAD_UNCHANGED);
+    if (!m.empty() && m.cols == in.camera.width && m.rows == in.camera.height)
+      samples.push_back(ToEightBit(m, in.channels, in.config.sixteen_bit_white));
+  }
+  if (!samples.empty()) chain->Seed(samples);
+  hooks.preprocess = [chain](const cv::Mat& frame) { return chain->Apply(frame); };
   return hooks;
 }
 

@@ -17,6 +17,7 @@ namespace seamap::cli {
 
 struct BuildInputs {
   BuildConfig config;
+  std::string config_source = "build config";  // the file it came from, for errors
   CameraModel camera;
   LocalFrame frame{LatLon{0, 0}};
   FrameList frames;
@@ -32,7 +33,7 @@ BuildInputs ReadBuildInputs(Args& args);
 std::unique_ptr<TileStore> OpenOutput(const std::string& path, const BuildConfig& config,
                                       bool append, bool overwrite);
 
-// Hooks for the configured enhancement chain.
-BuildHooks MakeHooks(const BuildConfig& config);
+// Hooks for the configured enhancement chain (seeded from the first frames).
+BuildHooks MakeHooks(const BuildInputs& inputs);
 
 }  // namespace seamap::cli

@@ -114,19 +114,33 @@ int RunBuild(int argc, char** argv, int first) {
                in.config.tile_size, out.c_str());
   for (const auto& w : in.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
 
-  MosaicBuilder builder(in.config, in.camera, in.frame, plan, store.get(), MakeHooks(in));
+  // The main layer is raw unless only the enhanced map was asked for; with
+  // "both", the enhanced map is built alongside as layer "enhanced".
+  BuildHooks enhance = MakeHooks(in);
+  const bool both = in.config.layers == "both" && enhance.preprocess;
+  MosaicBuilder builder(in.config, in.camera, in.frame, plan, store.get(), both ? BuildHooks{} : enhance);
+  std::unique_ptr<TileStore> enhanced_store;
+  std::unique_ptr<MosaicBuilder> enhanced;
+  if (both) {
+    enhanced_store = store->OpenLayer("enhanced");
+    enhanced = std::make_unique<MosaicBuilder>(in.config, in.camera, in.frame, plan, enhanced_store.get(), enhance);
+  }
+  store->SetMetadata("seamap_layers", both ? "raw,enhanced" : enhance.preprocess ? "enhanced" : "raw");
   for (const auto& r : in.frames.rejected) builder.Reject(r);
   ProgressBar progress("frames", static_cast<long>(in.frames.frames.size()), !quiet);
   for (const auto& f : in.frames.frames) {
     builder.Push(f);
+    if (enhanced) enhanced->Push(f);
     progress.Update(builder.stats().frames_seen - static_cast<long>(in.frames.rejected.size()));
   }
   builder.Finish();
+  if (enhanced) enhanced->Finish();
   progress.Update(static_cast<long>(in.frames.frames.size()));
   progress.Finish();
   const BuildStats& s = builder.stats();
   for (const auto& r : s.rejections) std::fprintf(stderr, "skipped: %s\n", r.Message().c_str());
   std::printf("%s\n", Summary(s).c_str());
+  if (enhanced) std::printf("enhanced layer: %s\n", Summary(enhanced->stats()).c_str());
   if (report) WriteReport(*report, s, plan);
   if (s.frames_used == 0) {
     std::fprintf(stderr, "seamap build: error: no frame could be used\n");

@@ -53,6 +53,7 @@ int RunInfo(int argc, char** argv, int first) {
   std::printf("frames:    %zu (%zu used, %zu rejected)\n", frames.size(), used, frames.size() - used);
   std::printf("track:     %zu points\n", store->Track().size());
   std::printf("state:     %s\n", get("seamap_state").c_str());
+  std::printf("layers:    %s\n", get("seamap_layers").c_str());
   std::printf("size:      %.1f MiB\n", SizeOnDisk(path) / 1048576.0);
   return 0;
 }

@@ -1,4 +1,6 @@
 // seamap: one executable, one subcommand per job.
+#include <malloc.h>
+
 #include <cstdio>
 #include <cstring>
 #include <exception>
@@ -25,6 +27,11 @@ const char* kUsage =
 
 int main(int argc, char** argv) {
   using namespace seamap::cli;
+  // Every frame allocates and frees the same few large buffers; glibc would
+  // return them to the kernel each time and fault them back in on the next
+  // frame, doubling the cost of the per-frame stages.
+  mallopt(M_MMAP_THRESHOLD, 64 << 20);
+  mallopt(M_TRIM_THRESHOLD, 256 << 20);
   if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h")) {
     std::fputs(kUsage, argc < 2 ? stderr : stdout);
     return argc < 2 ? 2 : 0;

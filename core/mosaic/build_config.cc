@@ -92,8 +92,8 @@ void ApplyBuildConfig(const json& s, const std::string& source, BuildConfig* c) 
     else if (key == "enhance") c->enhance = v;
     else if (key == "layers") {
       c->layers = Get<std::string>(v, source, key);
-      if (c->layers != "raw" && c->layers != "enhanced")
-        throw InputError(source, 0, key, "expected \"raw\" or \"enhanced\", got \"" + c->layers + "\"");
+      if (c->layers != "raw" && c->layers != "enhanced" && c->layers != "both")
+        throw InputError(source, 0, key, "expected \"raw\", \"enhanced\" or \"both\", got \"" + c->layers + "\"");
     } else if (key.rfind("_", 0) == 0 || key == "comment") {
       // comments
     } else {

@@ -27,7 +27,9 @@ struct BuildConfig {
   int sixteen_bit_white = 65535;      // 16-bit frames are scaled to 8 bit by 255/white
   NavReadOptions nav;                 // column names, utm zone, origin
   std::optional<nlohmann::json> enhance;  // the enhancement chain (core/enhance), if any
-  std::string layers = "raw";         // "raw" or "enhanced" (frames pass through `enhance`)
+  // "raw", "enhanced" (frames pass through `enhance`) or "both" (the
+  // enhanced map as the mission's second layer, "enhanced").
+  std::string layers = "raw";
 };
 
 // Reads a config file; unknown keys and wrong types are InputErrors naming

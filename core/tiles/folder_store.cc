@@ -268,4 +268,26 @@ void FolderStore::WriteJsonLocked() {
   dirty_ = false;
 }
 
+namespace {
+// A layer's tiles and metadata in root/layers/<name>/; frames and track are
+// the mission's.
+class FolderLayer : public FolderStore {
+ public:
+  FolderLayer(FolderStore* parent, const std::string& root, const std::string& ext, Mode mode)
+      : FolderStore(root, ext, mode), parent_(parent) {}
+  void PutFrame(const FrameRecord&) override {}
+  void PutTrackPoint(const TrackPoint&) override {}
+  std::vector<FrameRecord> Frames() const override { return parent_->Frames(); }
+  std::vector<TrackPoint> Track() const override { return parent_->Track(); }
+
+ private:
+  FolderStore* parent_;
+};
+}  // namespace
+
+std::unique_ptr<TileStore> FolderStore::OpenLayer(const std::string& name) {
+  CheckLayerName(name);
+  return std::make_unique<FolderLayer>(this, (root_ / "layers" / name).string(), extension_, mode_);
+}
+
 }  // namespace seamap

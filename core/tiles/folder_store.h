@@ -45,6 +45,8 @@ class FolderStore : public TileStore {
   std::vector<TrackPoint> Track() const override;
 
   void Flush() override;
+  // Layers live in root/layers/<name>/ as folder pyramids of their own.
+  std::unique_ptr<TileStore> OpenLayer(const std::string& name) override;
 
   std::filesystem::path TilePath(const TileId& id) const;  // root/z/x/y.ext
   const std::filesystem::path& root() const { return root_; }

@@ -161,34 +161,107 @@ void MBTilesStore::Flush() {
 
 void MBTilesStore::PutTile(const TileId& id, const std::vector<uint8_t>& bytes) {
   std::lock_guard<std::mutex> lock(mutex_);
+  PutTileLocked(put_tile_, id, bytes);
+}
+
+void MBTilesStore::PutTileLocked(sqlite3_stmt* put, const TileId& id, const std::vector<uint8_t>& bytes) {
   BeginWrite();
-  StatementReset reset(put_tile_);
-  sqlite3_bind_int(put_tile_, 1, id.z);
-  sqlite3_bind_int(put_tile_, 2, id.x);
-  sqlite3_bind_int(put_tile_, 3, id.TmsRow());
-  sqlite3_bind_blob(put_tile_, 4, bytes.data(), static_cast<int>(bytes.size()), SQLITE_STATIC);
-  if (sqlite3_step(put_tile_) != SQLITE_DONE) Fail("write tile");
+  StatementReset reset(put);
+  sqlite3_bind_int(put, 1, id.z);
+  sqlite3_bind_int(put, 2, id.x);
+  sqlite3_bind_int(put, 3, id.TmsRow());
+  sqlite3_bind_blob(put, 4, bytes.data(), static_cast<int>(bytes.size()), SQLITE_STATIC);
+  if (sqlite3_step(put) != SQLITE_DONE) Fail("write tile");
   EndWrite();
 }
 
 std::optional<std::vector<uint8_t>> MBTilesStore::GetTile(const TileId& id) const {
   std::lock_guard<std::mutex> lock(mutex_);
-  StatementReset reset(get_tile_);
-  sqlite3_bind_int(get_tile_, 1, id.z);
-  sqlite3_bind_int(get_tile_, 2, id.x);
-  sqlite3_bind_int(get_tile_, 3, id.TmsRow());
-  const int rc = sqlite3_step(get_tile_);
-  if (rc == SQLITE_DONE) return std::nullopt;
-  if (rc != SQLITE_ROW) Fail("read tile");
-  const auto* data = static_cast<const uint8_t*>(sqlite3_column_blob(get_tile_, 0));
-  return std::vector<uint8_t>(data, data + sqlite3_column_bytes(get_tile_, 0));
+  return GetTileLocked(get_tile_, id);
 }
 
-int64_t MBTilesStore::TileCount() const {
+std::optional<std::vector<uint8_t>> MBTilesStore::GetTileLocked(sqlite3_stmt* get, const TileId& id) const {
+  StatementReset reset(get);
+  sqlite3_bind_int(get, 1, id.z);
+  sqlite3_bind_int(get, 2, id.x);
+  sqlite3_bind_int(get, 3, id.TmsRow());
+  const int rc = sqlite3_step(get);
+  if (rc == SQLITE_DONE) return std::nullopt;
+  if (rc != SQLITE_ROW) Fail("read tile");
+  const auto* data = static_cast<const uint8_t*>(sqlite3_column_blob(get, 0));
+  return std::vector<uint8_t>(data, data + sqlite3_column_bytes(get, 0));
+}
+
+int64_t MBTilesStore::TileCount() const { return CountRows("tiles"); }
+
+int64_t MBTilesStore::CountRows(const std::string& table) const {
   std::lock_guard<std::mutex> lock(mutex_);
-  OneShot q{Prepare("SELECT COUNT(*) FROM tiles")};
+  OneShot q{Prepare(("SELECT COUNT(*) FROM " + table).c_str())};
   if (sqlite3_step(q.s) != SQLITE_ROW) Fail("count tiles");
   return sqlite3_column_int64(q.s, 0);
+}
+
+// A named extra tile layer in the same file: table tiles_<name> with the
+// MBTiles tiles schema, metadata under "layer.<name>.<key>". Frames and the
+// track belong to the mission, so the layer reads the main ones and ignores
+// writes.
+class MBTilesStore::Layer : public TileStore {
+ public:
+  Layer(MBTilesStore* parent, std::string name) : parent_(parent), name_(std::move(name)) {
+    std::lock_guard<std::mutex> lock(parent_->mutex_);
+    const std::string table = "tiles_" + name_;
+    if (parent_->mode_ != Mode::kReadOnly) {
+      parent_->Exec(("CREATE TABLE IF NOT EXISTS " + table +
+                     " (zoom_level integer, tile_column integer, tile_row integer, tile_data blob);"
+                     "CREATE UNIQUE INDEX IF NOT EXISTS " + table + "_index ON " + table +
+                     " (zoom_level, tile_column, tile_row);").c_str());
+      put_ = parent_->Prepare(("INSERT OR REPLACE INTO " + table +
+                               " (zoom_level, tile_column, tile_row, tile_data) VALUES (?, ?, ?, ?)").c_str());
+    }
+    get_ = parent_->Prepare(("SELECT tile_data FROM " + table +
+                             " WHERE zoom_level = ? AND tile_column = ? AND tile_row = ?").c_str());
+  }
+  ~Layer() override {
+    sqlite3_finalize(put_);
+    sqlite3_finalize(get_);
+  }
+  void PutTile(const TileId& id, const std::vector<uint8_t>& bytes) override {
+    if (!put_) throw std::runtime_error(parent_->path_ + ": opened read-only");
+    std::lock_guard<std::mutex> lock(parent_->mutex_);
+    parent_->PutTileLocked(put_, id, bytes);
+  }
+  std::optional<std::vector<uint8_t>> GetTile(const TileId& id) const override {
+    std::lock_guard<std::mutex> lock(parent_->mutex_);
+    return parent_->GetTileLocked(get_, id);
+  }
+  int64_t TileCount() const override { return parent_->CountRows("tiles_" + name_); }
+  void SetMetadata(const std::string& key, const std::string& value) override {
+    parent_->SetMetadata(Prefix() + key, value);
+  }
+  std::map<std::string, std::string> Metadata() const override {
+    std::map<std::string, std::string> out;
+    for (const auto& [k, v] : parent_->Metadata())
+      if (k.compare(0, Prefix().size(), Prefix()) == 0) out[k.substr(Prefix().size())] = v;
+    return out;
+  }
+  void PutFrame(const FrameRecord&) override {}
+  void PutTrackPoint(const TrackPoint&) override {}
+  std::vector<FrameRecord> Frames() const override { return parent_->Frames(); }
+  std::vector<TrackPoint> Track() const override { return parent_->Track(); }
+  void Flush() override { parent_->Flush(); }
+  std::unique_ptr<TileStore> OpenLayer(const std::string& name) override { return parent_->OpenLayer(name); }
+
+ private:
+  std::string Prefix() const { return "layer." + name_ + "."; }
+  MBTilesStore* parent_;
+  std::string name_;
+  sqlite3_stmt* put_ = nullptr;
+  sqlite3_stmt* get_ = nullptr;
+};
+
+std::unique_ptr<TileStore> MBTilesStore::OpenLayer(const std::string& name) {
+  CheckLayerName(name);
+  return std::make_unique<Layer>(this, name);
 }
 
 void MBTilesStore::SetMetadata(const std::string& key, const std::string& value) {

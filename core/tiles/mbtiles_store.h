@@ -41,11 +41,17 @@ class MBTilesStore : public TileStore {
   std::vector<TrackPoint> Track() const override;
 
   void Flush() override;
+  std::unique_ptr<TileStore> OpenLayer(const std::string& name) override;
 
   const std::string& path() const { return path_; }
 
  private:
+  class Layer;
   static constexpr int kMaxPendingWrites = 500;
+
+  void PutTileLocked(sqlite3_stmt* put, const TileId& id, const std::vector<uint8_t>& bytes);
+  std::optional<std::vector<uint8_t>> GetTileLocked(sqlite3_stmt* get, const TileId& id) const;
+  int64_t CountRows(const std::string& table) const;
 
   void CreateSchema();
   sqlite3_stmt* Prepare(const char* sql) const;

@@ -36,7 +36,15 @@ class TileStore {
   // Makes everything written so far durable and visible to other readers
   // (commits the open transaction / writes metadata files).
   virtual void Flush() = 0;
+
+  // A named extra tile layer of the same mission (e.g. "enhanced"): its own
+  // tiles and metadata, the mission's frames and track. The returned store
+  // must not outlive this one. Names are [a-z0-9_]+ (InputError otherwise).
+  virtual std::unique_ptr<TileStore> OpenLayer(const std::string& name) = 0;
 };
+
+// Throws InputError(name, 0, "layer", ...) unless name matches [a-z0-9_]{1,32}.
+void CheckLayerName(const std::string& name);
 
 // Opens or creates a store: a path ending in ".mbtiles" is an MBTiles file,
 // anything else a folder pyramid {z}/{x}/{y}.{ext} with metadata.json.

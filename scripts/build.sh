@@ -4,6 +4,11 @@ set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${SEAMAP_BUILD_DIR:-$root/build}"
 cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build "$build" -j"$(nproc)" 2>&1 | grep -vE '^\[ *[0-9]+%\]|^Consolidate|^Scanning' || true
-test -x "$build/seamap" || { echo "build: seamap was not built" >&2; exit 1; }
+log="$build/build.log"
+if ! cmake --build "$build" -j"$(nproc)" >"$log" 2>&1; then
+  grep -E "error|Error" "$log" | head -40 >&2
+  echo "build: FAILED (full log: $log)" >&2
+  exit 1
+fi
+grep -E "warning:" "$log" | head -20 || true
 echo "build: $build/seamap"

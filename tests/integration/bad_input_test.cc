@@ -14,6 +14,7 @@ namespace seamap {
 namespace {
 
 using testing::Seamap;
+using testing::SharedSurvey;
 namespace fs = std::filesystem;
 
 const testing::SimulatedSurvey& Survey() {

@@ -21,7 +21,8 @@ struct BuildConfig {
   double feather_power = 1.0;         // weight = (edge tent)^power; higher favours frame centres
   int linger_frames = 1;              // a tile is finished when this many frames in a row miss it
   int memory_cap_mb = 512;            // base buffer + overview cache
-  int batch_frames = 25;              // overviews and a transaction are flushed this often
+  int batch_frames = 25;              // overviews and a transaction are flushed this often,
+  double batch_seconds = 1.0;         // but not more often than this (fast offline builds)
   int threads = 0;                    // 0: one per core
   double max_footprint_ratio = 25;    // reject frames whose footprint is this much larger than at nadir
   int sixteen_bit_white = 65535;      // 16-bit frames are scaled to 8 bit by 255/white

@@ -103,7 +103,8 @@ MosaicBuilder::MosaicBuilder(const BuildConfig& config, const CameraModel& camer
       hooks_(std::move(hooks)),
       warper_(camera, frame, plan.base_zoom, config.tile_size, plan.channels, config.feather_power),
       pool_(std::make_unique<ThreadPool>(config.threads)),
-      start_(std::chrono::steady_clock::now()) {
+      start_(std::chrono::steady_clock::now()),
+      last_flush_(start_) {
   // We parallelise across frames and tiles; OpenCV's own threads inside each
   // call would only compete with ours on a small on-board CPU.
   cv::setNumThreads(1);
@@ -234,7 +235,13 @@ void MosaicBuilder::Consume(Prepared p) {
   if (hooks_.on_frame) hooks_.on_frame(record);
 
   FinishTiles(false);
-  if (consumed_ % config_.batch_frames == 0) FlushBatch();
+  const auto now = std::chrono::steady_clock::now();
+  if (consumed_ - last_flush_frame_ >= config_.batch_frames &&
+      std::chrono::duration<double>(now - last_flush_).count() >= config_.batch_seconds) {
+    FlushBatch();
+    last_flush_frame_ = consumed_;
+    last_flush_ = now;
+  }
 }
 
 void MosaicBuilder::Paint(const WarpedFrame& warped) {

@@ -6,6 +6,7 @@
 // its memory cap; finished tiles are encoded and written in the background and
 // feed the overview pyramid. A tile that is touched again after it was
 // written is read back and blended, never overwritten.
+#include <chrono>
 #include <cstdint>
 #include <deque>
 #include <functional>
@@ -115,7 +116,8 @@ class MosaicBuilder {
   int consumed_ = 0;
   int track_seq_ = 0;
   BuildStats stats_;
-  std::chrono::steady_clock::time_point start_;
+  std::chrono::steady_clock::time_point start_, last_flush_;
+  int last_flush_frame_ = 0;
   bool finished_ = false;
 };
 

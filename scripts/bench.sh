@@ -38,11 +38,14 @@ PY
 
 echo "seamap bench on $(nproc) cores, $(date -u +%Y-%m-%dT%H:%MZ)"
 simulate gray "$gray_frames" "--image-format jpg"
-simulate colour "$colour_frames" "--color --width 1392 --height 1040 --pixel-pitch-um 6.45 --image-format jpg"
+simulate colour "$colour_frames" "--color --width 1392 --height 1040 --pixel-pitch-um 6.45 --image-format jpg --texture-res 0.001"
 build gray '{"tile_format":"png","png_level":1}' "gray 696x520 x$gray_frames, png fast"
 build gray '{"tile_format":"png","png_level":6}' "gray 696x520 x$gray_frames, png zlib-6"
 build colour '{"tile_format":"png","png_level":1}' "colour 1392x1040 x$colour_frames, png fast"
 build colour '{"tile_format":"jpg"}' "colour 1392x1040 x$colour_frames, jpeg"
+build gray '{"tile_format":"png","enhance":{"ops":[{"op":"flatfield"},{"op":"dehaze","gate":false},{"op":"clahe","clip_limit":3}]},"layers":"enhanced"}' "gray x$gray_frames + default enhance chain"
+"$seamap" enhance-report "$out/gray/photo" --ops default --max-frames 20 --detector orb 2>/dev/null |
+  awk '/->/ && $NF ~ /^[0-9.]+$/ {print "enhance default chain, 696x520 gray:  " $NF " ms/frame (chain alone)"}' | head -1
 echo "camera rate: 5 frames/s (200 ms/frame budget); seed paper: 173 ms/frame on an Atom Z8350"
 simulate long "$long_frames" "--image-format jpg --line-length 40"
 build long '{"tile_format":"png","png_level":1}' "gray x$long_frames (memory)"

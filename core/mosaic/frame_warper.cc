@@ -120,11 +120,14 @@ std::optional<WarpedFrame> FrameWarper::Warp(const cv::Mat& image, const Vehicle
   std::vector<float> tents(width);
   for (int y = 0; y < height; ++y) {
     RowMapping(m, y, width, map_xy.ptr<int16_t>(y), map_frac.ptr<uint16_t>(y), tents.data());
-    uint8_t* w = out.weight.ptr<uint8_t>(y);
-    for (int x = 0; x < width; ++x) {
-      const float t = tents[x];
-      const float shaped = feather_power_ == 1.0 || t < 0 ? t : weight_lut_[static_cast<int>(t * (kLut - 1))];
-      w[x] = static_cast<uint8_t>(t < 0 ? 0.0f : 1.5f + 254.0f * shaped);
+    uint8_t* __restrict w = out.weight.ptr<uint8_t>(y);
+    float* __restrict t = tents.data();
+    if (feather_power_ != 1.0)
+      for (int x = 0; x < width; ++x)
+        if (t[x] >= 0) t[x] = weight_lut_[static_cast<int>(t[x] * (kLut - 1))];
+    for (int x = 0; x < width; ++x) {  // vectorised: no branches
+      const float v = t[x] < 0 ? 0.0f : 1.5f + 254.0f * t[x];
+      w[x] = static_cast<uint8_t>(static_cast<int>(v));
     }
   }
   cv::remap(image, out.pixels, map_xy, map_frac, cv::INTER_LINEAR, cv::BORDER_REPLICATE);

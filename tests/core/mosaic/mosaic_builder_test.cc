@@ -1,0 +1,125 @@
+#include "core/mosaic/mosaic_builder.h"
+
+#include <gtest/gtest.h>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "core/tiles/tile_codec.h"
+#include "tests/testing/temp_dir.h"
+
+namespace seamap {
+namespace {
+
+// Constant-valued frames over a flat seabed, written as PNG files.
+class MosaicBuilderTest : public ::testing::Test {
+ protected:
+  MosaicBuilderTest() : camera_(CameraFromFocalLength(8, 12.9, 160, 120)), frame_({43.1, 131.9}) {
+    config_.base_zoom = 25;
+    config_.min_zoom = 22;
+  }
+
+  FrameSpec Frame(int index, double east, double north, uint8_t value) {
+    const std::string path = (dir_ / ("f" + std::to_string(index) + ".png")).string();
+    cv::imwrite(path, cv::Mat(camera_.height, camera_.width, CV_8U, cv::Scalar(value)));
+    FrameSpec f;
+    f.index = index;
+    f.image = "f" + std::to_string(index) + ".png";
+    f.image_path = path;
+    f.pose.east_m = east;
+    f.pose.north_m = north;
+    f.pose.altitude_m = 2.0;
+    return f;
+  }
+
+  // Base-zoom tile and pixel under a local point.
+  std::pair<TileId, cv::Point> TileAt(double east, double north) const {
+    GlobalPixel p = LatLonToPixel(frame_.ToLatLon({east, north}), 25, 256);
+    TileId id{25, static_cast<int>(p.x / 256), static_cast<int>(p.y / 256)};
+    return {id, cv::Point(static_cast<int>(p.x - id.x * 256.0), static_cast<int>(p.y - id.y * 256.0))};
+  }
+
+  testing::TempDir dir_;
+  CameraModel camera_;
+  LocalFrame frame_;
+  BuildConfig config_;
+};
+
+TEST_F(MosaicBuilderTest, RevisitedTileIsReadBackAndBlendedNotOverwritten) {
+  auto store = OpenTileStore((dir_ / "m.mbtiles").string(), "png", true);
+  std::vector<FrameSpec> frames{Frame(0, 0, 0, 100), Frame(1, 10, 0, 30), Frame(2, 0, 0, 200)};
+  MosaicPlan plan = PlanMosaic(config_, camera_, frame_, frames, 1);
+  MosaicBuilder builder(config_, camera_, frame_, plan, store.get());
+  for (const auto& f : frames) builder.Push(f);
+  builder.Finish();
+  EXPECT_EQ(builder.stats().frames_used, 3);
+  EXPECT_GT(builder.stats().readbacks, 0);  // frame 2 came back to frame 0's tiles
+
+  auto [id, px] = TileAt(0, 0);
+  auto bytes = store->GetTile(id);
+  ASSERT_TRUE(bytes);
+  cv::Mat tile = DecodeTile(*bytes);
+  const cv::Vec2b centre = tile.at<cv::Vec2b>(px);
+  EXPECT_EQ(centre[1], 255);
+  EXPECT_NEAR(centre[0], 150, 3) << "frame 0 (100) and frame 2 (200) blended";
+}
+
+TEST_F(MosaicBuilderTest, TileIsWrittenOnceTheFrameMovesOn) {
+  auto store = OpenTileStore((dir_ / "m.mbtiles").string(), "png", true);
+  std::vector<FrameSpec> frames{Frame(0, 0, 0, 90), Frame(1, 10, 0, 90)};
+  MosaicPlan plan = PlanMosaic(config_, camera_, frame_, frames, 1);
+  MosaicBuilder builder(config_, camera_, frame_, plan, store.get());
+  builder.Push(frames[0]);
+  builder.Push(frames[1]);
+  auto [id, px] = TileAt(0, 0);
+  // Pushes are pipelined; Finish drains them. Before that, nothing forces
+  // frame 0's tiles out except frame 1 missing them.
+  builder.Finish();
+  EXPECT_TRUE(store->GetTile(id));
+  EXPECT_EQ(builder.stats().readbacks, 0);
+}
+
+TEST_F(MosaicBuilderTest, MissingImageIsRejectedAndRecorded) {
+  auto store = OpenTileStore((dir_ / "m.mbtiles").string(), "png", true);
+  FrameSpec missing = Frame(0, 0, 0, 10);
+  missing.image_path = (dir_ / "nope.png").string();
+  std::vector<FrameSpec> frames{missing, Frame(1, 0, 0, 90)};
+  MosaicPlan plan = PlanMosaic(config_, camera_, frame_, frames, 1);
+  MosaicBuilder builder(config_, camera_, frame_, plan, store.get());
+  for (const auto& f : frames) builder.Push(f);
+  builder.Finish();
+  ASSERT_EQ(builder.stats().rejections.size(), 1u);
+  EXPECT_EQ(builder.stats().rejections[0].reason, "missing image");
+  EXPECT_EQ(store->Frames().size(), 2u);
+  EXPECT_EQ(store->Frames()[0].status, "missing image");
+}
+
+TEST_F(MosaicBuilderTest, SteepAttitudeIsRejected) {
+  auto store = OpenTileStore((dir_ / "m.mbtiles").string(), "png", true);
+  FrameSpec steep = Frame(0, 0, 0, 10);
+  steep.pose.pitch_deg = 80;
+  std::vector<FrameSpec> frames{steep, Frame(1, 0, 0, 90)};
+  MosaicPlan plan = PlanMosaic(config_, camera_, frame_, frames, 1);
+  MosaicBuilder builder(config_, camera_, frame_, plan, store.get());
+  for (const auto& f : frames) builder.Push(f);
+  builder.Finish();
+  ASSERT_EQ(builder.stats().rejections.size(), 1u);
+  EXPECT_EQ(builder.stats().rejections[0].field, "pitch_deg/roll_deg");
+  EXPECT_EQ(builder.stats().frames_used, 1);
+}
+
+TEST(PlanMosaic, ZoomsFollowTheGroundSampleDistance) {
+  CameraModel camera = CameraFromFocalLength(8, 12.9, 696, 520);
+  LocalFrame frame({43.1, 131.9});
+  std::vector<FrameSpec> frames(2);
+  frames[0].pose.altitude_m = frames[1].pose.altitude_m = 1.8;
+  frames[1].pose.east_m = 50;
+  MosaicPlan plan = PlanMosaic(BuildConfig{}, camera, frame, frames, 1);
+  EXPECT_NEAR(plan.gsd_m, 1.8 / 620.155, 1e-6);
+  EXPECT_EQ(plan.base_zoom, 25);
+  // 50 m plus a footprint (52.5 m) fits one tile at zoom 19 (a tile is
+  // 40075 km * cos(43.1) / 2^19 = 55.8 m wide) but not at 20 (27.9 m).
+  EXPECT_EQ(plan.min_zoom, 19);
+}
+
+}  // namespace
+}  // namespace seamap

@@ -42,7 +42,7 @@ void ProgressBar::Draw(bool force, const std::string& extra) {
                  done_, total_, unit_.c_str(), Rate(), unit_.c_str(), extra.c_str());
   } else {
     // Logs (CI, pipes): one line per 10 %.
-    if (!force && percent / 10 == last_logged_percent_ / 10) return;
+    if (percent / 10 == last_logged_percent_ / 10 && (!force || percent == last_logged_percent_)) return;
     last_logged_percent_ = percent;
     std::fprintf(stderr, "%3ld%% %ld/%ld %s  %.1f %s/s  %s\n", percent, done_, total_,
                  unit_.c_str(), Rate(), unit_.c_str(), extra.c_str());

@@ -140,6 +140,7 @@ struct RowParams {
   float a0, a1, b0, b1, c0, c1;  // the homography for this row: (a0 x + a1) / (c0 x + c1) ...
   float k1, k2, k3, p1, p2, fx, fy, cx, cy;
   float max_u, max_v, inv_hw, inv_hh;
+  int max_iu, max_iv;  // fixed-point limits keeping (x0 + 1, y0 + 1) inside the image
 };
 
 // The per-pixel loop. kClamp guards the float-to-int conversion for rows
@@ -164,8 +165,15 @@ void MapRow(const RowParams& p, int width, int16_t* __restrict xy, uint16_t* __r
       u = std::isfinite(u) ? std::min(std::max(u, -4000.0f), 4000.0f) : -4000.0f;
       v = std::isfinite(v) ? std::min(std::max(v, -4000.0f), 4000.0f) : -4000.0f;
     }
-    const int iu = static_cast<int>(u * kFixed + 0.5f + kOffset) - kOffset;
-    const int iv = static_cast<int>(v * kFixed + 0.5f + kOffset) - kOffset;
+    int iu = static_cast<int>(u * kFixed + 0.5f + kOffset) - kOffset;
+    int iv = static_cast<int>(v * kFixed + 0.5f + kOffset) - kOffset;
+    // Keep all four bilinear neighbours inside the image (edge pixels are
+    // replicated): cv::remap then stays on its vectorised inner path instead
+    // of per-pixel border handling. Outside the frame the weight is 0 anyway.
+    iu = iu < 0 ? 0 : iu;
+    iu = iu > p.max_iu ? p.max_iu : iu;
+    iv = iv < 0 ? 0 : iv;
+    iv = iv > p.max_iv ? p.max_iv : iv;
     xy[2 * x] = static_cast<int16_t>(iu >> cv::INTER_BITS);
     xy[2 * x + 1] = static_cast<int16_t>(iv >> cv::INTER_BITS);
     frac[x] = static_cast<uint16_t>((iv & kMask) * cv::INTER_TAB_SIZE + (iu & kMask));
@@ -189,7 +197,8 @@ void FrameWarper::RowMapping(const cv::Matx33d& m, int y, int width, int16_t* __
               static_cast<float>(camera_.fx), static_cast<float>(camera_.fy),
               static_cast<float>(camera_.cx), static_cast<float>(camera_.cy),
               camera_.width - 0.5f, camera_.height - 0.5f,
-              2.0f / camera_.width, 2.0f / camera_.height};
+              2.0f / camera_.width, 2.0f / camera_.height,
+              (camera_.width - 1) * cv::INTER_TAB_SIZE - 1, (camera_.height - 1) * cv::INTER_TAB_SIZE - 1};
   // The row's normalised coordinates are a linear fraction of x, so when the
   // denominator keeps its sign they are bounded by their values at the ends;
   // bound the distortion polynomial from there to decide if clamping is needed.

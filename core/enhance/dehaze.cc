@@ -89,29 +89,29 @@ cv::Mat EstimateTransmission(const cv::Mat& image, const cv::Mat& guide, const c
 }
 
 namespace {
-// J = (I - A) / max(t, t0) + A (eq. 25) in one pass over the native pixels.
-template <typename T>
+
+// J = (I - A) / max(t, t0) + A (eq. 25), in vectorised OpenCV passes.
 cv::Mat Recover(const cv::Mat& image, const cv::Mat& t, const cv::Scalar& airlight, double t0) {
   cv::Mat inv_t;
   cv::max(t, t0, inv_t);
-  cv::divide(1.0, inv_t, inv_t);  // vectorised once, so the loop below only multiplies
-  const int channels = image.channels();
-  const float full = static_cast<float>(FullScale(image));
-  float a[3];
-  for (int c = 0; c < channels; ++c) a[c] = static_cast<float>(airlight[c]) * full;
-  cv::Mat out(image.size(), image.type());
-  for (int y = 0; y < image.rows; ++y) {
-    const T* src = image.ptr<T>(y);
-    const float* inv = inv_t.ptr<float>(y);
-    T* dst = out.ptr<T>(y);
-    for (int x = 0; x < image.cols; ++x)
-      for (int c = 0; c < channels; ++c) {
-        const float v = (src[x * channels + c] - a[c]) * inv[x] + a[c];
-        dst[x * channels + c] = static_cast<T>(std::min(std::max(v, 0.0f), full) + 0.5f);
-      }
+  cv::divide(1.0, inv_t, inv_t);
+  const cv::Scalar a = airlight * FullScale(image);
+  cv::Mat f;
+  image.convertTo(f, CV_32F);
+  f -= a;
+  if (image.channels() == 3) {
+    cv::Mat inv3;
+    cv::merge(std::vector<cv::Mat>{inv_t, inv_t, inv_t}, inv3);
+    cv::multiply(f, inv3, f);
+  } else {
+    cv::multiply(f, inv_t, f);
   }
+  f += a;
+  cv::Mat out;
+  f.convertTo(out, image.type());  // rounded and saturated
   return out;
 }
+
 }  // namespace
 
 cv::Mat Dehaze(const cv::Mat& image, const DehazeParams& params, bool* applied) {
@@ -121,16 +121,26 @@ cv::Mat Dehaze(const cv::Mat& image, const DehazeParams& params, bool* applied) 
   if (applied) *applied = hazy;
   if (!hazy) return image.clone();
 
-  const std::vector<cv::Mat> eroded = ErodedBlueGreen(image, params.window);
+  // Haze varies slowly across a seabed frame, so the dark channel, airlight
+  // and transmission are estimated at quarter resolution (window and guided
+  // filter radius scaled alike) and only the recovery runs at full size:
+  // about 4x cheaper than a full-resolution estimate.
+  const int f = std::min(image.cols, image.rows) >= 64 ? 4 : 1;
+  cv::Mat small = image;
+  if (f > 1) cv::resize(image, small, cv::Size(image.cols / f, image.rows / f), 0, 0, cv::INTER_AREA);
+  const int window = std::max(1, params.window / f) | 1;
+  const std::vector<cv::Mat> eroded = ErodedBlueGreen(small, window);
   const double full = FullScale(image);
   const cv::Scalar airlight =
-      EstimateAirlight(image, DarkFromEroded(eroded, full, cv::Scalar::all(1.0)), params.airlight_fraction);
-  cv::Mat gray = image, guide;
-  if (image.channels() == 3) cv::cvtColor(image, gray, cv::COLOR_BGR2GRAY);
+      EstimateAirlight(small, DarkFromEroded(eroded, full, cv::Scalar::all(1.0)), params.airlight_fraction);
+  cv::Mat gray = small, guide;
+  if (small.channels() == 3) cv::cvtColor(small, gray, cv::COLOR_BGR2GRAY);
   gray.convertTo(guide, CV_32F, 1.0 / full);
-  const cv::Mat t = TransmissionFromDark(DarkFromEroded(eroded, full, airlight), guide, params);
-  return image.depth() == CV_8U ? Recover<uchar>(image, t, airlight, params.t0)
-                                : Recover<ushort>(image, t, airlight, params.t0);
+  cv::Mat t = 1.0 - params.omega * DarkFromEroded(eroded, full, airlight);
+  if (params.guided_radius > 0)
+    t = GuidedFilter(guide, t, std::max(1, params.guided_radius / f), params.guided_eps, 1);
+  if (f > 1) cv::resize(t, t, image.size(), 0, 0, cv::INTER_LINEAR);
+  return Recover(image, t, airlight, params.t0);
 }
 
 }  // namespace seamap

@@ -169,5 +169,20 @@ TEST(Build, InfoDescribesTheMap) {
     EXPECT_NE(log.find(word), std::string::npos) << word << "\n" << log;
 }
 
+TEST(Build, ReadsTheShippedSeedFormatNavigationAndOpenCvCamera) {
+  // data/ holds hand-written inputs in the seed paper's text format and an
+  // OpenCV calibration YAML; any 696x520 frames with those names will do.
+  const auto& survey = SharedSurvey("seed_format", "--frames 3 --seed 9");
+  const std::string data = std::string(SEAMAP_SOURCE_DIR) + "/data";
+  testing::TempDir dir;
+  std::string log;
+  ASSERT_EQ(Seamap("build --quiet --images " + survey.photo + " --nav " + data + "/seed_format_nav.txt --camera " +
+                       data + "/camera_opencv.yaml --origin 43.1,131.9 --out " + (dir / "m.mbtiles").string(),
+                   &log),
+            0)
+      << log;
+  EXPECT_NE(log.find("frames used 3, rejected 0"), std::string::npos) << log;
+}
+
 }  // namespace
 }  // namespace seamap

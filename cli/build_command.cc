@@ -1,4 +1,5 @@
 // seamap build: photos + navigation + camera -> tile pyramid.
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <optional>
@@ -118,6 +119,7 @@ int RunBuild(int argc, char** argv, int first) {
   // "both", the enhanced map is built alongside as layer "enhanced".
   BuildHooks enhance = MakeHooks(in);
   const bool both = in.config.layers == "both" && enhance.preprocess;
+  if (both) in.config.memory_cap_mb = std::max(16, in.config.memory_cap_mb / 2);  // two builders share the cap
   MosaicBuilder builder(in.config, in.camera, in.frame, plan, store.get(), both ? BuildHooks{} : enhance);
   std::unique_ptr<TileStore> enhanced_store;
   std::unique_ptr<MosaicBuilder> enhanced;
@@ -133,8 +135,8 @@ int RunBuild(int argc, char** argv, int first) {
     if (enhanced) enhanced->Push(f);
     progress.Update(builder.stats().frames_seen - static_cast<long>(in.frames.rejected.size()));
   }
-  builder.Finish();
   if (enhanced) enhanced->Finish();
+  builder.Finish();  // last: the mission's "complete" state follows both layers
   progress.Update(static_cast<long>(in.frames.frames.size()));
   progress.Finish();
   const BuildStats& s = builder.stats();

@@ -117,9 +117,11 @@ MosaicBuilder::MosaicBuilder(const BuildConfig& config, const CameraModel& camer
 }
 
 MosaicBuilder::~MosaicBuilder() {
-  // Let queued work drain before members go away (errors were already reported).
+  // Let queued work drain before members go away (errors were already
+  // reported), and stop the pool while the writer its jobs use still exists.
   for (auto& f : in_flight_)
     if (f.valid()) f.wait();
+  pool_.reset();
 }
 
 void MosaicBuilder::Push(const FrameSpec& spec) {
@@ -246,9 +248,14 @@ void MosaicBuilder::Consume(Prepared p) {
 
 void MosaicBuilder::Paint(const WarpedFrame& warped) {
   const int ts = config_.tile_size;
-  const int64_t tx0 = warped.x0 / ts, ty0 = warped.y0 / ts;
-  const int64_t tx1 = (warped.x0 + warped.pixels.cols - 1) / ts;
-  const int64_t ty1 = (warped.y0 + warped.pixels.rows - 1) / ts;
+  // Tiles that exist at this zoom (frames may reach past the antimeridian or
+  // the Mercator limits; those parts are not mapped).
+  const int64_t last = (int64_t{1} << plan_.base_zoom) - 1;
+  auto floor_div = [ts](int64_t v) { return v >= 0 ? v / ts : -((-v + ts - 1) / ts); };
+  const int64_t tx0 = std::max<int64_t>(0, floor_div(warped.x0));
+  const int64_t ty0 = std::max<int64_t>(0, floor_div(warped.y0));
+  const int64_t tx1 = std::min(last, floor_div(warped.x0 + warped.pixels.cols - 1));
+  const int64_t ty1 = std::min(last, floor_div(warped.y0 + warped.pixels.rows - 1));
   for (int64_t ty = ty0; ty <= ty1; ++ty) {
     for (int64_t tx = tx0; tx <= tx1; ++tx) {
       // Skip tiles inside the bounding box that the (rotated) frame misses.
@@ -280,18 +287,7 @@ void MosaicBuilder::Paint(const WarpedFrame& warped) {
 cv::Mat MosaicBuilder::ReadBack(const TileId& id) {
   auto tile = writer_->Read(id);
   if (!tile || tile->rows != config_.tile_size) return {};
-  cv::Mat t = *tile;
-  if (t.channels() != plan_.channels + 1) {
-    cv::Mat converted;
-    cv::cvtColor(t, converted, plan_.channels == 1 ? cv::COLOR_BGRA2GRAY : cv::COLOR_GRAY2BGRA);
-    if (plan_.channels == 1) {  // keep alpha
-      std::vector<cv::Mat> planes;
-      cv::split(t, planes);
-      cv::Mat pair[] = {converted, planes[3]};
-      cv::merge(pair, 2, converted);
-    }
-    t = converted;
-  }
+  cv::Mat t = WithColourChannels(*tile, plan_.channels);
   if (config_.encoding.format == TileFormat::kJpeg) {
     // JPEG has no alpha: pixels that still show the background colour are empty.
     const cv::Scalar& bg = config_.encoding.background;

@@ -47,8 +47,8 @@ OverviewPyramid::Entry& OverviewPyramid::Load(const TileId& id) {
   }
   Entry e;
   auto stored = writer_->Read(id);
-  if (stored && stored->channels() == channels_ + 1 && stored->rows == tile_size_) {
-    e.tile = *stored;
+  if (stored && stored->rows == tile_size_ && stored->cols == tile_size_) {
+    e.tile = WithColourChannels(*stored, channels_);
   } else {
     e.tile = cv::Mat(tile_size_, tile_size_, CV_8UC(channels_ + 1), cv::Scalar::all(0));
   }

@@ -1,5 +1,7 @@
 #include "core/mosaic/tile_writer.h"
 
+#include <exception>
+
 namespace seamap {
 
 TileWriter::TileWriter(TileStore* store, ThreadPool* pool, TileEncoding encoding,
@@ -22,7 +24,8 @@ void TileWriter::Submit(const TileId& id, const cv::Mat& tile) {
     if (in_flight_.size() > 256) {
       std::vector<std::future<void>> still;
       for (auto& f : in_flight_) {
-        if (f.wait_for(std::chrono::seconds(0)) == std::future_status::ready) f.get();
+        // Finished jobs' errors stay in their futures until Flush reports them.
+        if (f.wait_for(std::chrono::seconds(0)) == std::future_status::ready) done_.push_back(std::move(f));
         else still.push_back(std::move(f));
       }
       in_flight_.swap(still);
@@ -68,8 +71,19 @@ void TileWriter::Flush() {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     jobs.swap(in_flight_);
+    for (auto& f : done_) jobs.push_back(std::move(f));
+    done_.clear();
   }
-  for (auto& f : jobs) f.get();  // rethrows encoder/store errors
+  // Wait for every job before rethrowing the first error: none may outlive us.
+  std::exception_ptr error;
+  for (auto& f : jobs) {
+    try {
+      f.get();
+    } catch (...) {
+      if (!error) error = std::current_exception();
+    }
+  }
+  if (error) std::rethrow_exception(error);
   store_->Flush();
 }
 

@@ -56,6 +56,7 @@ class TileWriter {
   std::unordered_map<TileId, Pending, TileIdHash> pending_;
   std::unordered_map<TileId, bool, TileIdHash> seen_;
   std::vector<std::future<void>> in_flight_;
+  std::vector<std::future<void>> done_;  // finished, not yet checked for errors
   uint64_t next_version_ = 1;
   std::atomic<int64_t> written_{0}, bytes_{0};
   std::mutex store_mutex_;  // orders the check-newest-then-put step

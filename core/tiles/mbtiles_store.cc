@@ -137,9 +137,11 @@ void MBTilesStore::Exec(const char* sql) const {
 
 void MBTilesStore::BeginWrite() {
   if (mode_ == Mode::kReadOnly) throw std::runtime_error(path_ + ": opened read-only");
-  if (!in_transaction_) {
+  // SQLite may have rolled a failed transaction back by itself: ask it.
+  if (!in_transaction_ || sqlite3_get_autocommit(db_)) {
     Exec("BEGIN IMMEDIATE");
     in_transaction_ = true;
+    pending_writes_ = 0;
   }
 }
 
@@ -149,6 +151,11 @@ void MBTilesStore::EndWrite() {
 
 void MBTilesStore::CommitLocked() {
   if (!in_transaction_) return;
+  if (sqlite3_get_autocommit(db_)) {  // already rolled back by SQLite after an error
+    in_transaction_ = false;
+    pending_writes_ = 0;
+    return;
+  }
   Exec("COMMIT");
   in_transaction_ = false;
   pending_writes_ = 0;

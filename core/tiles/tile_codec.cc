@@ -209,4 +209,20 @@ cv::Mat DecodeTile(const std::vector<uint8_t>& bytes) {
   return out;
 }
 
+cv::Mat WithColourChannels(const cv::Mat& tile, int colour_channels) {
+  if (tile.channels() == colour_channels + 1) return tile;
+  cv::Mat out(tile.size(), CV_8UC(colour_channels + 1));
+  if (colour_channels == 3) {  // gray+alpha -> BGRA
+    const int from_to[] = {0, 0, 0, 1, 0, 2, 1, 3};
+    cv::mixChannels(&tile, 1, &out, 1, from_to, 4);
+  } else {  // BGRA -> gray+alpha
+    cv::Mat gray;
+    cv::cvtColor(tile, gray, cv::COLOR_BGRA2GRAY);
+    const cv::Mat in[] = {gray, tile};
+    const int from_to[] = {0, 0, 4, 1};
+    cv::mixChannels(in, 2, &out, 1, from_to, 2);
+  }
+  return out;
+}
+
 }  // namespace seamap

@@ -37,4 +37,9 @@ std::vector<uint8_t> EncodeTile(const cv::Mat& tile, const TileEncoding& enc);
 // opaque (alpha 255). Throws std::runtime_error on undecodable data.
 cv::Mat DecodeTile(const std::vector<uint8_t>& bytes);
 
+// A decoded tile in the layout a mosaic paints: CV_8UC2 for colour_channels
+// 1, CV_8UC4 for 3, converting gray <-> colour and keeping alpha. (A colour
+// tile whose pixels are all gray decodes as CV_8UC2.)
+cv::Mat WithColourChannels(const cv::Mat& tile, int colour_channels);
+
 }  // namespace seamap

@@ -18,9 +18,9 @@ class MosaicBuilderTest : public ::testing::Test {
     config_.min_zoom = 22;
   }
 
-  FrameSpec Frame(int index, double east, double north, uint8_t value) {
+  FrameSpec Frame(int index, double east, double north, uint8_t value, int channels = 1) {
     const std::string path = (dir_ / ("f" + std::to_string(index) + ".png")).string();
-    cv::imwrite(path, cv::Mat(camera_.height, camera_.width, CV_8U, cv::Scalar(value)));
+    cv::imwrite(path, cv::Mat(camera_.height, camera_.width, CV_8UC(channels), cv::Scalar::all(value)));
     FrameSpec f;
     f.index = index;
     f.image = "f" + std::to_string(index) + ".png";
@@ -61,6 +61,21 @@ TEST_F(MosaicBuilderTest, RevisitedTileIsReadBackAndBlendedNotOverwritten) {
   const cv::Vec2b centre = tile.at<cv::Vec2b>(px);
   EXPECT_EQ(centre[1], 255);
   EXPECT_NEAR(centre[0], 150, 3) << "frame 0 (100) and frame 2 (200) blended";
+}
+
+TEST_F(MosaicBuilderTest, ColourMapOfGrayLookingFramesReadsTilesBack) {
+  // A mono camera saving RGB files: the colour map's tiles decode as gray,
+  // and must still be read back and blended.
+  auto store = OpenTileStore((dir_ / "m.mbtiles").string(), "png", true);
+  std::vector<FrameSpec> frames{Frame(0, 0, 0, 100, 3), Frame(1, 10, 0, 30, 3), Frame(2, 0, 0, 200, 3)};
+  MosaicPlan plan = PlanMosaic(config_, camera_, frame_, frames, 3);
+  MosaicBuilder builder(config_, camera_, frame_, plan, store.get());
+  for (const auto& f : frames) builder.Push(f);
+  builder.Finish();
+  EXPECT_GT(builder.stats().readbacks, 0);
+  auto [id, px] = TileAt(0, 0);
+  cv::Mat tile = WithColourChannels(DecodeTile(*store->GetTile(id)), 3);
+  EXPECT_NEAR(tile.at<cv::Vec4b>(px)[1], 150, 3);
 }
 
 TEST_F(MosaicBuilderTest, TileIsWrittenOnceTheFrameMovesOn) {

@@ -170,5 +170,16 @@ TEST(TileCodec, RejectsBadInput) {
   EXPECT_THROW(DecodeTile({}), std::runtime_error);
 }
 
+TEST(TileCodec, WithColourChannelsConvertsAndKeepsAlpha) {
+  cv::Mat gray(2, 2, CV_8UC2, cv::Scalar(90, 128));
+  cv::Mat colour = WithColourChannels(gray, 3);
+  ASSERT_EQ(colour.type(), CV_8UC4);
+  EXPECT_EQ(colour.at<cv::Vec4b>(1, 1), cv::Vec4b(90, 90, 90, 128));
+  cv::Mat back = WithColourChannels(colour, 1);
+  ASSERT_EQ(back.type(), CV_8UC2);
+  EXPECT_EQ(back.at<cv::Vec2b>(0, 0), cv::Vec2b(90, 128));
+  EXPECT_EQ(WithColourChannels(gray, 1).data, gray.data);  // already right: no copy
+}
+
 }  // namespace
 }  // namespace seamap

@@ -59,15 +59,23 @@ FrameWarper::FrameWarper(const CameraModel& camera, const LocalFrame& frame, int
     weight_lut_[i] = static_cast<float>(std::pow(static_cast<double>(i) / (kLut - 1), feather_power));
 }
 
-std::optional<std::array<LatLon, 4>> FrameWarper::Footprint(const VehiclePose& pose) const {
+std::optional<std::array<LocalXY, 4>> FrameWarper::GroundCorners(const VehiclePose& pose) const {
   auto h = ImageToGround(camera_, pose);
   if (!h) return std::nullopt;
-  std::array<LatLon, 4> out;
+  std::array<LocalXY, 4> out;
   for (int i = 0; i < 4; ++i) {
     Eigen::Vector3d g = *h * Eigen::Vector3d(border_[i].x, border_[i].y, 1.0);
     if (g.z() <= 0) return std::nullopt;
-    out[i] = frame_.ToLatLon({g.x() / g.z(), g.y() / g.z()});
+    out[i] = {g.x() / g.z(), g.y() / g.z()};
   }
+  return out;
+}
+
+std::optional<std::array<LatLon, 4>> FrameWarper::Footprint(const VehiclePose& pose) const {
+  auto corners = GroundCorners(pose);
+  if (!corners) return std::nullopt;
+  std::array<LatLon, 4> out;
+  for (int i = 0; i < 4; ++i) out[i] = frame_.ToLatLon((*corners)[i]);
   return out;
 }
 

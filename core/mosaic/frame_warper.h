@@ -34,6 +34,8 @@ class FrameWarper {
 
   // Where the raw image corners land, or nullopt when the frame does not see the seabed.
   std::optional<std::array<LatLon, 4>> Footprint(const VehiclePose& pose) const;
+  // The same corners in the local frame (metres east/north).
+  std::optional<std::array<LocalXY, 4>> GroundCorners(const VehiclePose& pose) const;
 
   // image: CV_8UC1 / CV_8UC3 matching `channels`, of the camera's size.
   // Returns nullopt when the frame does not see the seabed.

@@ -44,7 +44,6 @@ bool IsJpegPath(const std::string& path) {
   return ext == ".jpg" || ext == ".jpeg";
 }
 
-std::string FormatName(TileFormat f) { return TileExtension(f) == "jpg" ? "jpg" : TileExtension(f); }
 
 }  // namespace
 
@@ -142,7 +141,11 @@ void MosaicBuilder::Reject(const Rejection& rejection) {
 MosaicBuilder::Prepared MosaicBuilder::Prepare(const FrameSpec& spec) const {
   Prepared p;
   p.spec = spec;
-  p.footprint = warper_.Footprint(spec.pose);
+  const auto corners = warper_.GroundCorners(spec.pose);
+  if (corners) {
+    p.footprint.emplace();
+    for (int i = 0; i < 4; ++i) (*p.footprint)[i] = frame_.ToLatLon((*corners)[i]);
+  }
   auto reject = [&](std::string field, std::string reason) {
     p.reject_field = std::move(field);
     p.reject_reason = std::move(reason);
@@ -165,17 +168,13 @@ MosaicBuilder::Prepared MosaicBuilder::Prepare(const FrameSpec& spec) const {
   // Nearly horizontal views smear one frame over a huge area: refuse them.
   const double nadir_area = (camera_.width * spec.pose.altitude_m / camera_.fx) *
                             (camera_.height * spec.pose.altitude_m / camera_.fy);
-  double area = 0;
-  {
-    std::array<LocalXY, 4> pts;
-    for (int i = 0; i < 4; ++i) pts[i] = frame_.FromLatLon((*p.footprint)[i]);
-    for (int i = 0; i < 4; ++i) {
-      const auto& a = pts[i];
-      const auto& b = pts[(i + 1) % 4];
-      area += a.east * b.north - b.east * a.north;
-    }
-    area = std::fabs(area) / 2;
+  double area = 0;  // shoelace formula over the corners in local metres
+  for (int i = 0; i < 4; ++i) {
+    const LocalXY& a = (*corners)[i];
+    const LocalXY& b = (*corners)[(i + 1) % 4];
+    area += a.east * b.north - b.east * a.north;
   }
+  area = std::fabs(area) / 2;
   if (area > config_.max_footprint_ratio * nadir_area) {
     std::ostringstream s;
     s << "footprint is " << std::lround(area / nadir_area) << "x the nadir footprint (limit "
@@ -368,7 +367,7 @@ void MosaicBuilder::WriteMetadata(bool complete) {
     return s.str();
   };
   store_->SetMetadata("name", config_.name);
-  store_->SetMetadata("format", FormatName(config_.encoding.format));
+  store_->SetMetadata("format", TileExtension(config_.encoding.format));
   store_->SetMetadata("type", "overlay");
   store_->SetMetadata("version", "1");
   store_->SetMetadata("description", "Seabed photo map built by SeaMap");

@@ -19,7 +19,7 @@ void TileWriter::Submit(const TileId& id, const cv::Mat& tile) {
     std::lock_guard<std::mutex> lock(mutex_);
     version = next_version_++;
     pending_[id] = {tile, version};
-    seen_[id] = true;
+    seen_.insert(id);
     // Drop futures that are done so the list stays short.
     if (in_flight_.size() > 256) {
       std::vector<std::future<void>> still;
@@ -90,7 +90,7 @@ void TileWriter::Flush() {
 std::map<int, int64_t> TileWriter::distinct_tiles_per_zoom() const {
   std::lock_guard<std::mutex> lock(mutex_);
   std::map<int, int64_t> out;
-  for (const auto& [id, _] : seen_) ++out[id.z];
+  for (const TileId& id : seen_) ++out[id.z];
   return out;
 }
 

@@ -10,6 +10,7 @@
 #include <mutex>
 #include <optional>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -54,7 +55,7 @@ class TileWriter {
   std::function<void(const TileId&, uint64_t)> on_written_;
   mutable std::mutex mutex_;
   std::unordered_map<TileId, Pending, TileIdHash> pending_;
-  std::unordered_map<TileId, bool, TileIdHash> seen_;
+  std::unordered_set<TileId, TileIdHash> seen_;  // every tile ever submitted
   std::vector<std::future<void>> in_flight_;
   std::vector<std::future<void>> done_;  // finished, not yet checked for errors
   uint64_t next_version_ = 1;

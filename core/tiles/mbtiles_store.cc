@@ -330,67 +330,60 @@ void MBTilesStore::PutTrackPoint(const TrackPoint& p) {
   EndWrite();
 }
 
-std::vector<FrameRecord> MBTilesStore::Frames() const {
+template <typename Row>
+std::vector<Row> MBTilesStore::ReadRows(const char* sql, const char* what,
+                                        Row (*read_row)(sqlite3_stmt*)) const {
   std::lock_guard<std::mutex> lock(mutex_);
-  std::vector<FrameRecord> out;
+  std::vector<Row> out;
   sqlite3_stmt* s = nullptr;
-  // A plain MBTiles file from another tool has no frames table: no frames.
-  if (sqlite3_prepare_v2(db_,
-                         "SELECT id, image, image_path, time_s, lat, lon, altitude_m, depth_m, "
-                         "heading_deg, pitch_deg, roll_deg, footprint, status FROM frames "
-                         "ORDER BY id",
-                         -1, &s, nullptr) != SQLITE_OK) {
+  // A plain MBTiles file from another tool lacks our mission tables: no rows.
+  if (sqlite3_prepare_v2(db_, sql, -1, &s, nullptr) != SQLITE_OK) {
     sqlite3_finalize(s);
     return out;
   }
   OneShot q{s};
   int rc;
-  while ((rc = sqlite3_step(s)) == SQLITE_ROW) {
-    FrameRecord f;
-    f.id = sqlite3_column_int(s, 0);
-    f.image = ColumnText(s, 1);
-    f.image_path = ColumnText(s, 2);
-    f.time_s = ColumnOptional(s, 3);
-    f.position = {sqlite3_column_double(s, 4), sqlite3_column_double(s, 5)};
-    f.altitude_m = sqlite3_column_double(s, 6);
-    f.depth_m = sqlite3_column_double(s, 7);
-    f.heading_deg = sqlite3_column_double(s, 8);
-    f.pitch_deg = sqlite3_column_double(s, 9);
-    f.roll_deg = sqlite3_column_double(s, 10);
-    const std::string footprint = ColumnText(s, 11);
-    if (!footprint.empty()) f.footprint = FootprintFromJson(nlohmann::json::parse(footprint));
-    f.status = ColumnText(s, 12);
-    out.push_back(std::move(f));
-  }
-  if (rc != SQLITE_DONE) Fail("read frames");
+  while ((rc = sqlite3_step(s)) == SQLITE_ROW) out.push_back(read_row(s));
+  if (rc != SQLITE_DONE) Fail(what);
   return out;
 }
 
+std::vector<FrameRecord> MBTilesStore::Frames() const {
+  return ReadRows<FrameRecord>(
+      "SELECT id, image, image_path, time_s, lat, lon, altitude_m, depth_m, heading_deg, pitch_deg, "
+      "roll_deg, footprint, status FROM frames ORDER BY id",
+      "read frames", [](sqlite3_stmt* s) {
+        FrameRecord f;
+        f.id = sqlite3_column_int(s, 0);
+        f.image = ColumnText(s, 1);
+        f.image_path = ColumnText(s, 2);
+        f.time_s = ColumnOptional(s, 3);
+        f.position = {sqlite3_column_double(s, 4), sqlite3_column_double(s, 5)};
+        f.altitude_m = sqlite3_column_double(s, 6);
+        f.depth_m = sqlite3_column_double(s, 7);
+        f.heading_deg = sqlite3_column_double(s, 8);
+        f.pitch_deg = sqlite3_column_double(s, 9);
+        f.roll_deg = sqlite3_column_double(s, 10);
+        const std::string footprint = ColumnText(s, 11);
+        if (!footprint.empty()) f.footprint = FootprintFromJson(nlohmann::json::parse(footprint));
+        f.status = ColumnText(s, 12);
+        return f;
+      });
+}
+
 std::vector<TrackPoint> MBTilesStore::Track() const {
-  std::lock_guard<std::mutex> lock(mutex_);
-  std::vector<TrackPoint> out;
-  sqlite3_stmt* s = nullptr;
-  if (sqlite3_prepare_v2(db_,
-                         "SELECT seq, time_s, lat, lon, altitude_m, depth_m, heading_deg "
-                         "FROM track ORDER BY seq",
-                         -1, &s, nullptr) != SQLITE_OK) {
-    sqlite3_finalize(s);
-    return out;
-  }
-  OneShot q{s};
-  int rc;
-  while ((rc = sqlite3_step(s)) == SQLITE_ROW) {
-    TrackPoint p;
-    p.seq = sqlite3_column_int(s, 0);
-    p.time_s = ColumnOptional(s, 1);
-    p.position = {sqlite3_column_double(s, 2), sqlite3_column_double(s, 3)};
-    p.altitude_m = sqlite3_column_double(s, 4);
-    p.depth_m = sqlite3_column_double(s, 5);
-    p.heading_deg = sqlite3_column_double(s, 6);
-    out.push_back(p);
-  }
-  if (rc != SQLITE_DONE) Fail("read track");
-  return out;
+  return ReadRows<TrackPoint>(
+      "SELECT seq, time_s, lat, lon, altitude_m, depth_m, heading_deg FROM track ORDER BY seq",
+      "read track", [](sqlite3_stmt* s) {
+        TrackPoint p;
+        p.seq = sqlite3_column_int(s, 0);
+        p.time_s = ColumnOptional(s, 1);
+        p.position = {sqlite3_column_double(s, 2), sqlite3_column_double(s, 3)};
+        p.altitude_m = sqlite3_column_double(s, 4);
+        p.depth_m = sqlite3_column_double(s, 5);
+        p.heading_deg = sqlite3_column_double(s, 6);
+        return p;
+      });
 }
 
 }  // namespace seamap

@@ -52,6 +52,9 @@ class MBTilesStore : public TileStore {
   void PutTileLocked(sqlite3_stmt* put, const TileId& id, const std::vector<uint8_t>& bytes);
   std::optional<std::vector<uint8_t>> GetTileLocked(sqlite3_stmt* get, const TileId& id) const;
   int64_t CountRows(const std::string& table) const;
+  // Every row of a query over an optional table (none when it is missing).
+  template <typename Row>
+  std::vector<Row> ReadRows(const char* sql, const char* what, Row (*read_row)(sqlite3_stmt*)) const;
 
   void CreateSchema();
   sqlite3_stmt* Prepare(const char* sql) const;

@@ -1,0 +1,225 @@
+// Detections and operator marks: markers with popups (class, score, position,
+// time, photo thumbnail), a side list filtered by class that zooms to the
+// object, and adding, editing, moving and deleting operator marks.
+
+import {getJSON, send} from './api.js';
+import {$, el, toast} from './dom.js';
+import {formatLatLon, formatMetres, formatTime} from './geo.js';
+
+const L = window.L;
+
+const escapeClass = name => String(name).toLowerCase().replace(/[^a-z0-9_-]/g, '_');
+
+export class Detections {
+  constructor(map, {canEdit, frame}) {
+    this.map = map;
+    this.canEdit = canEdit;     // () => bool: token set or not required
+    this.frame = frame;         // local frame for east/north, or null
+    this.features = new Map();  // id -> Feature
+    this.markers = new Map();   // id -> L.Marker
+    this.group = L.featureGroup().addTo(map);
+    this.filter = '';
+    this.lastSeq = 0;
+    $('#detection-class').addEventListener('change', event => {
+      this.filter = event.target.value;
+      this.render();
+    });
+  }
+
+  async load() {
+    const collection = await getJSON('/api/detections');
+    this.lastSeq = collection.last_seq || 0;
+    const seen = new Set();
+    for (const feature of collection.features || []) {
+      seen.add(String(feature.id));
+      this.upsert(feature, false);
+    }
+    for (const id of [...this.features.keys()]) if (!seen.has(id)) this.remove(id, false);
+    this.render();
+  }
+
+  onEvent({action, id, feature}) {
+    if (action === 'deleted') this.remove(String(id));
+    else if (feature) this.upsert(feature);
+  }
+
+  upsert(feature, render = true) {
+    const id = String(feature.id ?? feature.properties.id);
+    const p = feature.properties;
+    if (p.seq) this.lastSeq = Math.max(this.lastSeq, p.seq);
+    this.features.set(id, feature);
+    const [lon, lat] = feature.geometry.coordinates;
+    let marker = this.markers.get(id);
+    const editable = p.source === 'operator' && this.canEdit();
+    const icon = L.divIcon({
+      className: `detection-icon ${p.source === 'operator' ? 'operator' : 'detected'} class-${escapeClass(p.class)}`,
+      html: `<span data-detection-id="${id}" title="${escapeHtml(p.class)}"></span>`,
+      iconSize: [18, 18],
+      iconAnchor: [9, 9],
+      popupAnchor: [0, -8],
+    });
+    if (!marker) {
+      marker = L.marker([lat, lon], {icon, draggable: editable, keyboard: true, title: p.class, riseOnHover: true});
+      marker.bindPopup(() => this.popup(id), {minWidth: 200, maxWidth: 280});
+      marker.on('dragend', () => this.move(id, marker.getLatLng()));
+      this.markers.set(id, marker);
+    } else {
+      marker.setLatLng([lat, lon]);
+      marker.setIcon(icon);
+      if (marker.dragging) editable ? marker.dragging.enable() : marker.dragging.disable();
+      if (marker.isPopupOpen()) marker.setPopupContent(this.popup(id));
+    }
+    marker.getElement()?.setAttribute('data-detection-id', id);
+    if (render) this.render();
+  }
+
+  remove(id, render = true) {
+    const marker = this.markers.get(id);
+    if (marker) this.group.removeLayer(marker);
+    this.markers.delete(id);
+    this.features.delete(id);
+    if (render) this.render();
+  }
+
+  // Markers on the map and the side list follow the class filter.
+  render() {
+    const classes = [...new Set([...this.features.values()].map(f => f.properties.class))].sort();
+    const select = $('#detection-class');
+    const current = this.filter;
+    select.replaceChildren(el('option', {value: ''}, `all classes (${this.features.size})`),
+      ...classes.map(c => el('option', {value: c, selected: c === current}, c)));
+    if (current && !classes.includes(current)) this.filter = '';
+    $('#class-names').replaceChildren(...classes.map(c => el('option', {value: c})));
+
+    const list = $('#detection-list');
+    const items = [];
+    const sorted = [...this.features.entries()].sort((a, b) => (a[1].properties.time_s ?? 1e18) - (b[1].properties.time_s ?? 1e18));
+    for (const [id, feature] of sorted) {
+      const marker = this.markers.get(id);
+      const shown = !this.filter || feature.properties.class === this.filter;
+      if (shown && !this.group.hasLayer(marker)) this.group.addLayer(marker);
+      if (!shown && this.group.hasLayer(marker)) this.group.removeLayer(marker);
+      if (marker.getElement()) marker.getElement().setAttribute('data-detection-id', id);
+      if (!shown) continue;
+      const p = feature.properties;
+      items.push(el('li', {dataset: {id, class: p.class, source: p.source}, tabindex: '0',
+        onclick: () => this.focus(id),
+        onkeydown: event => { if (event.key === 'Enter') this.focus(id); }},
+        el('span', {class: `swatch ${p.source === 'operator' ? 'operator' : 'detected'}`}),
+        el('strong', {}, p.class),
+        ` ${p.source === 'operator' ? 'mark' : (Number(p.score) * 100).toFixed(0) + '%'}`,
+        p.time_s !== null && p.time_s !== undefined ? el('small', {}, ` t ${formatTime(p.time_s)}`) : null));
+    }
+    list.replaceChildren(...items);
+    list.dataset.count = String(items.length);
+    $('#detection-count').textContent = String(this.features.size);
+  }
+
+  focus(id) {
+    const marker = this.markers.get(id);
+    if (!marker) return;
+    this.map.setView(marker.getLatLng(), Math.max(this.map.getZoom(), this.map.getMaxZoom() - 3));
+    marker.openPopup();
+    document.body.classList.remove('panel-open');
+  }
+
+  popup(id) {
+    const feature = this.features.get(id);
+    if (!feature) return 'deleted';
+    const p = feature.properties;
+    const [lon, lat] = feature.geometry.coordinates;
+    let where = formatLatLon(lat, lon);
+    if (this.frame) {
+      const {east, north} = this.frame.toLocal(lat, lon);
+      where += ` (E ${formatMetres(east)}, N ${formatMetres(north)})`;
+    }
+    const box = el('div', {class: 'detection-popup', dataset: {id}},
+      el('h3', {class: 'popup-class'}, p.class),
+      el('dl', {},
+        el('dt', {}, 'score'), el('dd', {}, p.score === undefined || p.score === null ? '–' : Number(p.score).toFixed(2)),
+        el('dt', {}, 'source'), el('dd', {}, p.source || '–'),
+        el('dt', {}, 'position'), el('dd', {}, where),
+        el('dt', {}, 'time'), el('dd', {}, formatTime(p.time_s)),
+        p.note ? [el('dt', {}, 'note'), el('dd', {}, p.note)] : null),
+      p.frame_id !== null && p.frame_id !== undefined
+        ? el('a', {href: `/api/frames/${p.frame_id}/image`, target: '_blank', rel: 'noopener'},
+          el('img', {class: 'thumb', src: `/api/frames/${p.frame_id}/image?max=256`, alt: `frame ${p.frame_id}`, loading: 'lazy'}))
+        : null);
+    if (p.source === 'operator' && this.canEdit()) box.append(this.editForm(id, p));
+    return box;
+  }
+
+  editForm(id, p) {
+    const cls = el('input', {name: 'class', value: p.class, list: 'class-names', required: true, 'aria-label': 'class'});
+    const note = el('input', {name: 'note', value: p.note || '', placeholder: 'note', 'aria-label': 'note'});
+    return el('form', {class: 'mark-form', onsubmit: async event => {
+      event.preventDefault();
+      try {
+        const feature = await send('PATCH', `/api/detections/${id}`, {properties: {class: cls.value.trim(), note: note.value}});
+        this.upsert(feature);
+        toast('mark saved');
+      } catch (error) {
+        toast(`save failed: ${error.message}`);
+      }
+    }},
+    cls, note,
+    el('div', {class: 'buttons'},
+      el('button', {type: 'submit'}, 'save'),
+      el('button', {type: 'button', class: 'danger', onclick: () => this.delete(id)}, 'delete')),
+    el('small', {}, 'drag the marker to move it'));
+  }
+
+  async move(id, latlng) {
+    try {
+      const feature = await send('PATCH', `/api/detections/${id}`,
+        {type: 'Feature', geometry: {type: 'Point', coordinates: [latlng.lng, latlng.lat]}, properties: {}});
+      this.upsert(feature);
+    } catch (error) {
+      toast(`move failed: ${error.message}`);
+      const old = this.features.get(id);
+      if (old) this.upsert(old);
+    }
+  }
+
+  async delete(id) {
+    if (!confirm('Delete this mark?')) return;
+    try {
+      await send('DELETE', `/api/detections/${id}`);
+      this.remove(id);
+    } catch (error) {
+      toast(`delete failed: ${error.message}`);
+    }
+  }
+
+  // Map click in "mark" mode: a popup form that creates an operator mark.
+  addAt(latlng) {
+    const cls = el('input', {name: 'class', list: 'class-names', required: true, placeholder: 'class', 'aria-label': 'class'});
+    const note = el('input', {name: 'note', placeholder: 'note', 'aria-label': 'note'});
+    const popup = L.popup({minWidth: 200}).setLatLng(latlng);
+    const form = el('form', {class: 'mark-form new-mark', onsubmit: async event => {
+      event.preventDefault();
+      try {
+        const feature = await send('POST', '/api/detections', {
+          type: 'Feature',
+          geometry: {type: 'Point', coordinates: [latlng.lng, latlng.lat]},
+          properties: {class: cls.value.trim(), note: note.value},
+        });
+        this.map.closePopup(popup);
+        this.upsert(feature);
+        toast(`mark ${feature.id} added`);
+      } catch (error) {
+        toast(`add failed: ${error.message}`);
+      }
+    }}, el('h3', {}, 'new mark'), cls, note, el('div', {class: 'buttons'}, el('button', {type: 'submit'}, 'add')));
+    popup.setContent(form).openOn(this.map);
+    setTimeout(() => cls.focus(), 0);
+  }
+
+  toGeoJSON() {
+    return {type: 'FeatureCollection', features: [...this.features.values()]};
+  }
+}
+
+function escapeHtml(text) {
+  return String(text).replace(/[&<>"']/g, c => ({'&': '&amp;', '<': '&lt;', '>': '&gt;', '"': '&quot;', "'": '&#39;'}[c]));
+}

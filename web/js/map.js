@@ -1,0 +1,101 @@
+// The Leaflet map: photo tile layers from TileJSON (with a layer switch when
+// the mission has more than one), scale bar and the cursor readout.
+
+import {getJSON} from './api.js';
+import {formatLatLon, formatMetres, localFrame} from './geo.js';
+import {LiveTileLayer} from './tile_layer.js';
+
+const L = window.L;
+const OVERZOOM = 3;
+
+export function createMap(element) {
+  const map = L.map(element, {
+    zoomControl: true,
+    attributionControl: true,
+    preferCanvas: false,
+    minZoom: 0,
+    maxZoom: 22,
+  });
+  L.control.scale({metric: true, imperial: false, maxWidth: 160}).addTo(map);
+  return map;
+}
+
+function layerNames(tilejson) {
+  const layers = tilejson.seamap_layers;
+  if (Array.isArray(layers)) return layers;
+  if (typeof layers === 'string' && layers) return layers.split(',').map(s => s.trim()).filter(Boolean);
+  return [];
+}
+
+function tileLayerFrom(tilejson) {
+  const maxzoom = tilejson.maxzoom ?? 22;
+  const minzoom = tilejson.minzoom ?? 0;
+  return new LiveTileLayer(tilejson.tiles[0], {
+    maxNativeZoom: maxzoom,
+    maxZoom: maxzoom + OVERZOOM,
+    minNativeZoom: minzoom,
+    minZoom: Math.max(0, minzoom - 2),
+    tileSize: tilejson.seamap_tile_size ? Number(tilejson.seamap_tile_size) : 256,
+    attribution: tilejson.attribution || 'SeaMap',
+    keepBuffer: 2,
+    updateWhenZooming: false,
+  });
+}
+
+// Loads /tiles.json (and /tiles/{layer}.json for extra layers), adds the
+// first layer, and answers {layers: Map(name -> layer), main, tilejson}.
+export async function addPhotoLayers(map) {
+  const tilejson = await getJSON('/tiles.json');
+  const main = tileLayerFrom(tilejson);
+  const names = layerNames(tilejson);
+  const layers = new Map();
+  const mainName = names[0] || 'map';
+  layers.set(mainName, main);
+  for (const name of names.slice(1)) {
+    try {
+      const extra = await getJSON(`/tiles/${encodeURIComponent(name)}.json`);
+      if (extra.tiles && extra.tiles[0] !== tilejson.tiles[0]) layers.set(name, tileLayerFrom(extra));
+      else layers.set(name, main);
+    } catch {
+      layers.set(name, tileLayerFrom({...tilejson, tiles: [`/tiles/${name}/{z}/{x}/{y}.${tilejson.format || 'png'}`]}));
+    }
+  }
+  main.addTo(map);
+  map.setMaxZoom(main.options.maxZoom);
+  map.setMinZoom(main.options.minZoom);
+  const distinct = new Map([...layers].filter(([name, layer]) => name === mainName || layer !== main));
+  if (distinct.size > 1) {
+    L.control.layers(Object.fromEntries(distinct), null, {collapsed: true, position: 'topright'}).addTo(map);
+  }
+  return {layers, main, tilejson};
+}
+
+// The first view: the map's bounds, else its centre, else the vehicle.
+export function initialView(map, tilejson, status) {
+  const b = tilejson.bounds;
+  const maxzoom = tilejson.maxzoom ?? 20;
+  if (Array.isArray(b) && b.length === 4 && b[2] > b[0] && b[3] > b[1]) {
+    map.fitBounds([[b[1], b[0]], [b[3], b[2]]], {maxZoom: maxzoom, padding: [10, 10]});
+    return;
+  }
+  const pose = status && status.last_pose;
+  if (pose) map.setView([pose.lat, pose.lon], maxzoom - 1);
+  else if (Array.isArray(tilejson.center)) map.setView([tilejson.center[1], tilejson.center[0]], Math.min(tilejson.center[2] ?? maxzoom - 2, maxzoom));
+  else if (status && status.origin) map.setView(status.origin, maxzoom - 2);
+  else map.setView([0, 0], 2);
+}
+
+// Cursor position in lat/lon and east/north metres from the mission origin.
+export function cursorReadout(map, element, origin) {
+  const frame = origin ? localFrame(origin) : null;
+  const show = latlng => {
+    let text = formatLatLon(latlng.lat, latlng.lng);
+    if (frame) {
+      const {east, north} = frame.toLocal(latlng.lat, latlng.lng);
+      text += ` · E ${formatMetres(east)} N ${formatMetres(north)}`;
+    }
+    element.textContent = text;
+  };
+  map.on('mousemove', event => show(event.latlng));
+  map.on('click', event => show(event.latlng));
+}

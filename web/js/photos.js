@@ -1,0 +1,93 @@
+// Photos under a point: a map click asks /api/frames?lat&lon for the photos
+// whose footprint covers it, lists them with thumbnails and outlines their
+// footprints; a photo opens at full resolution in the viewer.
+
+import {getJSON} from './api.js';
+import {$, el, toast} from './dom.js';
+import {formatTime} from './geo.js';
+
+const L = window.L;
+
+export class Photos {
+  constructor(map) {
+    this.map = map;
+    this.footprints = L.featureGroup().addTo(map);
+    this.pin = L.circleMarker([0, 0], {radius: 5, color: '#00e5ff', weight: 2, fillOpacity: 0.4, interactive: false});
+    this.request = 0;
+    $('#photo-viewer-close').addEventListener('click', () => this.closeViewer());
+    $('#photo-viewer').addEventListener('click', event => {
+      if (event.target.id === 'photo-viewer') this.closeViewer();
+    });
+    document.addEventListener('keydown', event => {
+      if (event.key === 'Escape') this.closeViewer();
+    });
+  }
+
+  async at(latlng) {
+    const request = ++this.request;
+    this.pin.setLatLng(latlng).addTo(this.map);
+    const list = $('#photo-list');
+    list.dataset.state = 'loading';
+    let frames;
+    try {
+      ({frames} = await getJSON(`/api/frames?lat=${latlng.lat.toFixed(9)}&lon=${latlng.lng.toFixed(9)}`));
+    } catch (error) {
+      if (request === this.request) {
+        list.dataset.state = 'error';
+        toast(`photos: ${error.message}`);
+      }
+      return;
+    }
+    if (request !== this.request) return;   // a newer click won
+    this.footprints.clearLayers();
+    $('#photo-summary').textContent = frames.length
+      ? `${frames.length} photo${frames.length > 1 ? 's' : ''} cover this point`
+      : 'no photo covers this point';
+    list.replaceChildren(...frames.map(frame => this.item(frame)));
+    list.dataset.state = 'ready';
+    list.dataset.count = String(frames.length);
+    if (frames.length) {
+      this.outline(frames[0], true);
+      document.body.dataset.panel = 'photos';
+    }
+  }
+
+  item(frame) {
+    const thumb = frame.thumb_url || `/api/frames/${frame.id}/image?max=256`;
+    return el('li', {dataset: {id: frame.id}, tabindex: '0',
+      onclick: () => this.open(frame),
+      onkeydown: event => { if (event.key === 'Enter') this.open(frame); },
+      onmouseenter: () => this.outline(frame, true)},
+    el('img', {class: 'thumb', src: thumb, alt: `photo ${frame.id}`, loading: 'lazy'}),
+    el('div', {class: 'meta'},
+      el('strong', {}, frame.image || `frame ${frame.id}`),
+      el('small', {}, `t ${formatTime(frame.time_s)} · alt ${Number(frame.altitude_m ?? 0).toFixed(2)} m · hdg ${Number(frame.heading_deg ?? 0).toFixed(0)}°`)));
+  }
+
+  outline(frame, only) {
+    if (!frame.footprint) return;
+    if (only) this.footprints.clearLayers();
+    L.polygon(frame.footprint.map(([lon, lat]) => [lat, lon]),
+      {color: '#00e5ff', weight: 1.5, fill: false, interactive: false}).addTo(this.footprints);
+  }
+
+  open(frame) {
+    this.outline(frame, true);
+    const viewer = $('#photo-viewer');
+    const img = $('#photo-full');
+    img.removeAttribute('src');
+    img.dataset.state = 'loading';
+    img.onload = () => { img.dataset.state = 'loaded'; };
+    img.onerror = () => { img.dataset.state = 'error'; };
+    img.src = frame.image_url || `/api/frames/${frame.id}/image`;
+    img.alt = frame.image || `frame ${frame.id}`;
+    $('#photo-caption').textContent = `${frame.image || 'frame ' + frame.id} · t ${formatTime(frame.time_s)} · ` +
+      `depth ${Number(frame.depth_m ?? 0).toFixed(1)} m · altitude ${Number(frame.altitude_m ?? 0).toFixed(2)} m`;
+    $('#photo-open').href = img.src;
+    viewer.hidden = false;
+  }
+
+  closeViewer() {
+    $('#photo-viewer').hidden = true;
+  }
+}

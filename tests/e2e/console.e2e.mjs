@@ -1,0 +1,289 @@
+// End-to-end test of the operator console: a real `seamap replay` serves a
+// simulated survey while headless Chromium watches the console build it.
+//
+//   node tests/e2e/console.e2e.mjs
+//
+// Environment: SEAMAP_BIN (seamap binary, default build/seamap),
+// SEAMAP_SOURCE_DIR (repo root, default two folders up), SEAMAP_ARTIFACTS
+// (screenshots, default a temp folder), SEAMAP_E2E_SPEED (replay speed,
+// default 0.75), SEAMAP_E2E_URL + SEAMAP_E2E_TOKEN (test a server that is
+// already running instead of starting one).
+
+import fs from 'node:fs';
+import os from 'node:os';
+import path from 'node:path';
+import {fileURLToPath} from 'node:url';
+import {Checks, freePort, killAll, run, sleep, startProcess, stopProcess, waitFor, waitForOutput} from './harness.mjs';
+
+const here = path.dirname(fileURLToPath(import.meta.url));
+const sourceDir = path.resolve(process.env.SEAMAP_SOURCE_DIR || path.join(here, '..', '..'));
+const seamap = process.env.SEAMAP_BIN || path.join(sourceDir, 'build', 'seamap');
+const artifacts = path.resolve(process.env.SEAMAP_ARTIFACTS || fs.mkdtempSync(path.join(os.tmpdir(), 'seamap-e2e-artifacts-')));
+const speed = process.env.SEAMAP_E2E_SPEED || '0.75';
+const FRAMES = 80;
+const TOTAL_TIMEOUT_MS = 150000;   // a hung browser or server never hangs ctest
+
+const checks = new Checks();
+let browser = null;
+let server = null;
+let work = null;
+
+async function cleanup() {
+  if (browser) await browser.close().catch(() => {});
+  browser = null;
+  if (server) await stopProcess(server);
+  server = null;
+  killAll();
+  if (work) fs.rmSync(work, {recursive: true, force: true});
+  work = null;
+}
+
+const watchdog = setTimeout(async () => {
+  console.log(`not ok - test finished within ${TOTAL_TIMEOUT_MS / 1000} s`);
+  killAll();
+  process.exit(1);
+}, TOTAL_TIMEOUT_MS);
+for (const signal of ['SIGINT', 'SIGTERM']) {
+  process.on(signal, () => {
+    killAll();
+    process.exit(1);
+  });
+}
+process.on('exit', killAll);
+
+async function startServer() {
+  if (process.env.SEAMAP_E2E_URL) {
+    return {base: process.env.SEAMAP_E2E_URL.replace(/\/?$/, '/'), token: process.env.SEAMAP_E2E_TOKEN || ''};
+  }
+  work = fs.mkdtempSync(path.join(os.tmpdir(), 'seamap-e2e-'));
+  const survey = path.join(work, 'survey');
+  await run(seamap, ['simulate', '--out', survey, '--frames', String(FRAMES), '--quiet']);
+  const port = await freePort();
+  const token = `e2e-${process.pid}-${Date.now()}`;
+  fs.mkdirSync(path.join(work, 'out'));
+  server = startProcess(seamap, ['replay', survey, '--speed', speed,
+    '--out', path.join(work, 'out', 'mission.mbtiles'), '--port', String(port),
+    '--web', path.join(sourceDir, 'web'), '--token', token, '--exit-when-done']);
+  await waitForOutput(server, new RegExp(`serving http://127\\.0\\.0\\.1:${port}/`), 20000);
+  return {base: `http://127.0.0.1:${port}/`, token};
+}
+
+async function shot(page, name) {
+  const file = path.join(artifacts, `${name}.png`);
+  await page.screenshot({path: file});
+  return file;
+}
+
+// Pixel statistics of the loaded tiles (same origin, so the canvas is clean).
+function tilePixels() {
+  let best = null;
+  for (const img of document.querySelectorAll('img.leaflet-tile-loaded')) {
+    if (!img.complete || !img.naturalWidth) continue;
+    const canvas = document.createElement('canvas');
+    canvas.width = img.naturalWidth;
+    canvas.height = img.naturalHeight;
+    const context = canvas.getContext('2d');
+    context.drawImage(img, 0, 0);
+    const {data} = context.getImageData(0, 0, canvas.width, canvas.height);
+    let opaque = 0, sum = 0, sum2 = 0;
+    for (let i = 0; i < data.length; i += 4) {
+      if (data[i + 3] < 128) continue;
+      const v = (data[i] + data[i + 1] + data[i + 2]) / 3;
+      opaque++;
+      sum += v;
+      sum2 += v * v;
+    }
+    const mean = opaque ? sum / opaque : 0;
+    const stats = {src: img.src, opaque: opaque / (data.length / 4), mean, std: opaque ? Math.sqrt(Math.max(0, sum2 / opaque - mean * mean)) : 0};
+    if (!best || stats.opaque * stats.std > best.opaque * best.std) best = stats;
+  }
+  return best;
+}
+
+async function main() {
+  if (!process.env.SEAMAP_E2E_URL && !fs.existsSync(seamap)) throw new Error(`no seamap binary at ${seamap}`);
+  if (!fs.existsSync(path.join(sourceDir, 'web', 'vendor', 'leaflet', 'leaflet.js'))) {
+    throw new Error('web/vendor/leaflet is missing: run scripts/setup_web.sh');
+  }
+  fs.mkdirSync(artifacts, {recursive: true});
+  const {chromium} = await import('playwright-core');
+
+  const {base, token} = await startServer();
+  checks.ok('server is listening', base);
+
+  browser = await chromium.launch({
+    executablePath: process.env.SEAMAP_CHROMIUM || '/usr/bin/chromium',
+    args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-background-networking'],
+  });
+  const page = await browser.newPage({viewport: {width: 1280, height: 800}});
+  const pageErrors = [];
+  page.on('pageerror', error => pageErrors.push(error.message));
+  page.on('console', message => {
+    if (message.type() === 'error') pageErrors.push(`console: ${message.text()}`);
+  });
+
+  await checks.run('console loads', async () => {
+    await page.goto(base, {waitUntil: 'domcontentloaded'});
+    await page.waitForSelector('body[data-ready="true"]', {timeout: 20000});
+    await page.evaluate(() => { window.__e2eSamePage = true; });
+    const hasLeaflet = await page.evaluate(() => Boolean(window.L && window.seamap && window.seamap.map));
+    if (!hasLeaflet) throw new Error('Leaflet or the console did not start');
+    return `status ${await page.textContent('#progress-label')}`;
+  });
+
+  await checks.run('track grows while the replay runs', async () => {
+    const count = () => page.$eval('#track-count', el => Number(el.dataset.count));
+    const first = await count();
+    const later = await waitFor('more track points', async () => {
+      const n = await count();
+      return n > first && n >= 2 ? n : 0;
+    }, {timeoutMs: 20000});
+    const line = await page.evaluate(() => window.seamap.track.points.length);
+    if (line !== later && line < later) throw new Error(`polyline has ${line} points, counter ${later}`);
+    return `${first} -> ${later} points`;
+  });
+
+  await checks.run('a tile event refreshes a tile in place', async () => {
+    // Follow the vehicle at the finest native zoom, where tiles are being
+    // painted and repainted, and tag the tile elements now on the page.
+    await page.check('#follow');
+    await page.evaluate(() => {
+      const {map, layers} = window.seamap;
+      map.setZoom(layers.main.options.maxNativeZoom, {animate: false});
+    });
+    const found = await waitFor('a refreshed tile', () => page.evaluate(() => {
+      for (const img of document.querySelectorAll('img.leaflet-tile')) {
+        if (!img.__e2eSeen) img.__e2eSeen = {src: img.src};
+      }
+      for (const img of document.querySelectorAll('img.leaflet-tile[data-refreshed]')) {
+        const before = img.__e2eSeen && img.__e2eSeen.src;
+        if (before && before !== img.src && img.src.includes(`v=${img.dataset.version}`)) {
+          return {before, after: img.src, samePage: window.__e2eSamePage === true};
+        }
+      }
+      return null;
+    }), {timeoutMs: 25000});
+    if (!found.samePage) throw new Error('the page was reloaded');
+    const short = url => url.replace(/^https?:\/\/[^/]+/, '');
+    return `${short(found.before)} -> ${short(found.after)}`;
+  });
+
+  await checks.run('tiles load and are not blank', async () => {
+    const stats = await waitFor('a loaded tile with seabed texture', async () => {
+      const s = await page.evaluate(tilePixels);
+      return s && s.opaque > 0.05 && s.std > 2 ? s : null;
+    }, {timeoutMs: 20000});
+    const tileUrl = new URL(stats.src);
+    const response = await fetch(tileUrl);
+    if (response.status !== 200) throw new Error(`tile fetch answered ${response.status}`);
+    if (!response.headers.get('etag')) throw new Error('tile without ETag');
+    return `${(stats.opaque * 100).toFixed(0)}% covered, grey level ${stats.mean.toFixed(0)} ± ${stats.std.toFixed(1)}`;
+  });
+  await shot(page, 'console-live');
+
+  await checks.run('marks need the token', async () => {
+    const status = await (await fetch(new URL('api/status', base))).json();
+    if (!status.token_required) return 'server needs no token';
+    const response = await fetch(new URL('api/detections', base), {
+      method: 'POST',
+      headers: {'Content-Type': 'application/json'},
+      body: JSON.stringify({type: 'Feature', geometry: {type: 'Point', coordinates: [status.origin[1], status.origin[0]]}, properties: {class: 'nope'}}),
+    });
+    if (response.status !== 401) throw new Error(`POST without token answered ${response.status}`);
+    return '401 without it';
+  });
+
+  await checks.run('an operator mark appears live and its popup opens', async () => {
+    await page.fill('#token', token);
+    await page.click('#token-form button[type="submit"]');
+    await page.uncheck('#follow');
+    const pose = await page.evaluate(() => {
+      const ll = window.seamap.track.points.at(-1) || window.seamap.map.getCenter();
+      return {lat: ll.lat, lon: ll.lng};
+    });
+    const response = await fetch(new URL('api/detections', base), {
+      method: 'POST',
+      headers: {'Content-Type': 'application/json', Authorization: `Bearer ${token}`},
+      body: JSON.stringify({type: 'Feature', geometry: {type: 'Point', coordinates: [pose.lon, pose.lat]},
+        properties: {class: 'e2e-anchor', note: 'made by the e2e test', score: 1}}),
+    });
+    if (response.status !== 201) throw new Error(`POST answered ${response.status}: ${await response.text()}`);
+    const feature = await response.json();
+    const id = String(feature.id ?? feature.properties.id);
+    const marker = `.leaflet-marker-icon[data-detection-id="${id}"]`;
+    await page.waitForSelector(marker, {state: 'attached', timeout: 15000});
+    await page.waitForSelector(`#detection-list li[data-id="${id}"]`, {state: 'attached', timeout: 5000});
+    await page.evaluate(([lat, lon]) => window.seamap.map.setView([lat, lon], window.seamap.map.getZoom(), {animate: false}), [pose.lat, pose.lon]);
+    await page.click(marker);
+    await page.waitForSelector(`.leaflet-popup .detection-popup[data-id="${id}"]`, {timeout: 5000});
+    const shown = (await page.textContent('.leaflet-popup .popup-class')).trim();
+    if (shown !== 'e2e-anchor') throw new Error(`popup shows class "${shown}"`);
+    const editable = await page.$('.leaflet-popup .mark-form');
+    if (!editable) throw new Error('no edit form for an operator mark with the token set');
+    await shot(page, 'console-detection');
+    await page.evaluate(() => window.seamap.map.closePopup());
+    return `mark ${id}`;
+  });
+
+  await checks.run('a map click lists the covering photos and one opens full size', async () => {
+    // Click a track point from early in the survey (surely painted by now).
+    const point = await page.evaluate(() => {
+      const {map, track} = window.seamap;
+      const points = track.points;
+      const ll = points[Math.floor(points.length / 3)];
+      map.setView(ll, map.getZoom(), {animate: false});
+      const p = map.latLngToContainerPoint(ll);
+      const box = map.getContainer().getBoundingClientRect();
+      return {x: box.left + p.x + 3, y: box.top + p.y + 3};
+    });
+    await page.check('#mode-photos');
+    await sleep(300);
+    await page.mouse.click(point.x, point.y);
+    await page.waitForSelector('#photo-list[data-state="ready"]', {timeout: 10000});
+    const count = await page.$eval('#photo-list', el => el.children.length);
+    if (!count) throw new Error('no photo listed');
+    await waitFor('a thumbnail', () => page.$eval('#photo-list li img', img => img.complete && img.naturalWidth > 0), {timeoutMs: 10000});
+    await page.click('#photo-list li');
+    await page.waitForSelector('#photo-full[data-state="loaded"]', {timeout: 10000});
+    const size = await page.$eval('#photo-full', img => [img.naturalWidth, img.naturalHeight]);
+    if (size[0] <= 256 && size[1] <= 256) throw new Error(`full-size photo is only ${size.join('x')}`);
+    await shot(page, 'console-photo');
+    await page.click('#photo-viewer-close');
+    return `${count} photos, full size ${size.join('x')}`;
+  });
+
+  await checks.run('phone width: the panel collapses and opens', async () => {
+    await page.setViewportSize({width: 390, height: 760});
+    await sleep(400);
+    const hidden = await page.$eval('#panel', el => el.getBoundingClientRect().right <= 1);
+    if (!hidden) throw new Error('panel still covers the map');
+    await page.click('#panel-toggle');
+    await sleep(400);
+    const shown = await page.$eval('#panel', el => el.getBoundingClientRect().left >= -1);
+    if (!shown) throw new Error('panel did not open');
+    await shot(page, 'console-phone');
+    await page.click('#panel-toggle');
+    return 'ok';
+  });
+
+  await checks.run('no script errors on the page', async () => {
+    const errors = pageErrors.filter(e => !/Failed to load resource/.test(e));
+    if (errors.length) throw new Error(errors.join(' | '));
+    return '';
+  });
+}
+
+let exitCode = 0;
+try {
+  await main();
+} catch (error) {
+  checks.fail('end-to-end run', error);
+  if (server) console.log(`# server output:\n${server.output.slice(-3000).replace(/^/gm, '# ')}`);
+} finally {
+  await cleanup();
+  clearTimeout(watchdog);
+}
+checks.summary();
+console.log(`# screenshots in ${artifacts}`);
+if (checks.failed) exitCode = 1;
+process.exit(exitCode);

@@ -1,0 +1,127 @@
+// Helpers for the console's end-to-end test: TAP-like check lines, child
+// processes that are always ended, free ports, waiting on conditions.
+
+import {spawn} from 'node:child_process';
+import net from 'node:net';
+
+export class Checks {
+  constructor() {
+    this.passed = 0;
+    this.failed = 0;
+  }
+
+  ok(name, detail = '') {
+    this.passed++;
+    console.log(`ok - ${name}${detail ? ` (${detail})` : ''}`);
+  }
+
+  fail(name, error) {
+    this.failed++;
+    const message = error instanceof Error ? error.message : String(error);
+    console.log(`not ok - ${name}: ${message.split('\n')[0]}`);
+  }
+
+  // Runs one check; a failure is reported and the test goes on.
+  async run(name, body) {
+    try {
+      const detail = await body();
+      this.ok(name, detail);
+      return true;
+    } catch (error) {
+      this.fail(name, error);
+      return false;
+    }
+  }
+
+  summary() {
+    console.log(`${this.passed} passed, ${this.failed} failed`);
+  }
+}
+
+const children = new Set();
+
+export function startProcess(command, args, options = {}) {
+  const child = spawn(command, args, {stdio: ['ignore', 'pipe', 'pipe'], ...options});
+  children.add(child);
+  child.output = '';
+  const keep = chunk => {
+    child.output += chunk;
+    if (child.output.length > 200000) child.output = child.output.slice(-100000);
+  };
+  child.stdout.setEncoding('utf8').on('data', keep);
+  child.stderr.setEncoding('utf8').on('data', keep);
+  child.exited = new Promise(resolve => child.on('exit', (code, signal) => {
+    children.delete(child);
+    resolve({code, signal});
+  }));
+  return child;
+}
+
+export async function stopProcess(child, graceMs = 3000) {
+  if (!child || child.exitCode !== null || child.signalCode !== null) return;
+  child.kill('SIGTERM');
+  const timer = setTimeout(() => child.kill('SIGKILL'), graceMs);
+  await child.exited;
+  clearTimeout(timer);
+}
+
+export function killAll() {
+  for (const child of children) {
+    try {
+      child.kill('SIGKILL');
+    } catch { /* already gone */ }
+  }
+}
+
+export async function run(command, args, timeoutMs = 60000) {
+  const child = startProcess(command, args);
+  const timer = setTimeout(() => child.kill('SIGKILL'), timeoutMs);
+  const {code, signal} = await child.exited;
+  clearTimeout(timer);
+  if (code !== 0) throw new Error(`${command} ${args.join(' ')} failed (${signal || code}): ${child.output.slice(-2000)}`);
+  return child.output;
+}
+
+export function freePort() {
+  return new Promise((resolve, reject) => {
+    const server = net.createServer();
+    server.unref();
+    server.on('error', reject);
+    server.listen(0, '127.0.0.1', () => {
+      const {port} = server.address();
+      server.close(() => resolve(port));
+    });
+  });
+}
+
+export const sleep = ms => new Promise(resolve => setTimeout(resolve, ms));
+
+// Polls `probe` until it answers something truthy; throws `what` on timeout.
+export async function waitFor(what, probe, {timeoutMs = 15000, intervalMs = 250} = {}) {
+  const end = Date.now() + timeoutMs;
+  let last;
+  for (;;) {
+    try {
+      last = await probe();
+      if (last) return last;
+    } catch (error) {
+      if (error.fatal) throw error;
+      last = error;
+    }
+    if (Date.now() > end) {
+      const why = last instanceof Error ? `: ${last.message}` : '';
+      throw new Error(`timed out after ${timeoutMs / 1000} s waiting for ${what}${why}`);
+    }
+    await sleep(intervalMs);
+  }
+}
+
+// Waits until the child prints a line matching `pattern`.
+export function waitForOutput(child, pattern, timeoutMs) {
+  return waitFor(`"${pattern}" from the server`, () => {
+    if (child.exitCode !== null) {
+      throw Object.assign(new Error(`server exited (${child.exitCode}): ${child.output.slice(-2000)}`), {fatal: true});
+    }
+    return pattern.test(child.output);
+  }, {timeoutMs, intervalMs: 100});
+}

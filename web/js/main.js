@@ -12,13 +12,14 @@ import {Track, Vehicle, showStatus} from './live.js';
 import {addPhotoLayers, createMap, cursorReadout, initialView} from './map.js';
 
 let status = null;
-const canEdit = () => Boolean(status) && (!status.token_required || Boolean(getToken()));
+const canEdit = () => Boolean(status) && status.writable !== false && (!status.token_required || Boolean(getToken()));
 
 function showEditing() {
   document.body.classList.toggle('can-edit', canEdit());
   const state = $('#token-state');
   if (!status) return;
-  if (!status.token_required) state.textContent = 'this server needs no token to edit marks';
+  if (status.writable === false) state.textContent = 'this mission is read only';
+  else if (!status.token_required) state.textContent = 'this server needs no token to edit marks';
   else state.textContent = getToken() ? 'token set: marks can be edited' : 'read only: set the token to edit marks';
   if (!canEdit() && $('#mode-mark').checked) setMode('photos');
 }

@@ -19,6 +19,7 @@ namespace {
 constexpr const char* kMetadataFile = "metadata.json";
 constexpr const char* kFramesFile = "frames.json";
 constexpr const char* kTrackFile = "track.json";
+constexpr const char* kDetectionsFile = "detections.json";
 
 // Writes through a temp file in the same folder and renames it over `path`,
 // so readers see either the old or the new file, never a partial one.
@@ -177,6 +178,10 @@ void FolderStore::Load() {
     TrackPoint p = TrackPointFromJson(j);
     track_[p.seq] = p;
   });
+  load(kDetectionsFile, [this](const nlohmann::json& j) {
+    Detection d = DetectionFromJson(j);
+    detections_[d.id] = d;
+  });
   // Tiles are the files two folders down: {z}/{x}/{y}.ext.
   int64_t count = 0;
   for (auto it = fs::recursive_directory_iterator(root_); it != fs::end(it); ++it)
@@ -251,6 +256,27 @@ std::vector<TrackPoint> FolderStore::Track() const {
   return out;
 }
 
+void FolderStore::PutDetection(const Detection& detection) {
+  CheckWritable();
+  std::lock_guard<std::mutex> lock(mutex_);
+  detections_[detection.id] = detection;
+  dirty_ = true;
+}
+
+void FolderStore::DeleteDetection(int64_t id) {
+  CheckWritable();
+  std::lock_guard<std::mutex> lock(mutex_);
+  detections_.erase(id);
+  dirty_ = true;
+}
+
+std::vector<Detection> FolderStore::Detections() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::vector<Detection> out;
+  for (const auto& [id, d] : detections_) out.push_back(d);
+  return out;
+}
+
 void FolderStore::Flush() {
   std::lock_guard<std::mutex> lock(mutex_);
   WriteJsonLocked();
@@ -265,6 +291,9 @@ void FolderStore::WriteJsonLocked() {
   nlohmann::json track = nlohmann::json::array();
   for (const auto& [seq, p] : track_) track.push_back(TrackPointToJson(p));
   WriteJsonFile(root_ / kTrackFile, track);
+  nlohmann::json detections = nlohmann::json::array();
+  for (const auto& [id, d] : detections_) detections.push_back(DetectionToJson(d));
+  WriteJsonFile(root_ / kDetectionsFile, detections);
   dirty_ = false;
 }
 
@@ -279,6 +308,9 @@ class FolderLayer : public FolderStore {
   void PutTrackPoint(const TrackPoint&) override {}
   std::vector<FrameRecord> Frames() const override { return parent_->Frames(); }
   std::vector<TrackPoint> Track() const override { return parent_->Track(); }
+  void PutDetection(const Detection& d) override { parent_->PutDetection(d); }
+  void DeleteDetection(int64_t id) override { parent_->DeleteDetection(id); }
+  std::vector<Detection> Detections() const override { return parent_->Detections(); }
 
  private:
   FolderStore* parent_;

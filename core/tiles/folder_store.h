@@ -1,7 +1,7 @@
 #pragma once
 // A folder pyramid {root}/{z}/{x}/{y}.{ext} (XYZ rows) as any static web
 // server can serve it, with TileJSON 3.0.0 `metadata.json`, and the mission
-// records in `frames.json` and `track.json`. Every file is written atomically
+// records in `frames.json`, `track.json` and `detections.json`. Every file is written atomically
 // (temp file in the same folder, then rename), so a reader never sees half a
 // tile. Tiles are written at once; the JSON files on Flush().
 #include <atomic>
@@ -43,6 +43,9 @@ class FolderStore : public TileStore {
   void PutTrackPoint(const TrackPoint& point) override;
   std::vector<FrameRecord> Frames() const override;
   std::vector<TrackPoint> Track() const override;
+  void PutDetection(const Detection& detection) override;
+  void DeleteDetection(int64_t id) override;
+  std::vector<Detection> Detections() const override;
 
   void Flush() override;
   // Layers live in root/layers/<name>/ as folder pyramids of their own.
@@ -65,6 +68,7 @@ class FolderStore : public TileStore {
   std::map<std::string, std::string> metadata_;
   std::map<int, FrameRecord> frames_;  // by id: Put replaces
   std::map<int, TrackPoint> track_;    // by seq
+  std::map<int64_t, Detection> detections_;  // by id
 };
 
 // TileJSON 3.0.0 document for MBTiles-style string metadata: "bounds",

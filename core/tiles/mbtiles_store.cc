@@ -23,6 +23,9 @@ CREATE TABLE IF NOT EXISTS frames (id integer primary key, image text, image_pat
                                    roll_deg real, footprint text, status text);
 CREATE TABLE IF NOT EXISTS track (seq integer primary key, time_s real, lat real, lon real,
                                   altitude_m real, depth_m real, heading_deg real);
+CREATE TABLE IF NOT EXISTS detections (id integer primary key, class text, score real, lat real,
+                                       lon real, note text, source text, frame_id integer,
+                                       time_s real, created text, updated text, seq integer);
 )sql";
 
 // Resets a reused statement when the scope ends, whatever happens.
@@ -255,6 +258,9 @@ class MBTilesStore::Layer : public TileStore {
   void PutTrackPoint(const TrackPoint&) override {}
   std::vector<FrameRecord> Frames() const override { return parent_->Frames(); }
   std::vector<TrackPoint> Track() const override { return parent_->Track(); }
+  void PutDetection(const Detection& d) override { parent_->PutDetection(d); }
+  void DeleteDetection(int64_t id) override { parent_->DeleteDetection(id); }
+  std::vector<Detection> Detections() const override { return parent_->Detections(); }
   void Flush() override { parent_->Flush(); }
   std::unique_ptr<TileStore> OpenLayer(const std::string& name) override { return parent_->OpenLayer(name); }
 
@@ -383,6 +389,59 @@ std::vector<TrackPoint> MBTilesStore::Track() const {
         p.depth_m = sqlite3_column_double(s, 5);
         p.heading_deg = sqlite3_column_double(s, 6);
         return p;
+      });
+}
+
+void MBTilesStore::PutDetection(const Detection& d) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  BeginWrite();
+  OneShot q{Prepare(
+      "INSERT OR REPLACE INTO detections (id, class, score, lat, lon, note, source, frame_id, "
+      "time_s, created, updated, seq) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)")};
+  sqlite3_stmt* s = q.s;
+  sqlite3_bind_int64(s, 1, d.id);
+  sqlite3_bind_text(s, 2, d.class_name.c_str(), -1, SQLITE_STATIC);
+  sqlite3_bind_double(s, 3, d.score);
+  sqlite3_bind_double(s, 4, d.position.lat);
+  sqlite3_bind_double(s, 5, d.position.lon);
+  sqlite3_bind_text(s, 6, d.note.c_str(), -1, SQLITE_STATIC);
+  sqlite3_bind_text(s, 7, d.source.c_str(), -1, SQLITE_STATIC);
+  if (d.frame_id) sqlite3_bind_int(s, 8, *d.frame_id); else sqlite3_bind_null(s, 8);
+  BindOptional(s, 9, d.time_s);
+  sqlite3_bind_text(s, 10, d.created.c_str(), -1, SQLITE_STATIC);
+  sqlite3_bind_text(s, 11, d.updated.c_str(), -1, SQLITE_STATIC);
+  sqlite3_bind_int64(s, 12, d.seq);
+  if (sqlite3_step(s) != SQLITE_DONE) Fail("write detection");
+  EndWrite();
+}
+
+void MBTilesStore::DeleteDetection(int64_t id) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  BeginWrite();
+  OneShot q{Prepare("DELETE FROM detections WHERE id = ?")};
+  sqlite3_bind_int64(q.s, 1, id);
+  if (sqlite3_step(q.s) != SQLITE_DONE) Fail("delete detection");
+  EndWrite();
+}
+
+std::vector<Detection> MBTilesStore::Detections() const {
+  return ReadRows<Detection>(
+      "SELECT id, class, score, lat, lon, note, source, frame_id, time_s, created, updated, seq "
+      "FROM detections ORDER BY id",
+      "read detections", [](sqlite3_stmt* s) {
+        Detection d;
+        d.id = sqlite3_column_int64(s, 0);
+        d.class_name = ColumnText(s, 1);
+        d.score = sqlite3_column_double(s, 2);
+        d.position = {sqlite3_column_double(s, 3), sqlite3_column_double(s, 4)};
+        d.note = ColumnText(s, 5);
+        d.source = ColumnText(s, 6);
+        if (sqlite3_column_type(s, 7) != SQLITE_NULL) d.frame_id = sqlite3_column_int(s, 7);
+        d.time_s = ColumnOptional(s, 8);
+        d.created = ColumnText(s, 9);
+        d.updated = ColumnText(s, 10);
+        d.seq = sqlite3_column_int64(s, 11);
+        return d;
       });
 }
 

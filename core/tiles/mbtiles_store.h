@@ -39,6 +39,9 @@ class MBTilesStore : public TileStore {
   void PutTrackPoint(const TrackPoint& point) override;
   std::vector<FrameRecord> Frames() const override;
   std::vector<TrackPoint> Track() const override;
+  void PutDetection(const Detection& detection) override;
+  void DeleteDetection(int64_t id) override;
+  std::vector<Detection> Detections() const override;
 
   void Flush() override;
   std::unique_ptr<TileStore> OpenLayer(const std::string& name) override;

@@ -2,6 +2,7 @@
 // What a mission keeps besides tiles: every frame with its pose and footprint
 // (an index into the raw photos) and the vehicle track.
 #include <array>
+#include <cstdint>
 #include <optional>
 #include <string>
 
@@ -25,6 +26,20 @@ struct TrackPoint {
   std::optional<double> time_s;
   LatLon position;
   double altitude_m = 0, depth_m = 0, heading_deg = 0;
+};
+
+// An object on the seabed: found by a recogniser or marked by an operator.
+struct Detection {
+  int64_t id = 0;
+  std::string class_name;
+  double score = 1;
+  LatLon position;
+  std::string note;
+  std::string source = "operator";  // "operator" or the recogniser's name
+  std::optional<int> frame_id;      // the photo it was found in
+  std::optional<double> time_s;
+  std::string created, updated;     // ISO 8601 UTC
+  int64_t seq = 0;                  // change number: grows with every change
 };
 
 }  // namespace seamap

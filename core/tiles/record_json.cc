@@ -82,4 +82,35 @@ TrackPoint TrackPointFromJson(const nlohmann::json& j) {
   return p;
 }
 
+nlohmann::json DetectionToJson(const Detection& d) {
+  return {{"id", d.id},
+          {"class", d.class_name},
+          {"score", d.score},
+          {"lat", d.position.lat},
+          {"lon", d.position.lon},
+          {"note", d.note},
+          {"source", d.source},
+          {"frame_id", d.frame_id ? nlohmann::json(*d.frame_id) : nlohmann::json(nullptr)},
+          {"time_s", d.time_s ? nlohmann::json(*d.time_s) : nlohmann::json(nullptr)},
+          {"created", d.created},
+          {"updated", d.updated},
+          {"seq", d.seq}};
+}
+
+Detection DetectionFromJson(const nlohmann::json& j) {
+  Detection d;
+  d.id = j.at("id").get<int64_t>();
+  d.class_name = j.at("class").get<std::string>();
+  d.score = j.value("score", 1.0);
+  d.position = {j.at("lat").get<double>(), j.at("lon").get<double>()};
+  d.note = j.value("note", "");
+  d.source = j.value("source", "operator");
+  if (j.contains("frame_id") && !j.at("frame_id").is_null()) d.frame_id = j.at("frame_id").get<int>();
+  d.time_s = OptionalFromJson(j, "time_s");
+  d.created = j.value("created", "");
+  d.updated = j.value("updated", "");
+  d.seq = j.value("seq", int64_t{0});
+  return d;
+}
+
 }  // namespace seamap

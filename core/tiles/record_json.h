@@ -22,4 +22,8 @@ FrameRecord FrameFromJson(const nlohmann::json& j);  // throws nlohmann::json::e
 nlohmann::json TrackPointToJson(const TrackPoint& p);
 TrackPoint TrackPointFromJson(const nlohmann::json& j);
 
+// {"id","class","score","lat","lon","note","source","frame_id","time_s","created","updated","seq"}
+nlohmann::json DetectionToJson(const Detection& d);
+Detection DetectionFromJson(const nlohmann::json& j);
+
 }  // namespace seamap

@@ -33,6 +33,11 @@ class TileStore {
   virtual std::vector<FrameRecord> Frames() const = 0;
   virtual std::vector<TrackPoint> Track() const = 0;
 
+  // Detections (objects and operator marks). Put inserts or replaces by id.
+  virtual void PutDetection(const Detection& detection) = 0;
+  virtual void DeleteDetection(int64_t id) = 0;
+  virtual std::vector<Detection> Detections() const = 0;
+
   // Makes everything written so far durable and visible to other readers
   // (commits the open transaction / writes metadata files).
   virtual void Flush() = 0;

@@ -1,0 +1,53 @@
+#pragma once
+// A TileStore decorator that tells a listener, after each Flush, which tiles
+// became visible to readers and their versions. A live server turns these
+// into `tile` events: announcing a tile before its transaction commits would
+// send browsers to fetch the old one.
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "core/tiles/tile_store.h"
+
+namespace seamap {
+
+struct CommittedTile {
+  TileId id;
+  uint64_t version = 0;  // TileVersion of the bytes
+};
+
+class ObservedStore : public TileStore {
+ public:
+  // (layer, tiles): layer is "" for the main map, else the layer's name.
+  using Listener = std::function<void(const std::string& layer, const std::vector<CommittedTile>&)>;
+
+  // `inner` must outlive this store.
+  ObservedStore(TileStore* inner, Listener listener, std::string layer = "");
+
+  void PutTile(const TileId& id, const std::vector<uint8_t>& bytes) override;
+  std::optional<std::vector<uint8_t>> GetTile(const TileId& id) const override { return inner_->GetTile(id); }
+  int64_t TileCount() const override { return inner_->TileCount(); }
+  void SetMetadata(const std::string& key, const std::string& value) override { inner_->SetMetadata(key, value); }
+  std::map<std::string, std::string> Metadata() const override { return inner_->Metadata(); }
+  void PutFrame(const FrameRecord& frame) override { inner_->PutFrame(frame); }
+  void PutTrackPoint(const TrackPoint& point) override { inner_->PutTrackPoint(point); }
+  std::vector<FrameRecord> Frames() const override { return inner_->Frames(); }
+  std::vector<TrackPoint> Track() const override { return inner_->Track(); }
+  void PutDetection(const Detection& d) override { inner_->PutDetection(d); }
+  void DeleteDetection(int64_t id) override { inner_->DeleteDetection(id); }
+  std::vector<Detection> Detections() const override { return inner_->Detections(); }
+  void Flush() override;  // flushes the inner store, then tells the listener
+  std::unique_ptr<TileStore> OpenLayer(const std::string& name) override;
+
+ private:
+  TileStore* inner_;
+  std::unique_ptr<TileStore> owned_;  // a layer opened through this decorator
+  Listener listener_;
+  std::string layer_;
+  std::mutex mutex_;
+  std::vector<CommittedTile> pending_;
+};
+
+}  // namespace seamap

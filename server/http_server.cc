@@ -1,0 +1,428 @@
+#include "server/http_server.h"
+
+#include <httplib.h>
+
+#include <chrono>
+#include <cstring>
+#include <filesystem>
+#include <sstream>
+
+#include "core/tiles/folder_store.h"
+#include "core/util/error.h"
+#include "server/api_error.h"
+#include "server/photo_preview.h"
+
+namespace seamap::server {
+namespace {
+
+constexpr size_t kMaxBody = 64 * 1024;
+constexpr auto kKeepAliveComment = std::chrono::seconds(15);
+
+void SendJson(httplib::Response& res, const nlohmann::json& j, int status = 200) {
+  res.status = status;
+  res.set_content(j.dump(), "application/json");
+}
+
+void SendError(httplib::Response& res, int status, const std::string& message) {
+  SendJson(res, {{"error", message}}, status);
+}
+
+std::optional<std::string> Param(const httplib::Request& req, const char* name) {
+  if (!req.has_param(name)) return std::nullopt;
+  return req.get_param_value(name);
+}
+
+int64_t ParseId(const std::string& text, const char* what) {
+  try {
+    size_t used = 0;
+    long long v = std::stoll(text, &used);
+    if (used == text.size() && v >= 0) return v;
+  } catch (const std::exception&) {
+  }
+  throw ApiError(400, std::string(what) + ": expected a non-negative integer, got '" + text + "'");
+}
+
+double ParseCoordinate(const httplib::Request& req, const char* name, double lo, double hi) {
+  auto v = Param(req, name);
+  if (!v) throw ApiError(400, std::string("parameter '") + name + "' is required");
+  try {
+    size_t used = 0;
+    double d = std::stod(*v, &used);
+    if (used == v->size() && d >= lo && d <= hi) return d;
+  } catch (const std::exception&) {
+  }
+  throw ApiError(400, std::string("parameter '") + name + "': expected a number in [" + std::to_string(int(lo)) +
+                          ", " + std::to_string(int(hi)) + "], got '" + *v + "'");
+}
+
+nlohmann::json ParseBody(const httplib::Request& req) {
+  try {
+    return nlohmann::json::parse(req.body);
+  } catch (const nlohmann::json::exception& e) {
+    throw ApiError(400, std::string("body: expected JSON: ") + e.what());
+  }
+}
+
+std::string MimeForExtension(const std::string& ext) {
+  if (ext == "png") return "image/png";
+  if (ext == "jpg" || ext == "jpeg") return "image/jpeg";
+  if (ext == "webp") return "image/webp";
+  return "application/octet-stream";
+}
+
+// Does an If-None-Match header list this ETag (or "*")?
+bool EtagMatches(const std::string& header, const std::string& etag) {
+  if (header == "*") return true;
+  std::stringstream in(header);
+  std::string part;
+  while (std::getline(in, part, ',')) {
+    size_t a = part.find_first_not_of(' ');
+    size_t b = part.find_last_not_of(' ');
+    if (a == std::string::npos) continue;
+    std::string t = part.substr(a, b - a + 1);
+    if (t.rfind("W/", 0) == 0) t = t.substr(2);  // weak comparison is fine for GET
+    if (t == etag) return true;
+  }
+  return false;
+}
+
+// Runs a handler, turning ApiError and other exceptions into JSON errors.
+template <typename F>
+httplib::Server::Handler Guard(F f) {
+  return [f](const httplib::Request& req, httplib::Response& res) {
+    try {
+      f(req, res);
+    } catch (const ApiError& e) {
+      SendError(res, e.status(), e.what());
+    } catch (const std::exception& e) {
+      SendError(res, 500, e.what());
+    }
+  };
+}
+
+}  // namespace
+
+TilePath ParseTilePath(const std::string& path) {
+  std::vector<std::string> parts;
+  std::stringstream in(path);
+  std::string part;
+  while (std::getline(in, part, '/')) parts.push_back(part);
+  if (parts.size() != 3 && parts.size() != 4)
+    throw ApiError(400, "tile path: expected /tiles/{z}/{x}/{y}.{ext} or /tiles/{layer}/{z}/{x}/{y}.{ext}");
+  TilePath t;
+  if (parts.size() == 4) {
+    t.layer = parts[0];
+    parts.erase(parts.begin());
+  }
+  const size_t dot = parts[2].find('.');
+  if (dot == std::string::npos) throw ApiError(400, "tile path: expected {y}.{ext}, e.g. 12.png");
+  t.ext = parts[2].substr(dot + 1);
+  parts[2].resize(dot);
+  int64_t v[3];
+  for (int i = 0; i < 3; ++i) {
+    const std::string& s = parts[i];
+    if (s.empty() || s.size() > 10 || s.find_first_not_of("0123456789") != std::string::npos)
+      throw ApiError(400, "tile path: z, x and y must be non-negative integers, got '" + s + "'");
+    v[i] = std::stoll(s);
+  }
+  if (v[0] > 30) throw ApiError(400, "tile path: zoom " + std::to_string(v[0]) + " is out of range 0..30");
+  const int64_t n = int64_t{1} << v[0];
+  if (v[1] >= n || v[2] >= n)
+    throw ApiError(400, "tile path: x and y must be below 2^z = " + std::to_string(n) + " at zoom " +
+                            std::to_string(v[0]));
+  t.id = TileId{static_cast<int>(v[0]), static_cast<int>(v[1]), static_cast<int>(v[2])};
+  return t;
+}
+
+HttpServer::HttpServer(ServerOptions options, TileSource* tiles, MissionState* mission,
+                       DetectionRegistry* detections, EventHub* events)
+    : options_(std::move(options)),
+      tiles_(tiles),
+      mission_(mission),
+      detections_(detections),
+      events_(events),
+      http_(std::make_unique<httplib::Server>()) {
+  const size_t threads = static_cast<size_t>(std::max(2, options_.threads) + std::max(1, options_.max_streams));
+  http_->new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
+  http_->set_payload_max_length(kMaxBody);
+  http_->set_keep_alive_max_count(10000);
+  http_->set_keep_alive_timeout(5);
+  http_->set_tcp_nodelay(true);
+  Routes();
+}
+
+HttpServer::~HttpServer() { Stop(); }
+
+bool HttpServer::Authorized(const void* request) const {
+  if (options_.token.empty()) return true;
+  const auto& req = *static_cast<const httplib::Request*>(request);
+  const std::string header = req.get_header_value("Authorization");
+  const std::string expected = "Bearer " + options_.token;
+  if (header.size() != expected.size()) return false;
+  unsigned char diff = 0;  // constant time: do not leak the token through timing
+  for (size_t i = 0; i < header.size(); ++i) diff |= header[i] ^ expected[i];
+  return diff == 0;
+}
+
+void HttpServer::Routes() {
+  httplib::Server& s = *http_;
+
+  auto tilejson = [this](const httplib::Request& req, httplib::Response& res, const std::string& layer) {
+    if (!layer.empty() && !tiles_->IsLayer(layer)) throw ApiError(404, "no layer '" + layer + "'");
+    const std::string ext = tiles_->Format();
+    nlohmann::json j = MetadataToTileJson(tiles_->Metadata(layer), ext);
+    const std::string host = req.has_header("Host") ? req.get_header_value("Host") : "127.0.0.1";
+    j["tiles"] = {"http://" + host + "/tiles/" + (layer.empty() ? "" : layer + "/") + "{z}/{x}/{y}." + ext};
+    if (!j.contains("name")) j["name"] = "SeaMap mission";
+    if (!j.contains("attribution")) j["attribution"] = "";
+    j["seamap_layers"] = tiles_->Layers();
+    res.set_header("Access-Control-Allow-Origin", "*");
+    res.set_header("Cache-Control", "no-cache");
+    SendJson(res, j);
+  };
+  s.Get("/tiles.json", Guard([tilejson](const httplib::Request& req, httplib::Response& res) {
+          tilejson(req, res, "");
+        }));
+  s.Get(R"(/tiles/([a-z0-9_]{1,32})\.json)", Guard([tilejson](const httplib::Request& req, httplib::Response& res) {
+          tilejson(req, res, req.matches[1]);
+        }));
+
+  s.Get(R"(/tiles/(.*))", Guard([this](const httplib::Request& req, httplib::Response& res) {
+          TilePath t = ParseTilePath(req.matches[1]);
+          const std::string format = tiles_->Format();
+          const bool same = t.ext == format || (format == "jpg" && t.ext == "jpeg");
+          if (!same) throw ApiError(404, "this mission's tiles are ." + format + ", not ." + t.ext);
+          std::optional<Tile> tile;
+          try {
+            tile = tiles_->Get(t.layer, t.id);
+          } catch (const std::out_of_range&) {
+            throw ApiError(404, "no layer '" + t.layer + "'");
+          }
+          res.set_header("Access-Control-Allow-Origin", "*");
+          // A growing map: keep the tile, but ask (cheaply, 304) before reusing it.
+          res.set_header("Cache-Control",
+                         mission_->progress().state == "building" ? "no-cache" : "public, max-age=300");
+          if (!tile) {
+            res.status = 204;
+            return;
+          }
+          res.set_header("ETag", tile->etag);
+          if (req.has_header("If-None-Match") && EtagMatches(req.get_header_value("If-None-Match"), tile->etag)) {
+            res.status = 304;
+            return;
+          }
+          res.set_content(tile->bytes->data(), tile->bytes->size(), MimeForExtension(format).c_str());
+        }));
+
+  s.Get("/api/status", Guard([this](const httplib::Request&, httplib::Response& res) {
+          nlohmann::json j = mission_->StatusJson();
+          j["token_required"] = !options_.token.empty();
+          j["writable"] = detections_->writable();
+          j["event_seq"] = events_->LastId();
+          res.set_header("Cache-Control", "no-cache");
+          SendJson(res, j);
+        }));
+
+  s.Get("/api/track", Guard([this](const httplib::Request& req, httplib::Response& res) {
+          int since = 0;
+          if (auto v = Param(req, "since")) since = static_cast<int>(ParseId(*v, "parameter 'since'"));
+          // Start at the point the client already has, so the new piece joins the line.
+          const int from = std::max(0, since - 1);
+          std::vector<TrackPoint> points = mission_->TrackFrom(from);
+          nlohmann::json coords = nlohmann::json::array(), times = nlohmann::json::array();
+          for (const auto& p : points) {
+            coords.push_back({p.position.lon, p.position.lat});
+            times.push_back(p.time_s ? nlohmann::json(*p.time_s) : nlohmann::json(nullptr));
+          }
+          const int next = mission_->TrackSize();
+          nlohmann::json geometry = nullptr;
+          if (coords.size() >= 2) geometry = {{"type", "LineString"}, {"coordinates", coords}};
+          nlohmann::json j = {{"type", "Feature"},
+                              {"geometry", geometry},
+                              {"properties",
+                               {{"from", points.empty() ? next : points.front().seq},
+                                {"next", next},
+                                {"times", times},
+                                {"coordinates", coords.size() < 2 ? coords : nlohmann::json(nullptr)}}}};
+          res.set_header("Cache-Control", "no-cache");
+          SendJson(res, j);
+        }));
+
+  s.Get("/api/frames", Guard([this](const httplib::Request& req, httplib::Response& res) {
+          const double lat = ParseCoordinate(req, "lat", -90, 90);
+          const double lon = ParseCoordinate(req, "lon", -180, 180);
+          size_t limit = 50;
+          if (auto v = Param(req, "limit")) limit = std::max<int64_t>(1, std::min<int64_t>(1000, ParseId(*v, "parameter 'limit'")));
+          nlohmann::json frames = nlohmann::json::array();
+          for (const auto& f : mission_->FramesCovering({lat, lon}, limit)) frames.push_back(FrameJson(f));
+          SendJson(res, {{"frames", frames}});
+        }));
+
+  s.Get(R"(/api/frames/([^/]+))", Guard([this](const httplib::Request& req, httplib::Response& res) {
+          const int64_t id = ParseId(req.matches[1], "frame id");
+          auto f = mission_->Frame(static_cast<int>(id));
+          if (!f) throw ApiError(404, "no frame " + std::to_string(id));
+          SendJson(res, FrameJson(*f));
+        }));
+
+  s.Get(R"(/api/frames/([^/]+)/image)", Guard([this](const httplib::Request& req, httplib::Response& res) {
+          const int64_t id = ParseId(req.matches[1], "frame id");
+          auto f = mission_->Frame(static_cast<int>(id));
+          if (!f) throw ApiError(404, "no frame " + std::to_string(id));
+          int max_side = 0;
+          if (auto v = Param(req, "max")) max_side = static_cast<int>(std::min<int64_t>(8192, ParseId(*v, "parameter 'max'")));
+          std::string path = f->image_path;
+          std::error_code ec;
+          if (!options_.photo_dir.empty() && (path.empty() || !std::filesystem::is_regular_file(path, ec)))
+            path = (std::filesystem::path(options_.photo_dir) / f->image).string();
+          auto photo = LoadPhoto(path, max_side);
+          if (!photo) throw ApiError(404, "photo of frame " + std::to_string(id) + " cannot be read: " + path);
+          res.set_header("Cache-Control", "public, max-age=3600");
+          res.set_content(photo->bytes, photo->content_type.c_str());
+        }));
+
+  s.Get("/api/detections", Guard([this](const httplib::Request& req, httplib::Response& res) {
+          DetectionFilter f =
+              ParseDetectionFilter(Param(req, "bbox"), Param(req, "class"), Param(req, "min_score"), Param(req, "since"));
+          res.set_header("Cache-Control", "no-cache");
+          SendJson(res, detections_->Query(f));
+        }));
+  s.Get(R"(/api/detections/([^/]+))", Guard([this](const httplib::Request& req, httplib::Response& res) {
+          const int64_t id = ParseId(req.matches[1], "detection id");
+          auto d = detections_->Get(id);
+          if (!d) throw ApiError(404, "no detection " + std::to_string(id));
+          SendJson(res, *d);
+        }));
+
+  auto require_token = [this](const httplib::Request& req, httplib::Response& res) {
+    if (Authorized(&req)) return true;
+    res.set_header("WWW-Authenticate", "Bearer realm=\"seamap\"");
+    SendError(res, 401, "writing needs 'Authorization: Bearer TOKEN' (the server's --token)");
+    return false;
+  };
+  s.Post("/api/detections", Guard([this, require_token](const httplib::Request& req, httplib::Response& res) {
+           if (!require_token(req, res)) return;
+           nlohmann::json feature = detections_->Create(ParseBody(req));
+           res.set_header("Location", "/api/detections/" + std::to_string(feature["id"].get<int64_t>()));
+           SendJson(res, feature, 201);
+         }));
+  s.Patch(R"(/api/detections/([^/]+))", Guard([this, require_token](const httplib::Request& req, httplib::Response& res) {
+            if (!require_token(req, res)) return;
+            const int64_t id = ParseId(req.matches[1], "detection id");
+            SendJson(res, detections_->Update(id, ParseBody(req)));
+          }));
+  s.Delete(R"(/api/detections/([^/]+))", Guard([this, require_token](const httplib::Request& req, httplib::Response& res) {
+             if (!require_token(req, res)) return;
+             detections_->Delete(ParseId(req.matches[1], "detection id"));
+             res.status = 204;
+           }));
+
+  s.Get("/api/events", [this](const httplib::Request& req, httplib::Response& res) {
+    if (streams_.fetch_add(1) >= options_.max_streams) {
+      streams_.fetch_sub(1);
+      res.set_header("Retry-After", "10");
+      SendError(res, 503, "too many event streams open (limit " + std::to_string(options_.max_streams) + ")");
+      return;
+    }
+    uint64_t cursor = events_->LastId();
+    if (req.has_header("Last-Event-ID")) {
+      try {
+        const uint64_t last = std::stoull(req.get_header_value("Last-Event-ID"));
+        if (last <= cursor) cursor = last;  // a later id comes from an earlier server run
+      } catch (const std::exception&) {
+      }
+    }
+    auto position = std::make_shared<uint64_t>(cursor);
+    auto greeted = std::make_shared<bool>(false);
+    res.set_header("Cache-Control", "no-cache");
+    res.set_header("X-Accel-Buffering", "no");
+    res.set_chunked_content_provider(
+        "text/event-stream",
+        [this, position, greeted](size_t, httplib::DataSink& sink) {
+          if (!*greeted) {
+            *greeted = true;
+            const std::string hello = "retry: 2000\n: seamap events\n\n";
+            return sink.write(hello.data(), hello.size());
+          }
+          auto events = events_->WaitAfter(*position, kKeepAliveComment);
+          if (events_->closed()) {
+            sink.done();
+            return true;
+          }
+          std::string out;
+          for (const Event& e : events) {
+            out += FormatEvent(e);
+            *position = e.id;
+          }
+          if (out.empty()) out = ": keep-alive\n\n";
+          return sink.write(out.data(), out.size());
+        },
+        [this](bool) { streams_.fetch_sub(1); });
+  });
+
+  s.Get(R"(/api/.*)", [](const httplib::Request& req, httplib::Response& res) {
+    SendError(res, 404, "no such API endpoint: " + req.path + " (see server/README.md)");
+  });
+
+  if (!options_.web_dir.empty()) {
+    s.set_file_extension_and_mimetype_mapping("js", "text/javascript");
+    s.set_file_extension_and_mimetype_mapping("mjs", "text/javascript");
+    s.set_file_extension_and_mimetype_mapping("json", "application/json");
+    s.set_file_extension_and_mimetype_mapping("svg", "image/svg+xml");
+    // httplib refuses paths that climb out of the mount ("..", encoded or not).
+    if (!s.set_mount_point("/", options_.web_dir))
+      throw InputError(options_.web_dir, 0, "--web", "is not a folder with the console's files");
+  }
+
+  // Errors without a body (404 of an unknown path, 413 of a too large body...) get a JSON one.
+  s.set_error_handler(httplib::Server::HandlerWithResponse([](const httplib::Request&, httplib::Response& res) {
+    if (!res.body.empty()) return httplib::Server::HandlerResponse::Unhandled;
+    std::string message = res.status == 404   ? "not found"
+                          : res.status == 413 ? "request body too large (limit 64 KiB)"
+                          : res.status == 400 ? "bad request"
+                                              : "error " + std::to_string(res.status);
+    res.set_content(nlohmann::json{{"error", message}}.dump(), "application/json");
+    return httplib::Server::HandlerResponse::Handled;
+  }));
+  s.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr ep) {
+    std::string message = "internal error";
+    try {
+      std::rethrow_exception(ep);
+    } catch (const std::exception& e) {
+      message = e.what();
+    } catch (...) {
+    }
+    res.status = 500;
+    res.set_content(nlohmann::json{{"error", message}}.dump(), "application/json");
+  });
+}
+
+void HttpServer::Bind() {
+  if (options_.port == 0) {
+    port_ = http_->bind_to_any_port(options_.host);
+    if (port_ <= 0) throw InputError("", 0, "--host", "cannot listen on " + options_.host);
+  } else {
+    if (options_.port < 0 || options_.port > 65535)
+      throw InputError("", 0, "--port", "expected a port number 0..65535, got " + std::to_string(options_.port));
+    if (!http_->bind_to_port(options_.host, options_.port))
+      throw InputError("", 0, "--port",
+                       "cannot listen on " + options_.host + ":" + std::to_string(options_.port) +
+                           " (in use, or not allowed); pick another with --port");
+    port_ = options_.port;
+  }
+}
+
+void HttpServer::Run() { http_->listen_after_bind(); }
+
+void HttpServer::Start() {
+  thread_ = std::thread([this] { Run(); });
+  for (int i = 0; i < 2500 && !http_->is_running(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+}
+
+void HttpServer::Stop() {
+  events_->Close();
+  if (http_) http_->stop();
+  if (thread_.joinable()) thread_.join();
+}
+
+}  // namespace seamap::server

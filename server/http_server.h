@@ -1,0 +1,69 @@
+#pragma once
+// The HTTP layer: routes of the REST API, tiles, live events and the console's
+// static files (see server/README.md). Tiles come from a TileSource, mission
+// records from MissionState and DetectionRegistry, live events from an
+// EventHub; this file only speaks HTTP.
+#include <atomic>
+#include <memory>
+#include <string>
+#include <thread>
+
+#include "server/detection_registry.h"
+#include "server/event_hub.h"
+#include "server/mission_state.h"
+#include "server/tile_source.h"
+
+namespace httplib {
+class Server;
+}
+
+namespace seamap::server {
+
+struct ServerOptions {
+  std::string host = "0.0.0.0";
+  int port = 8080;             // 0: any free port
+  std::string web_dir;         // the console's files; empty: no console
+  std::string token;           // required for writes when not empty
+  int threads = 96;            // request threads (one per open connection)
+  int max_streams = 32;        // concurrent /api/events streams, on top of `threads`
+  std::string photo_dir;       // where to find photos whose recorded path is gone
+};
+
+class HttpServer {
+ public:
+  HttpServer(ServerOptions options, TileSource* tiles, MissionState* mission, DetectionRegistry* detections,
+             EventHub* events);
+  ~HttpServer();
+
+  // Binds the port; throws InputError naming --port / --host when it cannot.
+  void Bind();
+  int port() const { return port_; }
+  // Serves until Stop(), in the calling thread or in a background thread.
+  void Run();
+  void Start();
+  void Stop();
+
+ private:
+  void Routes();
+  bool Authorized(const void* request) const;
+
+  ServerOptions options_;
+  TileSource* tiles_;
+  MissionState* mission_;
+  DetectionRegistry* detections_;
+  EventHub* events_;
+  std::unique_ptr<httplib::Server> http_;
+  std::thread thread_;
+  std::atomic<int> streams_{0};
+  int port_ = 0;
+};
+
+// "z/x/y.ext" or "layer/z/x/y.ext" after "/tiles/": throws ApiError(400) when malformed or out of range.
+struct TilePath {
+  std::string layer;
+  TileId id;
+  std::string ext;
+};
+TilePath ParseTilePath(const std::string& path);
+
+}  // namespace seamap::server

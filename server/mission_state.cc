@@ -1,0 +1,183 @@
+#include "server/mission_state.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "core/tiles/record_json.h"
+
+namespace seamap::server {
+namespace {
+
+nlohmann::json OptionalNumber(const std::optional<double>& v) {
+  return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
+}
+
+}  // namespace
+
+bool FootprintContains(const std::array<LatLon, 4>& fp, const LatLon& p) {
+  bool inside = false;
+  for (size_t i = 0, j = fp.size() - 1; i < fp.size(); j = i++) {
+    const LatLon& a = fp[i];
+    const LatLon& b = fp[j];
+    if ((a.lat > p.lat) != (b.lat > p.lat) &&
+        p.lon < (b.lon - a.lon) * (p.lat - a.lat) / (b.lat - a.lat) + a.lon)
+      inside = !inside;
+  }
+  return inside;
+}
+
+nlohmann::json PoseJson(const FrameRecord& f) {
+  return {{"frame", f.id},          {"lat", f.position.lat},   {"lon", f.position.lon},
+          {"heading_deg", f.heading_deg}, {"depth_m", f.depth_m}, {"altitude_m", f.altitude_m},
+          {"time_s", OptionalNumber(f.time_s)}};
+}
+
+nlohmann::json FrameJson(const FrameRecord& f) {
+  const std::string base = "/api/frames/" + std::to_string(f.id);
+  return {{"id", f.id},
+          {"image", f.image},
+          {"time_s", OptionalNumber(f.time_s)},
+          {"lat", f.position.lat},
+          {"lon", f.position.lon},
+          {"heading_deg", f.heading_deg},
+          {"pitch_deg", f.pitch_deg},
+          {"roll_deg", f.roll_deg},
+          {"altitude_m", f.altitude_m},
+          {"depth_m", f.depth_m},
+          {"status", f.status},
+          {"footprint", FootprintToJson(f.footprint)},
+          {"image_url", base + "/image"},
+          {"thumb_url", base + "/image?max=256"}};
+}
+
+void MissionState::Load(const TileStore& store) {
+  auto metadata = store.Metadata();
+  std::vector<FrameRecord> frames = store.Frames();
+  std::vector<TrackPoint> track = store.Track();
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (metadata.count("name")) name_ = metadata["name"];
+  if (metadata.count("format")) format_ = metadata["format"];
+  if (metadata.count("seamap_state")) progress_.state = metadata["seamap_state"] == "complete" ? "complete" : "stopped";
+  if (metadata.count("seamap_origin")) {
+    double lat, lon;
+    if (std::sscanf(metadata["seamap_origin"].c_str(), "%lf,%lf", &lat, &lon) == 2) origin_ = LatLon{lat, lon};
+  }
+  frames_ = std::move(frames);
+  track_ = std::move(track);
+  progress_.frames_done = progress_.frames_total = static_cast<int>(frames_.size());
+  progress_.frames_rejected = static_cast<int>(
+      std::count_if(frames_.begin(), frames_.end(), [](const FrameRecord& f) { return f.status != "used"; }));
+}
+
+void MissionState::SetName(const std::string& name) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  name_ = name;
+}
+
+void MissionState::SetReplay(bool replay) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  replay_ = replay;
+}
+
+void MissionState::SetLayers(std::vector<std::string> layers, std::string format) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  layers_ = std::move(layers);
+  format_ = std::move(format);
+}
+
+void MissionState::SetOrigin(double lat, double lon) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  origin_ = LatLon{lat, lon};
+}
+
+void MissionState::SetProgress(const Progress& progress) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  progress_ = progress;
+}
+
+Progress MissionState::progress() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return progress_;
+}
+
+void MissionState::AddFrame(const FrameRecord& frame, const TrackPoint& point) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (frames_.empty() || frame.id > frames_.back().id) {
+    frames_.push_back(frame);
+  } else {  // a frame painted again (appending to a mission) replaces its record
+    auto it = std::lower_bound(frames_.begin(), frames_.end(), frame.id,
+                               [](const FrameRecord& f, int v) { return f.id < v; });
+    if (it != frames_.end() && it->id == frame.id) *it = frame;
+    else frames_.insert(it, frame);
+  }
+  if (track_.empty() || point.seq > track_.back().seq) track_.push_back(point);
+}
+
+nlohmann::json MissionState::StatusJson() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  nlohmann::json j = {{"name", name_},
+                      {"state", progress_.state},
+                      {"replay", replay_},
+                      {"frames_done", progress_.frames_done},
+                      {"frames_total", progress_.frames_total},
+                      {"frames_rejected", progress_.frames_rejected},
+                      {"tiles_written", progress_.tiles_written},
+                      {"frames_per_s", progress_.frames_per_s},
+                      {"layers", layers_},
+                      {"format", format_},
+                      {"track_points", track_.size()}};
+  j["progress"] = progress_.frames_total > 0
+                      ? nlohmann::json(std::min(1.0, double(progress_.frames_done) / progress_.frames_total))
+                      : nlohmann::json(nullptr);
+  j["origin"] = origin_ ? nlohmann::json::array({origin_->lat, origin_->lon}) : nlohmann::json(nullptr);
+  j["last_pose"] = nullptr;
+  for (auto it = frames_.rbegin(); it != frames_.rend(); ++it) {
+    if (it->status == "used") {
+      j["last_pose"] = PoseJson(*it);
+      break;
+    }
+  }
+  return j;
+}
+
+std::vector<TrackPoint> MissionState::TrackFrom(int first_seq) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto it = std::lower_bound(track_.begin(), track_.end(), first_seq,
+                             [](const TrackPoint& p, int seq) { return p.seq < seq; });
+  return {it, track_.end()};
+}
+
+int MissionState::TrackSize() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return track_.empty() ? 0 : track_.back().seq + 1;
+}
+
+std::vector<FrameRecord> MissionState::FramesCovering(const LatLon& p, size_t limit) const {
+  std::vector<std::pair<double, const FrameRecord*>> hits;
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (const FrameRecord& f : frames_) {
+    if (f.status != "used" || !FootprintContains(f.footprint, p)) continue;
+    double clat = 0, clon = 0;
+    for (const auto& c : f.footprint) {
+      clat += c.lat / 4;
+      clon += c.lon / 4;
+    }
+    const double dx = (clon - p.lon) * std::cos(p.lat * M_PI / 180), dy = clat - p.lat;
+    hits.push_back({dx * dx + dy * dy, &f});
+  }
+  std::sort(hits.begin(), hits.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<FrameRecord> out;
+  for (size_t i = 0; i < hits.size() && i < limit; ++i) out.push_back(*hits[i].second);
+  return out;
+}
+
+std::optional<FrameRecord> MissionState::Frame(int id) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto it = std::lower_bound(frames_.begin(), frames_.end(), id,
+                             [](const FrameRecord& f, int v) { return f.id < v; });
+  if (it == frames_.end() || it->id != id) return std::nullopt;
+  return *it;
+}
+
+}  // namespace seamap::server

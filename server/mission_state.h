@@ -1,0 +1,70 @@
+#pragma once
+// What the server knows about the mission besides tiles: build progress, the
+// last pose, every frame (with its seabed footprint) and the track. Held in
+// memory so live events and REST answers agree; loaded from the store for a
+// finished mission, appended to by a live replay. Thread-safe.
+#include <chrono>
+#include <cstdint>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/tiles/tile_store.h"
+
+namespace seamap::server {
+
+struct Progress {
+  std::string state = "complete";  // "building", "complete" or "stopped"
+  int frames_done = 0;             // frames seen (used + rejected)
+  int frames_total = 0;            // 0 when unknown (a watched folder)
+  int frames_rejected = 0;
+  int64_t tiles_written = 0;
+  double frames_per_s = 0;
+};
+
+class MissionState {
+ public:
+  // Frames, track and metadata of a stored mission.
+  void Load(const TileStore& store);
+
+  void SetName(const std::string& name);
+  void SetReplay(bool replay);
+  void SetLayers(std::vector<std::string> layers, std::string format);
+  void SetOrigin(double lat, double lon);
+  void SetProgress(const Progress& progress);
+  Progress progress() const;
+  // A frame went through the builder; its position joins the track.
+  void AddFrame(const FrameRecord& frame, const TrackPoint& point);
+
+  // {name, state, replay, frames_done, ..., last_pose, origin, layers, format}
+  nlohmann::json StatusJson() const;
+  // Track points with seq >= first_seq.
+  std::vector<TrackPoint> TrackFrom(int first_seq) const;
+  int TrackSize() const;
+  // Used frames whose footprint contains the point, nearest footprint centre first.
+  std::vector<FrameRecord> FramesCovering(const LatLon& point, size_t limit) const;
+  std::optional<FrameRecord> Frame(int id) const;
+
+ private:
+  mutable std::mutex mutex_;
+  std::string name_ = "SeaMap mission";
+  bool replay_ = false;
+  std::vector<std::string> layers_{"raw"};
+  std::string format_ = "png";
+  std::optional<LatLon> origin_;
+  Progress progress_;
+  std::vector<FrameRecord> frames_;  // in id order
+  std::vector<TrackPoint> track_;    // in seq order
+};
+
+// Point-in-polygon (even-odd rule) on lon/lat, for footprints of a few metres.
+bool FootprintContains(const std::array<LatLon, 4>& footprint, const LatLon& point);
+
+// JSON a client gets for a frame: pose, footprint as [[lon,lat]...], image URLs.
+nlohmann::json FrameJson(const FrameRecord& frame);
+nlohmann::json PoseJson(const FrameRecord& frame);
+
+}  // namespace seamap::server

@@ -1,0 +1,88 @@
+#pragma once
+// Tiles of a mission for the HTTP layer: an MBTiles file read through a pool
+// of read-only SQLite connections (requests run in parallel; a writer in the
+// same or another process does not block them, thanks to WAL), or a folder
+// pyramid. Recently served tiles are kept in an LRU cache with their ETags.
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <list>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "core/tiles/tile_store.h"
+
+namespace seamap::server {
+
+struct Tile {
+  std::shared_ptr<const std::string> bytes;
+  std::string etag;  // strong, quoted: "\"0123456789abcdef\""
+};
+
+class TileSource {
+ public:
+  // `readers`: parallel read connections for MBTiles. `live_metadata`: the
+  // store a replay is writing, whose metadata is always current (may be null).
+  // Throws InputError naming the path when it is not a tile map.
+  TileSource(const std::string& path, int readers, size_t cache_bytes = 64u << 20,
+             const TileStore* live_metadata = nullptr);
+  ~TileSource();
+
+  // `layer` "" is the main map. nullopt: the mission has no such tile.
+  // Throws std::out_of_range for an unknown layer.
+  std::optional<Tile> Get(const std::string& layer, const TileId& id);
+  // A tile changed (the replay committed it): drop it from the cache.
+  void Invalidate(const std::string& layer, const TileId& id);
+  // While another process may be writing the map, cached tiles expire after a second.
+  void SetExternalWriter(bool external) { external_writer_ = external; }
+
+  std::map<std::string, std::string> Metadata(const std::string& layer);
+  // Layer names as in "seamap_layers": the first is the main map, the others
+  // are served under /tiles/{name}/.
+  std::vector<std::string> Layers();
+  std::string Format();  // tile file extension: png, jpg, webp
+  bool IsLayer(const std::string& name);
+
+ private:
+  struct Reader {
+    std::unique_ptr<TileStore> main;
+    std::map<std::string, std::unique_ptr<TileStore>> layers;
+  };
+  struct CacheEntry {
+    Tile tile;
+    std::chrono::steady_clock::time_point loaded;
+    std::list<std::string>::iterator lru;
+  };
+
+  Reader* Checkout();
+  void Return(Reader* reader);
+  TileStore* StoreFor(Reader* reader, const std::string& layer);
+  std::optional<Tile> CacheLookup(const std::string& key);
+  void CacheInsert(const std::string& key, const Tile& tile);
+
+  std::string path_;
+  bool folder_;
+  const TileStore* live_metadata_;
+  std::vector<std::unique_ptr<Reader>> readers_;
+  std::vector<Reader*> free_;
+  std::mutex pool_mutex_;
+  std::condition_variable pool_free_;
+
+  std::mutex cache_mutex_;
+  std::unordered_map<std::string, CacheEntry> cache_;
+  std::list<std::string> lru_;  // most recent first
+  size_t cache_bytes_ = 0, cache_cap_;
+  bool external_writer_ = false;
+
+  std::mutex metadata_mutex_;
+  std::map<std::string, std::string> metadata_;
+  std::chrono::steady_clock::time_point metadata_time_;
+  bool metadata_loaded_ = false;
+};
+
+}  // namespace seamap::server

@@ -70,7 +70,8 @@ async function start() {
     .on('track', point => track.add(point))
     .on('detection', event => detections.onEvent(event))
     .on('progress', next => {
-      status = next;
+      // Progress events may leave out what only /api/status adds (token_required, writable).
+      status = {...status, ...next};
       showStatus(status);
       if (!photoLayers && !retryingTiles) {        // the map had no tiles at start
         retryingTiles = true;

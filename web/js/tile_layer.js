@@ -48,7 +48,9 @@ export const LiveTileLayer = L.TileLayer.extend({
     }
     const next = new Image();
     next.onload = () => {
-      if (this._versions.get(k) !== version || !this._tiles[`${x}:${y}:${z}`]) return;
+      // Skip when a newer version came meanwhile or the tile left the screen.
+      const current = this._tiles[`${x}:${y}:${z}`];
+      if (this._versions.get(k) !== version || !current || current.el !== img) return;
       // The tile is already shown: keep Leaflet's load handlers (and their
       // fade-in from transparent) out of the swap.
       img.onload = null;

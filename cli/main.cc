@@ -20,6 +20,9 @@ const char* kUsage =
     "  info            describe a built map (MBTiles file or tile folder)\n"
     "  enhance         apply the image enhancement chain to one image\n"
     "  enhance-report  measure what enhancement chains do to features and matches\n"
+    "  serve           serve a built map: tiles, REST API, live events, operator console\n"
+    "  replay          build a map while serving it, frames at their recorded pace (or --watch a folder)\n"
+    "  export          copy a map between MBTiles and a tile folder\n"
     "\n"
     "Run 'seamap <command> --help' for a command's options.\n";
 
@@ -43,6 +46,9 @@ int main(int argc, char** argv) {
     if (command == "info") return RunInfo(argc, argv, 2);
     if (command == "enhance") return RunEnhance(argc, argv, 2);
     if (command == "enhance-report") return RunEnhanceReport(argc, argv, 2);
+    if (command == "serve") return RunServe(argc, argv, 2);
+    if (command == "replay") return RunReplay(argc, argv, 2);
+    if (command == "export") return RunExport(argc, argv, 2);
   } catch (const seamap::InputError& e) {
     std::fprintf(stderr, "seamap %s: error: %s\n", command.c_str(), e.what());
     return 2;

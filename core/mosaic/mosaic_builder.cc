@@ -338,6 +338,8 @@ void MosaicBuilder::FlushBatch() {
   pyramid_->Flush();
   WriteMetadata(false);
   writer_->Flush();
+  stats_.tiles_written = writer_->tiles_written();  // live progress for a replay
+  stats_.tile_bytes = writer_->bytes_written();
 }
 
 void MosaicBuilder::Finish() {

@@ -216,6 +216,25 @@ std::optional<std::vector<uint8_t>> FolderStore::GetTile(const TileId& id) const
 
 int64_t FolderStore::TileCount() const { return tile_count_; }
 
+std::vector<TileId> FolderStore::TileIds() const {
+  std::vector<TileId> out;
+  std::error_code ec;
+  for (auto it = fs::recursive_directory_iterator(root_, ec); !ec && it != fs::end(it); it.increment(ec)) {
+    if (it->path().filename() == "layers") {  // other layers' pyramids live below
+      it.disable_recursion_pending();
+      continue;
+    }
+    if (it.depth() != 2 || it->path().extension() != "." + extension_) continue;
+    try {
+      const fs::path& p = it->path();
+      out.push_back(TileId{std::stoi(p.parent_path().parent_path().filename().string()),
+                           std::stoi(p.parent_path().filename().string()), std::stoi(p.stem().string())});
+    } catch (const std::exception&) {  // a stray file that is not {z}/{x}/{y}.ext
+    }
+  }
+  return out;
+}
+
 void FolderStore::SetMetadata(const std::string& key, const std::string& value) {
   CheckWritable();
   std::lock_guard<std::mutex> lock(mutex_);

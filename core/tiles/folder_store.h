@@ -35,6 +35,7 @@ class FolderStore : public TileStore {
   void PutTile(const TileId& id, const std::vector<uint8_t>& bytes) override;
   std::optional<std::vector<uint8_t>> GetTile(const TileId& id) const override;
   int64_t TileCount() const override;
+  std::vector<TileId> TileIds() const override;
 
   void SetMetadata(const std::string& key, const std::string& value) override;
   std::map<std::string, std::string> Metadata() const override;

@@ -204,6 +204,21 @@ std::optional<std::vector<uint8_t>> MBTilesStore::GetTileLocked(sqlite3_stmt* ge
 
 int64_t MBTilesStore::TileCount() const { return CountRows("tiles"); }
 
+std::vector<TileId> MBTilesStore::TileIds() const { return ReadTileIds("tiles"); }
+
+std::vector<TileId> MBTilesStore::ReadTileIds(const std::string& table) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  OneShot q{Prepare(("SELECT zoom_level, tile_column, tile_row FROM " + table).c_str())};
+  std::vector<TileId> out;
+  int rc;
+  while ((rc = sqlite3_step(q.s)) == SQLITE_ROW) {
+    const int z = sqlite3_column_int(q.s, 0);
+    out.push_back(TileId{z, sqlite3_column_int(q.s, 1), (1 << z) - 1 - sqlite3_column_int(q.s, 2)});
+  }
+  if (rc != SQLITE_DONE) Fail("list tiles");
+  return out;
+}
+
 int64_t MBTilesStore::CountRows(const std::string& table) const {
   std::lock_guard<std::mutex> lock(mutex_);
   OneShot q{Prepare(("SELECT COUNT(*) FROM " + table).c_str())};
@@ -245,6 +260,7 @@ class MBTilesStore::Layer : public TileStore {
     return parent_->GetTileLocked(get_, id);
   }
   int64_t TileCount() const override { return parent_->CountRows("tiles_" + name_); }
+  std::vector<TileId> TileIds() const override { return parent_->ReadTileIds("tiles_" + name_); }
   void SetMetadata(const std::string& key, const std::string& value) override {
     parent_->SetMetadata(Prefix() + key, value);
   }

@@ -31,6 +31,7 @@ class MBTilesStore : public TileStore {
   void PutTile(const TileId& id, const std::vector<uint8_t>& bytes) override;
   std::optional<std::vector<uint8_t>> GetTile(const TileId& id) const override;
   int64_t TileCount() const override;
+  std::vector<TileId> TileIds() const override;
 
   void SetMetadata(const std::string& key, const std::string& value) override;
   std::map<std::string, std::string> Metadata() const override;
@@ -55,6 +56,7 @@ class MBTilesStore : public TileStore {
   void PutTileLocked(sqlite3_stmt* put, const TileId& id, const std::vector<uint8_t>& bytes);
   std::optional<std::vector<uint8_t>> GetTileLocked(sqlite3_stmt* get, const TileId& id) const;
   int64_t CountRows(const std::string& table) const;
+  std::vector<TileId> ReadTileIds(const std::string& table) const;
   // Every row of a query over an optional table (none when it is missing).
   template <typename Row>
   std::vector<Row> ReadRows(const char* sql, const char* what, Row (*read_row)(sqlite3_stmt*)) const;

@@ -29,6 +29,7 @@ class ObservedStore : public TileStore {
   void PutTile(const TileId& id, const std::vector<uint8_t>& bytes) override;
   std::optional<std::vector<uint8_t>> GetTile(const TileId& id) const override { return inner_->GetTile(id); }
   int64_t TileCount() const override { return inner_->TileCount(); }
+  std::vector<TileId> TileIds() const override { return inner_->TileIds(); }
   void SetMetadata(const std::string& key, const std::string& value) override { inner_->SetMetadata(key, value); }
   std::map<std::string, std::string> Metadata() const override { return inner_->Metadata(); }
   void PutFrame(const FrameRecord& frame) override { inner_->PutFrame(frame); }

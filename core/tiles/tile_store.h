@@ -21,6 +21,8 @@ class TileStore {
   virtual void PutTile(const TileId& id, const std::vector<uint8_t>& bytes) = 0;
   virtual std::optional<std::vector<uint8_t>> GetTile(const TileId& id) const = 0;
   virtual int64_t TileCount() const = 0;
+  // Every tile id the store holds (for exports), in no particular order.
+  virtual std::vector<TileId> TileIds() const = 0;
 
   // Metadata (MBTiles metadata table / TileJSON keys). Values are strings as
   // MBTiles 1.3 stores them ("bounds" = "w,s,e,n", "center" = "lon,lat,z").

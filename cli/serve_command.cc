@@ -1,0 +1,118 @@
+// seamap serve: a built map (MBTiles or folder) over HTTP with the console.
+#include <condition_variable>
+#include <cstdio>
+#include <filesystem>
+#include <mutex>
+
+#include "cli/args.h"
+#include "cli/commands.h"
+#include "cli/server_setup.h"
+#include "cli/shutdown_signal.h"
+#include "core/mosaic/build_config.h"
+#include "core/tiles/folder_store.h"
+#include "core/tiles/mbtiles_store.h"
+#include "core/util/error.h"
+#include "server/http_server.h"
+
+namespace seamap::cli {
+namespace fs = std::filesystem;
+namespace {
+
+const char* kHelp =
+    "usage: seamap serve MAP [options]\n"
+    "\n"
+    "Serves a map built by `seamap build` (NAME.mbtiles or a tile folder): tiles,\n"
+    "TileJSON, the REST API, live events and the operator console.\n"
+    "\n"
+    "  --config FILE       settings; its \"server\" object gives host, port, token, threads\n"
+    "  --images DIR        where the original photos are when their recorded paths are gone\n"
+    "  --read-only         never write to the map (operator marks are refused)\n";
+
+// The map opened for writing operator marks; null when it cannot be.
+std::unique_ptr<TileStore> OpenForMarks(const std::string& path, bool mbtiles, const std::string& ext) {
+  try {
+    if (mbtiles) return std::make_unique<MBTilesStore>(path, MBTilesStore::Mode::kCreate);
+    return std::make_unique<FolderStore>(path, ext, FolderStore::Mode::kCreate);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "warning: %s: cannot open for writing (%s); operator marks are refused\n", path.c_str(),
+                 e.what());
+    return nullptr;
+  }
+}
+
+}  // namespace
+
+int RunServe(int argc, char** argv, int first) {
+  Args args(argc, argv, first, {"read-only", "help"});
+  if (args.Flag("help")) {
+    std::printf("%s%s", kHelp, kServerOptionsHelp);
+    return 0;
+  }
+  if (args.positionals().size() != 1)
+    throw InputError("", 0, "MAP", "expected exactly one map to serve (NAME.mbtiles or a tile folder)");
+  const std::string path = args.positionals()[0];
+  BuildConfig config;
+  if (auto c = args.Get("config")) config = LoadBuildConfig(*c);
+  server::ServerOptions options = ReadServerOptions(args, config.server);
+  if (auto images = args.Get("images")) options.photo_dir = *images;
+  const bool read_only = args.Flag("read-only");
+  args.RejectUnknown();
+
+  ShutdownSignal shutdown;  // before any thread starts
+  const bool mbtiles = path.size() > 8 && path.compare(path.size() - 8, 8, ".mbtiles") == 0;
+  std::error_code ec;
+  if (mbtiles ? !fs::is_regular_file(path, ec) : !fs::is_regular_file(fs::path(path) / "metadata.json", ec))
+    throw InputError(path, 0, "MAP",
+                     mbtiles ? "no such MBTiles file" : "is not a tile folder (no metadata.json); build one with seamap build");
+
+  server::EventHub events;
+  server::TileSource tiles(path, 8);
+  const std::map<std::string, std::string> metadata = tiles.Metadata("");
+  std::unique_ptr<TileStore> writer = read_only ? nullptr : OpenForMarks(path, mbtiles, tiles.Format());
+  std::unique_ptr<TileStore> reader;
+  if (!writer) {
+    reader = mbtiles ? std::unique_ptr<TileStore>(std::make_unique<MBTilesStore>(path, MBTilesStore::Mode::kReadOnly))
+                     : std::make_unique<FolderStore>(path, tiles.Format(), FolderStore::Mode::kReadOnly);
+  }
+  const TileStore& records = writer ? *writer : *reader;
+
+  server::MissionState mission;
+  mission.Load(records);
+  mission.SetLayers(tiles.Layers(), tiles.Format());
+  auto state = metadata.find("seamap_state");
+  if (state != metadata.end() && state->second == "building") {
+    // Another process may still be writing it: tiles must not be cached for long.
+    tiles.SetExternalWriter(true);
+    server::Progress p = mission.progress();
+    p.state = "building";
+    mission.SetProgress(p);
+  }
+  server::DetectionRegistry detections(writer.get(), &events);
+  detections.Load(records);
+
+  server::HttpServer http(options, &tiles, &mission, &detections, &events);
+  http.Bind();
+  std::mutex mutex;
+  std::condition_variable stopped;
+  bool stop = false;
+  shutdown.OnSignal([&] {
+    std::lock_guard<std::mutex> lock(mutex);
+    stop = true;
+    stopped.notify_all();
+  });
+  http.Start();
+  std::printf("serving %s (%s, %zu frames, %zu track points)\n", ServerUrl(options, http.port()).c_str(),
+              path.c_str(), static_cast<size_t>(mission.progress().frames_done),
+              static_cast<size_t>(mission.TrackSize()));
+  std::fflush(stdout);
+  {
+    std::unique_lock<std::mutex> lock(mutex);
+    stopped.wait(lock, [&] { return stop; });
+  }
+  std::fprintf(stderr, "seamap serve: stopping\n");
+  http.Stop();
+  if (writer) writer->Flush();
+  return 0;
+}
+
+}  // namespace seamap::cli

@@ -1,0 +1,46 @@
+#include "cli/server_setup.h"
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+
+#include "core/util/error.h"
+
+namespace seamap::cli {
+
+const char* kServerOptionsHelp =
+    "  --port N            port to listen on (default 8080; 0 picks a free one)\n"
+    "  --host ADDR         address to listen on (default 0.0.0.0: every interface)\n"
+    "  --token TEXT        writes (operator marks) need 'Authorization: Bearer TEXT'\n"
+    "  --web DIR           the console's files (default: the web/ folder of this checkout)\n"
+    "  --threads N         request threads, one per open connection (default 96)\n"
+    "  --max-streams N     live event streams at once (default 32)\n";
+
+server::ServerOptions ReadServerOptions(Args& args, const ServerSettings& settings) {
+  server::ServerOptions o;
+  o.host = args.GetOr("host", settings.host);
+  o.port = args.GetInt("port", settings.port);
+  if (o.port < 0 || o.port > 65535)
+    throw InputError("", 0, "--port", "expected a port number 0..65535, got " + std::to_string(o.port));
+  o.token = args.GetOr("token", settings.token);
+  o.threads = args.GetInt("threads", settings.threads);
+  o.max_streams = args.GetInt("max-streams", settings.max_streams);
+  if (o.threads < 2) throw InputError("", 0, "--threads", "expected at least 2");
+  if (o.max_streams < 1) throw InputError("", 0, "--max-streams", "expected at least 1");
+  const char* env = std::getenv("SEAMAP_WEB_DIR");
+  o.web_dir = args.GetOr("web", env ? env : SEAMAP_WEB_DIR);
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(std::filesystem::path(o.web_dir) / "index.html", ec))
+    throw InputError(o.web_dir, 0, "--web", "has no index.html; expected the console's folder (web/ of SeaMap)");
+  if (!std::filesystem::exists(std::filesystem::path(o.web_dir) / "vendor" / "leaflet" / "leaflet.js", ec))
+    std::fprintf(stderr, "warning: %s/vendor/leaflet is missing; run scripts/setup.sh to vendor Leaflet\n",
+                 o.web_dir.c_str());
+  return o;
+}
+
+std::string ServerUrl(const server::ServerOptions& options, int port) {
+  const std::string host = options.host == "0.0.0.0" || options.host.empty() ? "127.0.0.1" : options.host;
+  return "http://" + host + ":" + std::to_string(port) + "/";
+}
+
+}  // namespace seamap::cli

@@ -9,8 +9,9 @@ packages=(
   libpng-dev libsqlite3-dev sqlite3 libproj-dev proj-data libgtest-dev
   gdal-bin   # tests open our MBTiles with gdalinfo
 )
+command -v npm >/dev/null 2>&1 || packages+=(nodejs npm)  # the console's Leaflet and the browser test
 if [[ "${SEAMAP_BENCH:-0}" == 1 ]]; then
-  packages+=(valgrind)
+  packages+=(valgrind nginx-light wrk)  # profiling; the serving benchmark's reference server and load
 fi
 
 missing=()
@@ -26,3 +27,6 @@ if ((${#missing[@]})); then
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
 echo "setup: system packages present"
+
+# The console: Leaflet vendored into web/, playwright-core and Chromium for its test.
+"$(dirname "$0")/setup_web.sh"

@@ -2,6 +2,8 @@
 
 #include <httplib.h>
 
+#include <sys/socket.h>
+
 #include <chrono>
 #include <cstring>
 #include <filesystem>
@@ -16,6 +18,15 @@ namespace seamap::server {
 namespace {
 
 constexpr size_t kMaxBody = 64 * 1024;
+
+// httplib 0.11 listens with a backlog of 5: a burst of new connections (a
+// browser opening six, a load test opening 64) overflows it and the kernel
+// drops SYNs, which clients retry only after a second. Calling listen() again
+// on the bound socket raises the backlog.
+class BacklogServer : public httplib::Server {
+ public:
+  void RaiseBacklog() { ::listen(svr_sock_, SOMAXCONN); }
+};
 constexpr auto kKeepAliveComment = std::chrono::seconds(15);
 
 void SendJson(httplib::Response& res, const nlohmann::json& j, int status = 200) {
@@ -141,7 +152,7 @@ HttpServer::HttpServer(ServerOptions options, TileSource* tiles, MissionState* m
       mission_(mission),
       detections_(detections),
       events_(events),
-      http_(std::make_unique<httplib::Server>()) {
+      http_(std::make_unique<BacklogServer>()) {
   const size_t threads = static_cast<size_t>(std::max(2, options_.threads) + std::max(1, options_.max_streams));
   http_->new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
   http_->set_payload_max_length(kMaxBody);
@@ -410,6 +421,7 @@ void HttpServer::Bind() {
                            " (in use, or not allowed); pick another with --port");
     port_ = options_.port;
   }
+  static_cast<BacklogServer*>(http_.get())->RaiseBacklog();
 }
 
 void HttpServer::Run() { http_->listen_after_bind(); }

@@ -212,7 +212,7 @@ void HttpServer::Routes() {
           res.set_header("Access-Control-Allow-Origin", "*");
           // A growing map: keep the tile, but ask (cheaply, 304) before reusing it.
           res.set_header("Cache-Control",
-                         mission_->progress().state == "building" ? "no-cache" : "public, max-age=300");
+                         mission_->building() ? "no-cache" : "public, max-age=300");
           if (!tile) {
             res.status = 204;
             return;

@@ -94,6 +94,7 @@ void MissionState::SetOrigin(double lat, double lon) {
 void MissionState::SetProgress(const Progress& progress) {
   std::lock_guard<std::mutex> lock(mutex_);
   progress_ = progress;
+  building_ = progress.state == "building";
 }
 
 Progress MissionState::progress() const {

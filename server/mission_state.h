@@ -3,6 +3,7 @@
 // last pose, every frame (with its seabed footprint) and the track. Held in
 // memory so live events and REST answers agree; loaded from the store for a
 // finished mission, appended to by a live replay. Thread-safe.
+#include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <mutex>
@@ -36,6 +37,8 @@ class MissionState {
   void SetOrigin(double lat, double lon);
   void SetProgress(const Progress& progress);
   Progress progress() const;
+  // The map is still growing (cheap: asked by every tile request).
+  bool building() const { return building_; }
   // A frame went through the builder; its position joins the track.
   void AddFrame(const FrameRecord& frame, const TrackPoint& point);
 
@@ -56,6 +59,7 @@ class MissionState {
   std::string format_ = "png";
   std::optional<LatLon> origin_;
   Progress progress_;
+  std::atomic<bool> building_{false};
   std::vector<FrameRecord> frames_;  // in id order
   std::vector<TrackPoint> track_;    // in seq order
 };

@@ -31,7 +31,10 @@ std::vector<std::string> SplitLayers(const std::map<std::string, std::string>& m
 }  // namespace
 
 TileSource::TileSource(const std::string& path, int readers, size_t cache_bytes, const TileStore* live_metadata)
-    : path_(path), folder_(!EndsWith(path, ".mbtiles")), live_metadata_(live_metadata), cache_cap_(cache_bytes) {
+    : path_(path),
+      folder_(!EndsWith(path, ".mbtiles")),
+      live_metadata_(live_metadata),
+      shard_cap_(std::max<size_t>(1, cache_bytes / kShards)) {
   const int n = folder_ ? 1 : std::max(1, readers);  // folder reads need no connection
   for (int i = 0; i < n; ++i) {
     auto reader = std::make_unique<Reader>();
@@ -83,7 +86,7 @@ TileStore* TileSource::StoreFor(Reader* reader, const std::string& layer) {
 }
 
 std::optional<Tile> TileSource::Get(const std::string& layer, const TileId& id) {
-  const std::string key = layer + "/" + std::to_string(id.z) + "/" + std::to_string(id.x) + "/" + std::to_string(id.y);
+  const CacheKey key{layer, id.z, id.x, id.y};
   if (auto hit = CacheLookup(key)) return hit;
   Reader* reader = Checkout();
   std::optional<std::vector<uint8_t>> bytes;
@@ -103,72 +106,83 @@ std::optional<Tile> TileSource::Get(const std::string& layer, const TileId& id) 
   return tile;
 }
 
-std::optional<Tile> TileSource::CacheLookup(const std::string& key) {
-  std::lock_guard<std::mutex> lock(cache_mutex_);
-  auto it = cache_.find(key);
-  if (it == cache_.end()) return std::nullopt;
+TileSource::CacheShard& TileSource::ShardFor(const CacheKey& key) {
+  return shards_[CacheKeyHash()(key) % kShards];
+}
+
+std::optional<Tile> TileSource::CacheLookup(const CacheKey& key) {
+  CacheShard& shard = ShardFor(key);
+  std::lock_guard<std::mutex> lock(shard.mutex);
+  auto it = shard.entries.find(key);
+  if (it == shard.entries.end()) return std::nullopt;
   if (external_writer_ && std::chrono::steady_clock::now() - it->second.loaded > std::chrono::seconds(1)) {
-    cache_bytes_ -= it->second.tile.bytes->size();
-    lru_.erase(it->second.lru);
-    cache_.erase(it);
+    shard.bytes -= it->second.tile.bytes->size();
+    shard.lru.erase(it->second.lru);
+    shard.entries.erase(it);
     return std::nullopt;
   }
-  lru_.splice(lru_.begin(), lru_, it->second.lru);
+  shard.lru.splice(shard.lru.begin(), shard.lru, it->second.lru);
   return it->second.tile;
 }
 
-void TileSource::CacheInsert(const std::string& key, const Tile& tile) {
-  if (tile.bytes->size() > cache_cap_ / 16) return;
-  std::lock_guard<std::mutex> lock(cache_mutex_);
-  if (cache_.count(key)) return;
-  lru_.push_front(key);
-  cache_[key] = {tile, std::chrono::steady_clock::now(), lru_.begin()};
-  cache_bytes_ += tile.bytes->size();
-  while (cache_bytes_ > cache_cap_ && !lru_.empty()) {
-    auto victim = cache_.find(lru_.back());
-    cache_bytes_ -= victim->second.tile.bytes->size();
-    cache_.erase(victim);
-    lru_.pop_back();
+void TileSource::CacheInsert(const CacheKey& key, const Tile& tile) {
+  if (tile.bytes->size() > shard_cap_ / 4) return;
+  CacheShard& shard = ShardFor(key);
+  std::lock_guard<std::mutex> lock(shard.mutex);
+  if (shard.entries.count(key)) return;
+  shard.lru.push_front(key);
+  shard.entries[key] = {tile, std::chrono::steady_clock::now(), shard.lru.begin()};
+  shard.bytes += tile.bytes->size();
+  while (shard.bytes > shard_cap_ && !shard.lru.empty()) {
+    auto victim = shard.entries.find(shard.lru.back());
+    shard.bytes -= victim->second.tile.bytes->size();
+    shard.entries.erase(victim);
+    shard.lru.pop_back();
   }
 }
 
 void TileSource::Invalidate(const std::string& layer, const TileId& id) {
-  const std::string key = layer + "/" + std::to_string(id.z) + "/" + std::to_string(id.x) + "/" + std::to_string(id.y);
-  std::lock_guard<std::mutex> lock(cache_mutex_);
-  auto it = cache_.find(key);
-  if (it == cache_.end()) return;
-  cache_bytes_ -= it->second.tile.bytes->size();
-  lru_.erase(it->second.lru);
-  cache_.erase(it);
+  const CacheKey key{layer, id.z, id.x, id.y};
+  CacheShard& shard = ShardFor(key);
+  std::lock_guard<std::mutex> lock(shard.mutex);
+  auto it = shard.entries.find(key);
+  if (it == shard.entries.end()) return;
+  shard.bytes -= it->second.tile.bytes->size();
+  shard.lru.erase(it->second.lru);
+  shard.entries.erase(it);
 }
 
-std::map<std::string, std::string> TileSource::Metadata(const std::string& layer) {
-  std::map<std::string, std::string> all;
-  {  // read at most once a second: tile requests ask for the format
-    std::lock_guard<std::mutex> lock(metadata_mutex_);
-    if (metadata_loaded_ && std::chrono::steady_clock::now() - metadata_time_ < std::chrono::seconds(1))
-      all = metadata_;
-  }
-  if (!all.empty()) {
-  } else if (live_metadata_) {
-    all = live_metadata_->Metadata();
+std::shared_ptr<const TileSource::MetadataSnapshot> TileSource::Snapshot() {
+  auto snapshot = std::atomic_load(&snapshot_);
+  const auto now = std::chrono::steady_clock::now();
+  if (snapshot && now - snapshot->read < std::chrono::seconds(1)) return snapshot;
+  std::lock_guard<std::mutex> lock(refresh_mutex_);  // one thread reads, the others wait for it
+  snapshot = std::atomic_load(&snapshot_);
+  if (snapshot && now - snapshot->read < std::chrono::seconds(1)) return snapshot;
+  auto fresh = std::make_shared<MetadataSnapshot>();
+  if (live_metadata_) {
+    fresh->all = live_metadata_->Metadata();
   } else {
     Reader* reader = Checkout();
     try {
-      all = reader->main->Metadata();
+      fresh->all = reader->main->Metadata();
     } catch (...) {
       Return(reader);
       throw;
     }
     Return(reader);
   }
-  {
-    std::lock_guard<std::mutex> lock(metadata_mutex_);
-    metadata_ = all;
-    metadata_time_ = std::chrono::steady_clock::now();
-    metadata_loaded_ = true;
-  }
-  if (layer.empty()) return all;
+  auto format = fresh->all.find("format");
+  fresh->format = format == fresh->all.end() ? "png" : format->second;
+  fresh->layers = SplitLayers(fresh->all);
+  fresh->read = std::chrono::steady_clock::now();
+  std::atomic_store(&snapshot_, std::shared_ptr<const MetadataSnapshot>(fresh));
+  return fresh;
+}
+
+std::map<std::string, std::string> TileSource::Metadata(const std::string& layer) {
+  auto snapshot = Snapshot();
+  if (layer.empty()) return snapshot->all;
   if (folder_) {  // a folder layer keeps its metadata in layers/<name>/metadata.json
     Reader* reader = Checkout();
     std::map<std::string, std::string> out;
@@ -183,24 +197,20 @@ std::map<std::string, std::string> TileSource::Metadata(const std::string& layer
   }
   std::map<std::string, std::string> out;
   const std::string prefix = "layer." + layer + ".";
-  for (const auto& [k, v] : all)
+  for (const auto& [k, v] : snapshot->all)
     if (k.compare(0, prefix.size(), prefix) == 0) out[k.substr(prefix.size())] = v;
   return out;
 }
 
-std::vector<std::string> TileSource::Layers() { return SplitLayers(Metadata("")); }
+std::vector<std::string> TileSource::Layers() { return Snapshot()->layers; }
 
 bool TileSource::IsLayer(const std::string& name) {
-  auto layers = Layers();
-  for (size_t i = 1; i < layers.size(); ++i)
-    if (layers[i] == name) return true;
+  auto snapshot = Snapshot();
+  for (size_t i = 1; i < snapshot->layers.size(); ++i)
+    if (snapshot->layers[i] == name) return true;
   return false;
 }
 
-std::string TileSource::Format() {
-  auto m = Metadata("");
-  auto it = m.find("format");
-  return it == m.end() ? "png" : it->second;
-}
+std::string TileSource::Format() { return Snapshot()->format; }
 
 }  // namespace seamap::server

@@ -3,6 +3,7 @@
 // of read-only SQLite connections (requests run in parallel; a writer in the
 // same or another process does not block them, thanks to WAL), or a folder
 // pyramid. Recently served tiles are kept in an LRU cache with their ETags.
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
@@ -53,17 +54,44 @@ class TileSource {
     std::unique_ptr<TileStore> main;
     std::map<std::string, std::unique_ptr<TileStore>> layers;
   };
+  struct CacheKey {
+    std::string layer;
+    int z;
+    int64_t x, y;
+    bool operator==(const CacheKey& o) const { return z == o.z && x == o.x && y == o.y && layer == o.layer; }
+  };
+  struct CacheKeyHash {
+    size_t operator()(const CacheKey& k) const {
+      return std::hash<std::string>()(k.layer) ^ (size_t(k.z) * 0x9E3779B97F4A7C15ull) ^ size_t(k.x * 1000003 + k.y);
+    }
+  };
   struct CacheEntry {
     Tile tile;
     std::chrono::steady_clock::time_point loaded;
-    std::list<std::string>::iterator lru;
+    std::list<CacheKey>::iterator lru;
+  };
+  // Requests of many threads meet here: shards keep them off one lock.
+  struct CacheShard {
+    std::mutex mutex;
+    std::unordered_map<CacheKey, CacheEntry, CacheKeyHash> entries;
+    std::list<CacheKey> lru;  // most recent first
+    size_t bytes = 0;
+  };
+  // Metadata as last read, shared read-only by requests; refreshed once a second.
+  struct MetadataSnapshot {
+    std::map<std::string, std::string> all;
+    std::string format;
+    std::vector<std::string> layers;
+    std::chrono::steady_clock::time_point read;
   };
 
   Reader* Checkout();
   void Return(Reader* reader);
   TileStore* StoreFor(Reader* reader, const std::string& layer);
-  std::optional<Tile> CacheLookup(const std::string& key);
-  void CacheInsert(const std::string& key, const Tile& tile);
+  CacheShard& ShardFor(const CacheKey& key);
+  std::optional<Tile> CacheLookup(const CacheKey& key);
+  void CacheInsert(const CacheKey& key, const Tile& tile);
+  std::shared_ptr<const MetadataSnapshot> Snapshot();
 
   std::string path_;
   bool folder_;
@@ -73,16 +101,13 @@ class TileSource {
   std::mutex pool_mutex_;
   std::condition_variable pool_free_;
 
-  std::mutex cache_mutex_;
-  std::unordered_map<std::string, CacheEntry> cache_;
-  std::list<std::string> lru_;  // most recent first
-  size_t cache_bytes_ = 0, cache_cap_;
-  bool external_writer_ = false;
+  static constexpr int kShards = 16;
+  CacheShard shards_[kShards];
+  size_t shard_cap_;
+  std::atomic<bool> external_writer_{false};
 
-  std::mutex metadata_mutex_;
-  std::map<std::string, std::string> metadata_;
-  std::chrono::steady_clock::time_point metadata_time_;
-  bool metadata_loaded_ = false;
+  std::mutex refresh_mutex_;
+  std::shared_ptr<const MetadataSnapshot> snapshot_;  // std::atomic_load / atomic_store
 };
 
 }  // namespace seamap::server

@@ -116,13 +116,14 @@ async function main() {
     args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-background-networking'],
   });
   const page = await browser.newPage({viewport: {width: 1280, height: 800}});
+  page.setDefaultTimeout(10000);
   const pageErrors = [];
   page.on('pageerror', error => pageErrors.push(error.message));
   page.on('console', message => {
     if (message.type() === 'error') pageErrors.push(`console: ${message.text()}`);
   });
 
-  await checks.run('console loads', async () => {
+  const loaded = await checks.run('console loads', async () => {
     await page.goto(base, {waitUntil: 'domcontentloaded'});
     await page.waitForSelector('body[data-ready="true"]', {timeout: 20000});
     await page.evaluate(() => { window.__e2eSamePage = true; });
@@ -130,10 +131,14 @@ async function main() {
     if (!hasLeaflet) throw new Error('Leaflet or the console did not start');
     return `status ${await page.textContent('#progress-label')}`;
   });
+  if (!loaded) throw new Error('the console did not load; the other checks need it');
 
   await checks.run('track grows while the replay runs', async () => {
     const count = () => page.$eval('#track-count', el => Number(el.dataset.count));
     const first = await count();
+    if (await page.$eval('#progress', el => el.dataset.state) === 'complete') {
+      throw new Error('the replay ended before the browser watched it: lower SEAMAP_E2E_SPEED');
+    }
     const later = await waitFor('more track points', async () => {
       const n = await count();
       return n > first && n >= 2 ? n : 0;

@@ -149,6 +149,8 @@ int RunReplay(int argc, char** argv, int first) {
     if (interrupted) feed->Stop();
   }
 
+  // A live map: publish tiles every few frames (a build batches 25 for speed).
+  in.config.batch_frames = std::min(in.config.batch_frames, 5);
   auto store = OpenOutput(out, in.config, append, overwrite);
   MosaicPlan plan = PlanMosaic(in.config, in.camera, in.frame, in.frames.frames, in.channels);
   for (const auto& w : in.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());

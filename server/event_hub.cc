@@ -22,7 +22,6 @@ std::vector<Event> EventHub::WaitAfter(uint64_t after, std::chrono::milliseconds
   std::unique_lock<std::mutex> lock(mutex_);
   changed_.wait_for(lock, timeout, [&] { return closed_ || last_id_ > after; });
   std::vector<Event> out;
-  if (closed_) return out;
   for (const Event& e : events_)
     if (e.id > after) out.push_back(e);
   return out;

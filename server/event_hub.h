@@ -27,7 +27,8 @@ class EventHub {
 
   uint64_t Publish(std::string type, std::string data);
   // Events with id > after (from the oldest kept when the client fell
-  // further behind), waiting up to `timeout` for one; empty on timeout or Close().
+  // further behind), waiting up to `timeout` for one; empty on timeout.
+  // After Close() it returns at once, with what is left to deliver.
   std::vector<Event> WaitAfter(uint64_t after, std::chrono::milliseconds timeout);
   uint64_t LastId() const;
   // Wakes and ends every stream (server shutdown).

@@ -159,6 +159,7 @@ HttpServer::HttpServer(ServerOptions options, TileSource* tiles, MissionState* m
   http_->set_keep_alive_max_count(10000);
   http_->set_keep_alive_timeout(5);
   http_->set_tcp_nodelay(true);
+  mission_->SetAccess(!options_.token.empty(), detections_->writable());
   Routes();
 }
 
@@ -181,7 +182,10 @@ void HttpServer::Routes() {
   auto tilejson = [this](const httplib::Request& req, httplib::Response& res, const std::string& layer) {
     if (!layer.empty() && !tiles_->IsLayer(layer)) throw ApiError(404, "no layer '" + layer + "'");
     const std::string ext = tiles_->Format();
-    nlohmann::json j = MetadataToTileJson(tiles_->Metadata(layer), ext);
+    std::map<std::string, std::string> metadata = tiles_->Metadata(layer);
+    for (auto it = metadata.begin(); it != metadata.end();)  // other layers' keys stay in their own TileJSON
+      it = it->first.rfind("layer.", 0) == 0 ? metadata.erase(it) : std::next(it);
+    nlohmann::json j = MetadataToTileJson(metadata, ext);
     const std::string host = req.has_header("Host") ? req.get_header_value("Host") : "127.0.0.1";
     j["tiles"] = {"http://" + host + "/tiles/" + (layer.empty() ? "" : layer + "/") + "{z}/{x}/{y}." + ext};
     if (!j.contains("name")) j["name"] = "SeaMap mission";
@@ -227,8 +231,6 @@ void HttpServer::Routes() {
 
   s.Get("/api/status", Guard([this](const httplib::Request&, httplib::Response& res) {
           nlohmann::json j = mission_->StatusJson();
-          j["token_required"] = !options_.token.empty();
-          j["writable"] = detections_->writable();
           j["event_seq"] = events_->LastId();
           res.set_header("Cache-Control", "no-cache");
           SendJson(res, j);
@@ -356,14 +358,15 @@ void HttpServer::Routes() {
             return sink.write(hello.data(), hello.size());
           }
           auto events = events_->WaitAfter(*position, kKeepAliveComment);
-          if (events_->closed()) {
-            sink.done();
-            return true;
-          }
           std::string out;
           for (const Event& e : events) {
             out += FormatEvent(e);
             *position = e.id;
+          }
+          if (events_->closed()) {  // shutting down: deliver the last events (e.g. "complete"), then end
+            if (!out.empty()) sink.write(out.data(), out.size());
+            sink.done();
+            return true;
           }
           if (out.empty()) out = ": keep-alive\n\n";
           return sink.write(out.data(), out.size());
@@ -433,6 +436,8 @@ void HttpServer::Start() {
 
 void HttpServer::Stop() {
   events_->Close();
+  // Let open event streams send their last events before the sockets close.
+  for (int i = 0; i < 100 && streams_ > 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
   if (http_) http_->stop();
   if (thread_.joinable()) thread_.join();
 }

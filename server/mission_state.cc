@@ -97,6 +97,12 @@ void MissionState::SetProgress(const Progress& progress) {
   building_ = progress.state == "building";
 }
 
+void MissionState::SetAccess(bool token_required, bool writable) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  token_required_ = token_required;
+  writable_ = writable;
+}
+
 Progress MissionState::progress() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return progress_;
@@ -127,7 +133,9 @@ nlohmann::json MissionState::StatusJson() const {
                       {"frames_per_s", progress_.frames_per_s},
                       {"layers", layers_},
                       {"format", format_},
-                      {"track_points", track_.size()}};
+                      {"track_points", track_.size()},
+                      {"token_required", token_required_},
+                      {"writable", writable_}};
   j["progress"] = progress_.frames_total > 0
                       ? nlohmann::json(std::min(1.0, double(progress_.frames_done) / progress_.frames_total))
                       : nlohmann::json(nullptr);

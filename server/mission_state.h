@@ -36,6 +36,8 @@ class MissionState {
   void SetLayers(std::vector<std::string> layers, std::string format);
   void SetOrigin(double lat, double lon);
   void SetProgress(const Progress& progress);
+  // Whether writes need a token and are possible at all (for the console).
+  void SetAccess(bool token_required, bool writable);
   Progress progress() const;
   // The map is still growing (cheap: asked by every tile request).
   bool building() const { return building_; }
@@ -59,6 +61,7 @@ class MissionState {
   std::string format_ = "png";
   std::optional<LatLon> origin_;
   Progress progress_;
+  bool token_required_ = false, writable_ = false;
   std::atomic<bool> building_{false};
   std::vector<FrameRecord> frames_;  // in id order
   std::vector<TrackPoint> track_;    // in seq order

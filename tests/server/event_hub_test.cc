@@ -52,6 +52,16 @@ TEST(EventHub, CloseEndsWaitsWithNothing) {
   EXPECT_TRUE(hub.closed());
 }
 
+TEST(EventHub, CloseStillDeliversWhatIsLeft) {
+  EventHub hub;
+  hub.Publish("progress", "{\"state\":\"complete\"}");
+  hub.Close();
+  auto events = hub.WaitAfter(0, std::chrono::seconds(30));
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_EQ(events[0].type, "progress");
+  EXPECT_TRUE(hub.WaitAfter(1, std::chrono::seconds(30)).empty());  // at once, not after 30 s
+}
+
 TEST(EventHub, FormatsServerSentEvents) {
   EXPECT_EQ(FormatEvent({7, "tile", "{\"z\":3}"}), "id: 7\nevent: tile\ndata: {\"z\":3}\n\n");
 }

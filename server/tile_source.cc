@@ -78,16 +78,20 @@ TileStore* TileSource::StoreFor(Reader* reader, const std::string& layer) {
   if (layer.empty()) return reader->main.get();
   auto it = reader->layers.find(layer);
   if (it != reader->layers.end()) return it->second.get();
-  if (!IsLayer(layer)) throw std::out_of_range("no layer '" + layer + "'");
   auto store = reader->main->OpenLayer(layer);
   TileStore* raw = store.get();
   reader->layers[layer] = std::move(store);
   return raw;
 }
 
+void TileSource::CheckLayer(const std::string& layer) {
+  if (!layer.empty() && !IsLayer(layer)) throw std::out_of_range("no layer '" + layer + "'");
+}
+
 std::optional<Tile> TileSource::Get(const std::string& layer, const TileId& id) {
   const CacheKey key{layer, id.z, id.x, id.y};
   if (auto hit = CacheLookup(key)) return hit;
+  CheckLayer(layer);
   Reader* reader = Checkout();
   std::optional<std::vector<uint8_t>> bytes;
   try {
@@ -184,6 +188,7 @@ std::map<std::string, std::string> TileSource::Metadata(const std::string& layer
   auto snapshot = Snapshot();
   if (layer.empty()) return snapshot->all;
   if (folder_) {  // a folder layer keeps its metadata in layers/<name>/metadata.json
+    CheckLayer(layer);
     Reader* reader = Checkout();
     std::map<std::string, std::string> out;
     try {

@@ -87,6 +87,11 @@ class TileSource {
 
   Reader* Checkout();
   void Return(Reader* reader);
+  // Throws std::out_of_range for an unknown layer. Call it before Checkout():
+  // it may read metadata, which needs a reader of its own (with every reader
+  // checked out, it would wait forever).
+  void CheckLayer(const std::string& layer);
+  // `layer` must have passed CheckLayer.
   TileStore* StoreFor(Reader* reader, const std::string& layer);
   CacheShard& ShardFor(const CacheKey& key);
   std::optional<Tile> CacheLookup(const CacheKey& key);

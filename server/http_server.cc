@@ -159,6 +159,13 @@ HttpServer::HttpServer(ServerOptions options, TileSource* tiles, MissionState* m
   http_->set_keep_alive_max_count(10000);
   http_->set_keep_alive_timeout(5);
   http_->set_tcp_nodelay(true);
+  // httplib's default options add SO_REUSEPORT, with which a second server binds
+  // the same port and silently takes half the connections. SO_REUSEADDR alone
+  // still allows a quick restart, and a port in use fails Bind() as it should.
+  http_->set_socket_options([](socket_t sock) {
+    int yes = 1;
+    ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+  });
   mission_->SetAccess(!options_.token.empty(), detections_->writable());
   Routes();
 }

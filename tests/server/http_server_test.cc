@@ -8,6 +8,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <condition_variable>
 #include <fstream>
 #include <functional>
@@ -18,6 +19,7 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
 
+#include "core/tiles/folder_store.h"
 #include "core/util/error.h"
 #include "tests/server/test_mission.h"
 #include "tests/testing/temp_dir.h"
@@ -202,7 +204,7 @@ class HttpServerTest : public ::testing::Test {
   }
   // Serves the test mission as `seamap serve` does; `writable` false: a read-only mission.
   void Start(ServerOptions options, bool writable = true) {
-    tiles_ = std::make_unique<TileSource>(mission_.path.string(), 2);
+    tiles_ = std::make_unique<TileSource>(mission_.path.string(), readers_);
     writer_ = std::make_unique<MBTilesStore>(mission_.path.string(), writable ? MBTilesStore::Mode::kCreate
                                                                               : MBTilesStore::Mode::kReadOnly);
     state_.Load(*writer_);
@@ -262,6 +264,7 @@ class HttpServerTest : public ::testing::Test {
             {"properties", {{"class", cls}}}};
   }
 
+  int readers_ = 2;
   seamap::testing::TempDir dir_;
   test::TestMission mission_ = test::WriteTestMission(dir_.path());
   std::filesystem::path web_ = dir_ / "web";
@@ -430,6 +433,87 @@ TEST_F(HttpServerTest, LayerTileJson) {
   EXPECT_EQ(tj["maxzoom"], 19);
   EXPECT_TRUE(tj.contains("attribution"));
   ExpectError(Get("/tiles/nope.json"), 404, "nope", "unknown layer");
+}
+
+TEST_F(HttpServerTest, AVersionQueryStillServesTheTile) {
+  Start();
+  // The console may ask for the version a `tile` event named, to get past caches.
+  const auto& bytes = mission_.tiles.at(TileId{3, 4, 2});
+  auto res = Get("/tiles/3/4/2.png?v=" + TileVersionHex(TileVersion(bytes)));
+  ASSERT_TRUE(res);
+  EXPECT_EQ(res->status, 200);
+  EXPECT_EQ(res->body, Text(bytes));
+}
+
+// Layer requests from many connections through one reader, starting with a
+// stale metadata snapshot (TileSourceTest.ALayerRequestWithOneReader... pins
+// down the deadlock this once had; here the whole path must still answer).
+TEST_F(HttpServerTest, ParallelLayerRequestsThroughOneReaderAllAnswer) {
+  readers_ = 1;
+  Start();
+  std::this_thread::sleep_for(std::chrono::milliseconds(1200));  // the metadata snapshot is now stale
+  std::atomic<int> ok{0}, failed{0};
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 6; ++t) {
+    threads.emplace_back([&, t] {
+      auto client = Client();
+      for (int i = 0; i < 5; ++i) {
+        const std::string path = (t + i) % 2 ? "/tiles/enhanced/3/4/2.png" : "/tiles/enhanced/3/4/3.png";
+        auto res = client->Get(path.c_str());
+        (res && (res->status == 200 || res->status == 204) ? ok : failed)++;
+      }
+    });
+  }
+  for (auto& t : threads) t.join();
+  EXPECT_EQ(ok.load(), 30);
+  EXPECT_EQ(failed.load(), 0);
+}
+
+TEST(HttpServerFolderTest, AJpegFolderMissionServesJpgAndJpeg) {
+  seamap::testing::TempDir dir;
+  const auto folder = dir / "pyramid";
+  std::vector<uint8_t> jpg;
+  cv::imencode(".jpg", cv::Mat(8, 8, CV_8UC3, cv::Scalar(1, 2, 3)), jpg);
+  {
+    FolderStore store(folder.string(), "jpg");
+    store.PutTile(TileId{4, 3, 2}, jpg);
+    store.SetMetadata("name", "Folder mission");
+    store.SetMetadata("format", "jpg");
+    store.Flush();
+  }
+  EventHub events;
+  TileSource tiles(folder.string(), 1);
+  FolderStore records(folder.string(), "jpg", FolderStore::Mode::kReadOnly);
+  MissionState state;
+  state.Load(records);
+  state.SetLayers(tiles.Layers(), tiles.Format());
+  DetectionRegistry registry(nullptr, &events);
+  ServerOptions o;
+  o.host = "127.0.0.1";
+  o.port = 0;
+  o.threads = 4;
+  HttpServer server(o, &tiles, &state, &registry, &events);
+  server.Bind();
+  server.Start();
+  httplib::Client client("127.0.0.1", server.port());
+  client.set_read_timeout(60);
+  for (const char* path : {"/tiles/4/3/2.jpg", "/tiles/4/3/2.jpeg"}) {
+    auto res = client.Get(path);
+    ASSERT_TRUE(res) << path;
+    EXPECT_EQ(res->status, 200) << path;
+    EXPECT_EQ(res->get_header_value("Content-Type"), "image/jpeg") << path;
+    EXPECT_EQ(res->get_header_value("ETag"), QuotedVersion(jpg)) << path;
+    EXPECT_EQ(res->body, Text(jpg)) << path;
+  }
+  auto png = client.Get("/tiles/4/3/2.png");
+  ASSERT_TRUE(png);
+  EXPECT_EQ(png->status, 404);
+  auto tj = client.Get("/tiles.json");
+  ASSERT_TRUE(tj);
+  EXPECT_EQ(json::parse(tj->body)["tiles"][0],
+            "http://127.0.0.1:" + std::to_string(server.port()) + "/tiles/{z}/{x}/{y}.jpg");
+  EXPECT_EQ(json::parse(tj->body)["name"], "Folder mission");
+  server.Stop();
 }
 
 // --- mission -------------------------------------------------------------------
@@ -898,6 +982,22 @@ TEST_F(HttpServerTest, StreamsBeyondTheCapAre503) {
     if (!admitted) std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
   EXPECT_TRUE(admitted);
+}
+
+TEST_F(HttpServerTest, StreamsAtTheCapDoNotStarveOtherRequests) {
+  ServerOptions o = Options();
+  o.threads = 2;
+  o.max_streams = 2;
+  Start(o);
+  EventStream a(server_->port()), b(server_->port());
+  ASSERT_TRUE(a.WaitFor(Greeted));
+  ASSERT_TRUE(b.WaitFor(Greeted));
+  for (int i = 0; i < 10; ++i) {
+    auto res = Get(i % 2 ? "/tiles/3/4/2.png" : "/api/status");
+    ASSERT_TRUE(res) << i;
+    EXPECT_EQ(res->status, 200) << i;
+  }
+  EXPECT_EQ(Get("/api/events")->status, 503);
 }
 
 TEST_F(HttpServerTest, StoppingTheServerDeliversTheLastEventsAndEndsStreams) {

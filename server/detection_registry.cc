@@ -31,9 +31,16 @@ double ParseNumber(const std::string& text, const std::string& name) {
   throw ApiError(400, "parameter '" + name + "': expected a number, got '" + text + "'");
 }
 
+// The "type" member, or "" when missing or not a string (value() would throw
+// nlohmann's type_error, answered 500 instead of 400).
+std::string TypeOf(const nlohmann::json& j) {
+  auto it = j.find("type");
+  return it != j.end() && it->is_string() ? it->get<std::string>() : "";
+}
+
 // Geometry of a Feature: a Point [lon, lat] (an altitude is allowed and ignored).
 LatLon ParsePoint(const nlohmann::json& geometry) {
-  if (!geometry.is_object() || geometry.value("type", "") != "Point")
+  if (!geometry.is_object() || TypeOf(geometry) != "Point")
     throw ApiError(400, "geometry: expected a GeoJSON Point");
   const auto& c = geometry.contains("coordinates") ? geometry["coordinates"] : nlohmann::json();
   if (!c.is_array() || c.size() < 2 || c.size() > 3 || !c[0].is_number() || !c[1].is_number())
@@ -162,7 +169,7 @@ void DetectionRegistry::Announce(const char* action, const Detection& d) {
 
 nlohmann::json DetectionRegistry::Create(const nlohmann::json& feature) {
   CheckWritable();
-  if (!feature.is_object() || feature.value("type", "") != "Feature")
+  if (!feature.is_object() || TypeOf(feature) != "Feature")
     throw ApiError(400, "body: expected a GeoJSON Feature with a Point geometry");
   Detection d;
   d.position = ParsePoint(feature.contains("geometry") ? feature["geometry"] : nlohmann::json());
@@ -190,7 +197,7 @@ nlohmann::json DetectionRegistry::Update(int64_t id, const nlohmann::json& patch
                             "'; only operator marks can be changed");
   if (!patch.is_object()) throw ApiError(400, "body: expected a GeoJSON Feature or a properties object");
   Detection d = it->second;
-  if (patch.value("type", "") == "Feature") {
+  if (TypeOf(patch) == "Feature") {
     if (patch.contains("geometry") && !patch["geometry"].is_null()) d.position = ParsePoint(patch["geometry"]);
     if (patch.contains("properties") && !patch["properties"].is_null()) ApplyProperties(patch["properties"], &d);
   } else {

@@ -266,6 +266,16 @@ TEST_F(DetectionRegistryTest, CreateRejectsBadBodiesNamingTheProperty) {
   EXPECT_EQ(events_.LastId(), 0u);
 }
 
+// Regression: a "type" that is not a string threw nlohmann's type_error (a 500).
+TEST_F(DetectionRegistryTest, ANonStringTypeIsABadBody) {
+  EXPECT_API_ERROR(registry_->Create(json{{"type", 1}}), 400, "Feature");
+  json geometry_type = Mark(5, 43, "x");
+  geometry_type["geometry"]["type"] = json::array({"Point"});
+  EXPECT_API_ERROR(registry_->Create(geometry_type), 400, "geometry");
+  EXPECT_API_ERROR(registry_->Update(2, json{{"type", nullptr}, {"note", "x"}}), 400, "properties.type");
+  EXPECT_EQ(events_.LastId(), 0u);
+}
+
 TEST_F(DetectionRegistryTest, UpdateChangesAnOperatorMark) {
   const json before = *registry_->Get(2);
   const json patched = registry_->Update(2, {{"note", "checked"}, {"score", 0.5}});

@@ -874,6 +874,7 @@ TEST_F(HttpServerTest, BadBodiesAre400NamingWhatIsWrong) {
   json score = Mark(5, 43, "x");
   score["properties"]["score"] = 2;
   ExpectError(client->Post("/api/detections", score.dump(), "application/json"), 400, "properties.score", "score");
+  ExpectError(client->Post("/api/detections", R"({"type": 7})", "application/json"), 400, "Feature", "numeric type");
   ExpectError(client->Patch("/api/detections/2", "not json", "application/json"), 400, "body", "patch not JSON");
   ExpectError(client->Patch("/api/detections/2", json{{"colour", "red"}}.dump(), "application/json"), 400,
               "properties.colour", "unknown property");

@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
 # Speed and memory figures (never asserted by tests). Prints one line per figure.
-#   scripts/bench.sh            gray seed-geometry survey, colour survey, 2,000-frame memory run
+#   scripts/bench.sh            gray seed-geometry survey, colour survey, 2,000-frame memory run,
+#                               serving (nginx vs seamap serve vs a live replay, wrk)
 #   SEAMAP_BENCH_QUICK=1 ...    smaller surveys, for a quick look
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${SEAMAP_BUILD_DIR:-$root/build}"
 out="$root/out/bench"
-"$root/scripts/setup.sh"
+SEAMAP_BENCH=1 "$root/scripts/setup.sh"  # also valgrind, nginx and wrk
 "$root/scripts/build.sh" >/dev/null
 seamap="$build/seamap"
 mkdir -p "$out"
@@ -49,3 +50,4 @@ build gray '{"tile_format":"png","enhance":{"ops":[{"op":"flatfield"},{"op":"deh
 echo "camera rate: 5 frames/s (200 ms/frame budget); seed paper: 173 ms/frame on an Atom Z8350"
 simulate long "$long_frames" "--image-format jpg --line-length 40"
 build long '{"tile_format":"png","png_level":1}' "gray x$long_frames (memory)"
+"$root/scripts/bench_serve.sh" "$seamap" "$out/gray.mbtiles" "$out/gray" "$out/serve"

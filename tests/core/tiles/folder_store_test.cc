@@ -54,7 +54,7 @@ TEST(FolderStore, ReplaceKeepsCountAndLeavesNoTempFiles) {
     ++files;
     EXPECT_EQ(entry.path().string().find(".tmp"), std::string::npos) << entry.path();
   }
-  EXPECT_EQ(files, 2 + 3);  // tiles + metadata.json, frames.json, track.json
+  EXPECT_EQ(files, 2 + 4);  // tiles + metadata.json, frames.json, track.json, detections.json
 }
 
 TEST(FolderStore, MetadataIsTileJson) {

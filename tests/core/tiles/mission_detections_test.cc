@@ -1,0 +1,155 @@
+// Detections and tile listings in both store kinds, and the ObservedStore
+// decorator that announces committed tiles.
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "core/tiles/folder_store.h"
+#include "core/tiles/mbtiles_store.h"
+#include "core/tiles/observed_store.h"
+#include "core/tiles/tile_version.h"
+#include "tests/testing/temp_dir.h"
+
+namespace seamap {
+namespace {
+
+using testing::TempDir;
+
+std::vector<uint8_t> Bytes(const std::string& text) { return {text.begin(), text.end()}; }
+
+Detection Mark(int64_t id, const std::string& cls) {
+  Detection d;
+  d.id = id;
+  d.class_name = cls;
+  d.score = 0.75;
+  d.position = {43.1001, 131.9002};
+  d.note = "note " + cls;
+  d.source = id == 1 ? "recogniser-x" : "operator";
+  d.frame_id = id == 1 ? std::optional<int>(12) : std::nullopt;
+  d.time_s = id == 1 ? std::optional<double>(3.5) : std::nullopt;
+  d.created = "2026-11-22T10:00:00Z";
+  d.updated = "2026-11-22T10:05:00Z";
+  d.seq = id * 10;
+  return d;
+}
+
+void ExpectSame(const Detection& a, const Detection& b) {
+  EXPECT_EQ(a.id, b.id);
+  EXPECT_EQ(a.class_name, b.class_name);
+  EXPECT_DOUBLE_EQ(a.score, b.score);
+  EXPECT_DOUBLE_EQ(a.position.lat, b.position.lat);
+  EXPECT_DOUBLE_EQ(a.position.lon, b.position.lon);
+  EXPECT_EQ(a.note, b.note);
+  EXPECT_EQ(a.source, b.source);
+  EXPECT_EQ(a.frame_id, b.frame_id);
+  EXPECT_EQ(a.time_s, b.time_s);
+  EXPECT_EQ(a.created, b.created);
+  EXPECT_EQ(a.updated, b.updated);
+  EXPECT_EQ(a.seq, b.seq);
+}
+
+// Runs the same checks on an MBTiles file and a folder.
+class StoreKinds : public ::testing::TestWithParam<bool> {
+ protected:
+  std::string Path() const { return GetParam() ? (dir_ / "m.mbtiles").string() : (dir_ / "tiles").string(); }
+  std::unique_ptr<TileStore> Open(bool create) const {
+    if (GetParam())
+      return std::make_unique<MBTilesStore>(Path(), create ? MBTilesStore::Mode::kCreate : MBTilesStore::Mode::kReadOnly);
+    return std::make_unique<FolderStore>(Path(), "png", create ? FolderStore::Mode::kCreate : FolderStore::Mode::kReadOnly);
+  }
+  TempDir dir_;
+};
+
+TEST_P(StoreKinds, DetectionsSurviveReopeningWithEveryField) {
+  {
+    auto store = Open(true);
+    store->PutDetection(Mark(1, "tyre"));
+    store->PutDetection(Mark(2, "anchor"));
+    Detection changed = Mark(2, "chain");
+    store->PutDetection(changed);  // replaces by id
+    store->PutDetection(Mark(3, "rock"));
+    store->DeleteDetection(3);
+    store->Flush();
+  }
+  auto store = Open(false);
+  auto all = store->Detections();
+  ASSERT_EQ(all.size(), 2u);
+  ExpectSame(all[0], Mark(1, "tyre"));
+  ExpectSame(all[1], Mark(2, "chain"));
+}
+
+TEST_P(StoreKinds, LayersShareTheMissionsDetections) {
+  auto store = Open(true);
+  auto layer = store->OpenLayer("enhanced");
+  layer->PutDetection(Mark(2, "chain"));
+  store->Flush();
+  ASSERT_EQ(store->Detections().size(), 1u);
+  EXPECT_EQ(layer->Detections().size(), 1u);
+}
+
+TEST_P(StoreKinds, TileIdsListEveryTileOfTheLayerOnly) {
+  auto store = Open(true);
+  store->PutTile({3, 1, 2}, Bytes("a"));
+  store->PutTile({20, 1000, 7}, Bytes("b"));
+  auto layer = store->OpenLayer("enhanced");
+  layer->PutTile({5, 4, 4}, Bytes("c"));
+  store->Flush();
+  auto ids = store->TileIds();
+  std::set<std::tuple<int, int, int>> got;
+  for (const auto& id : ids) got.insert({id.z, id.x, id.y});
+  EXPECT_EQ(got, (std::set<std::tuple<int, int, int>>{{3, 1, 2}, {20, 1000, 7}}));
+  auto layer_ids = layer->TileIds();
+  ASSERT_EQ(layer_ids.size(), 1u);
+  EXPECT_EQ(layer_ids[0].z, 5);
+  EXPECT_EQ(layer_ids[0].x, 4);
+  EXPECT_EQ(layer_ids[0].y, 4);
+}
+
+INSTANTIATE_TEST_SUITE_P(MBTilesAndFolder, StoreKinds, ::testing::Bool(),
+                         [](const auto& info) { return info.param ? "MBTiles" : "Folder"; });
+
+TEST(ObservedStore, AnnouncesTilesOnlyAfterTheFlushThatCommitsThem) {
+  TempDir dir;
+  MBTilesStore inner((dir / "m.mbtiles").string());
+  std::vector<std::pair<std::string, CommittedTile>> heard;
+  ObservedStore store(&inner, [&](const std::string& layer, const std::vector<CommittedTile>& tiles) {
+    // By now another connection sees the tile.
+    MBTilesStore reader((dir / "m.mbtiles").string(), MBTilesStore::Mode::kReadOnly);
+    for (const auto& t : tiles) {
+      auto bytes = layer.empty() ? reader.GetTile(t.id) : reader.OpenLayer(layer)->GetTile(t.id);
+      EXPECT_TRUE(bytes.has_value());
+      heard.push_back({layer, t});
+    }
+  });
+  store.PutTile({4, 3, 2}, Bytes("first"));
+  store.PutTile({4, 3, 3}, Bytes("second"));
+  EXPECT_TRUE(heard.empty());
+  store.Flush();
+  ASSERT_EQ(heard.size(), 2u);
+  EXPECT_EQ(heard[0].first, "");
+  EXPECT_EQ(heard[0].second.version, TileVersion(Bytes("first")));
+  EXPECT_EQ(heard[1].second.id.y, 3);
+
+  auto layer = store.OpenLayer("enhanced");
+  layer->PutTile({4, 3, 2}, Bytes("enhanced"));
+  layer->Flush();
+  ASSERT_EQ(heard.size(), 3u);
+  EXPECT_EQ(heard[2].first, "enhanced");
+  store.Flush();  // nothing new: nothing announced
+  EXPECT_EQ(heard.size(), 3u);
+}
+
+TEST(TileVersion, DependsOnEveryByteAndPrintsAsSixteenHexDigits) {
+  const auto a = Bytes("a tile of some length, more than eight bytes");
+  auto b = a;
+  b[20] ^= 1;
+  EXPECT_NE(TileVersion(a), TileVersion(b));
+  EXPECT_NE(TileVersion(Bytes("ab")), TileVersion(Bytes("ba")));
+  EXPECT_NE(TileVersion(Bytes("")), TileVersion(Bytes(std::string(1, '\0'))));
+  EXPECT_EQ(TileVersion(a), TileVersion(Bytes("a tile of some length, more than eight bytes")));
+  EXPECT_EQ(TileVersionHex(0x0123456789abcdefull), "0123456789abcdef");
+  EXPECT_EQ(TileVersionHex(1), "0000000000000001");
+}
+
+}  // namespace
+}  // namespace seamap

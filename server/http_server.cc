@@ -209,32 +209,40 @@ void HttpServer::Routes() {
           tilejson(req, res, req.matches[1]);
         }));
 
-  s.Get(R"(/tiles/(.*))", Guard([this](const httplib::Request& req, httplib::Response& res) {
-          TilePath t = ParseTilePath(req.matches[1]);
-          const std::string format = tiles_->Format();
-          const bool same = t.ext == format || (format == "jpg" && t.ext == "jpeg");
-          if (!same) throw ApiError(404, "this mission's tiles are ." + format + ", not ." + t.ext);
-          std::optional<Tile> tile;
-          try {
-            tile = tiles_->Get(t.layer, t.id);
-          } catch (const std::out_of_range&) {
-            throw ApiError(404, "no layer '" + t.layer + "'");
-          }
-          res.set_header("Access-Control-Allow-Origin", "*");
-          // A growing map: keep the tile, but ask (cheaply, 304) before reusing it.
-          res.set_header("Cache-Control",
-                         mission_->building() ? "no-cache" : "public, max-age=300");
-          if (!tile) {
-            res.status = 204;
-            return;
-          }
-          res.set_header("ETag", tile->etag);
-          if (req.has_header("If-None-Match") && EtagMatches(req.get_header_value("If-None-Match"), tile->etag)) {
-            res.status = 304;
-            return;
-          }
-          res.set_content(tile->bytes->data(), tile->bytes->size(), MimeForExtension(format).c_str());
-        }));
+  // Tiles are most of the traffic: answered before httplib's routing, which
+  // would first look for a static file of that name and then try every route's regex.
+  auto serve_tile = [this](const httplib::Request& req, httplib::Response& res) {
+    TilePath t = ParseTilePath(req.path.substr(7));  // after "/tiles/"
+    const std::string format = tiles_->Format();
+    const bool same = t.ext == format || (format == "jpg" && t.ext == "jpeg");
+    if (!same) throw ApiError(404, "this mission's tiles are ." + format + ", not ." + t.ext);
+    std::optional<Tile> tile;
+    try {
+      tile = tiles_->Get(t.layer, t.id);
+    } catch (const std::out_of_range&) {
+      throw ApiError(404, "no layer '" + t.layer + "'");
+    }
+    res.set_header("Access-Control-Allow-Origin", "*");
+    // A growing map: keep the tile, but ask (cheaply, 304) before reusing it.
+    res.set_header("Cache-Control", mission_->building() ? "no-cache" : "public, max-age=300");
+    if (!tile) {
+      res.status = 204;
+      return;
+    }
+    res.set_header("ETag", tile->etag);
+    if (req.has_header("If-None-Match") && EtagMatches(req.get_header_value("If-None-Match"), tile->etag)) {
+      res.status = 304;
+      return;
+    }
+    res.set_content(tile->bytes->data(), tile->bytes->size(), MimeForExtension(format).c_str());
+  };
+  s.set_pre_routing_handler([serve_tile](const httplib::Request& req, httplib::Response& res) {
+    const bool is_tile = (req.method == "GET" || req.method == "HEAD") && req.path.rfind("/tiles/", 0) == 0 &&
+                         !(req.path.size() > 5 && req.path.compare(req.path.size() - 5, 5, ".json") == 0);
+    if (!is_tile) return httplib::Server::HandlerResponse::Unhandled;
+    Guard(serve_tile)(req, res);
+    return httplib::Server::HandlerResponse::Handled;
+  });
 
   s.Get("/api/status", Guard([this](const httplib::Request&, httplib::Response& res) {
           nlohmann::json j = mission_->StatusJson();

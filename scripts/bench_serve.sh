@@ -67,11 +67,20 @@ report() {  # label, "rps p50 p99 errors"
   printf '%-34s %9.0f req/s  p50 %6.2f ms  p99 %6.2f ms  errors %d\n' "$1" "$rps" "$p50" "$p99" "$err"
 }
 tiles=$(wc -l <"$out/tiles.txt")
-ngx_result=$(load nginx 18181 "")
-sm_result=$(load seamap 18182 "/tiles")
+# Alternate the two servers for a few rounds and keep each one's median run:
+# a shared machine's noise then hits both alike.
+rounds="${SEAMAP_BENCH_SERVE_ROUNDS:-3}"
+: >"$out/nginx.runs"; : >"$out/seamap.runs"
+for _ in $(seq "$rounds"); do
+  load nginx 18181 "" >>"$out/nginx.runs"
+  load seamap 18182 "/tiles" >>"$out/seamap.runs"
+done
+median() { sort -n "$1" | awk '{a[NR] = $0} END {print a[int((NR + 1) / 2)]}'; }
+ngx_result=$(median "$out/nginx.runs")
+sm_result=$(median "$out/seamap.runs")
 report "nginx, folder of $tiles tiles" "$ngx_result"
 report "seamap serve, MBTiles" "$sm_result"
-python3 -c "import sys; a=float(sys.argv[1]); b=float(sys.argv[2]); print(f'seamap / nginx throughput          {b/a:9.2f}')" \
+python3 -c "import sys; a=float(sys.argv[1]); b=float(sys.argv[2]); print(f'seamap / nginx throughput          {b/a:9.2f}  (median of $rounds alternating ${duration} s runs each)')" \
   "${ngx_result%% *}" "${sm_result%% *}"
 
 # The same load while a replay writes the mission being served.

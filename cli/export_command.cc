@@ -47,17 +47,6 @@ int RunExport(int argc, char** argv, int first) {
   args.RejectUnknown();
   if (args.positionals().size() != 2) throw InputError("", 0, "FROM TO", "expected a source map and a destination");
   const std::string from_path = args.positionals()[0], to_path = args.positionals()[1];
-  std::error_code ec;
-  if (std::filesystem::exists(to_path, ec) && !std::filesystem::is_empty(to_path, ec)) {
-    if (!overwrite) throw InputError(to_path, 0, "TO", "already exists; use --overwrite to replace it");
-    if (IsMbtiles(to_path)) {
-      for (const char* suffix : {"", "-wal", "-shm"}) std::filesystem::remove(to_path + suffix, ec);
-    } else if (std::filesystem::exists(std::filesystem::path(to_path) / "metadata.json")) {
-      std::filesystem::remove_all(to_path, ec);
-    } else {
-      throw InputError(to_path, 0, "TO", "is a non-empty folder that is not a tile pyramid; refusing to delete it");
-    }
-  }
   std::unique_ptr<TileStore> from;
   std::string ext = "png";
   if (IsMbtiles(from_path)) {
@@ -69,6 +58,19 @@ int RunExport(int argc, char** argv, int first) {
     auto m = from->Metadata();
     if (m.count("format") && m["format"] != "png") from = OpenTileStore(from_path, ext = m["format"], false);
   }
+  std::error_code ec;
+  if (std::filesystem::exists(to_path, ec) && std::filesystem::equivalent(from_path, to_path, ec))
+    throw InputError(to_path, 0, "TO", "is the map being exported; choose another destination");
+  if (std::filesystem::exists(to_path, ec) && !std::filesystem::is_empty(to_path, ec)) {
+    if (!overwrite) throw InputError(to_path, 0, "TO", "already exists; use --overwrite to replace it");
+    if (IsMbtiles(to_path)) {
+      for (const char* suffix : {"", "-wal", "-shm"}) std::filesystem::remove(to_path + suffix, ec);
+    } else if (std::filesystem::exists(std::filesystem::path(to_path) / "metadata.json")) {
+      std::filesystem::remove_all(to_path, ec);
+    } else {
+      throw InputError(to_path, 0, "TO", "is a non-empty folder that is not a tile pyramid; refusing to delete it");
+    }
+  }
   auto to = OpenTileStore(to_path, ext, /*create=*/true);
 
   const auto metadata = from->Metadata();
@@ -76,14 +78,9 @@ int RunExport(int argc, char** argv, int first) {
   if (metadata.count("seamap_layers")) {
     std::stringstream in(metadata.at("seamap_layers"));
     std::string part;
-    std::getline(in, part);  // the first is the main map
-    in.clear();
-    in.str(metadata.at("seamap_layers"));
-    bool first_layer = true;
-    while (std::getline(in, part, ',')) {
-      if (!first_layer && !part.empty()) layers.push_back(part);
-      first_layer = false;
-    }
+    std::getline(in, part, ',');  // the first is the main map; the others are layers
+    while (std::getline(in, part, ','))
+      if (!part.empty()) layers.push_back(part);
   }
   int64_t total = from->TileCount(), done = 0;
   std::vector<std::unique_ptr<TileStore>> from_layers;

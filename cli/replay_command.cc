@@ -7,6 +7,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <set>
 #include <mutex>
 #include <thread>
 
@@ -75,17 +77,34 @@ double ParseSpeed(const std::string& text) {
   throw InputError("", 0, "--speed", "expected a factor >= 0 (or max), got '" + text + "'");
 }
 
-// Waits for a watched folder's navigation to have a first complete line.
-void WaitForNavigation(const std::string& nav, const std::atomic<bool>& stop) {
+// Waits for a watched folder's navigation to have a first complete line and
+// for a first photo to be complete (gray or colour is decided from it).
+void WaitForFirstFrame(const std::string& nav, const std::string& images, const std::atomic<bool>& stop) {
   bool told = false;
+  std::map<std::string, uintmax_t> sizes;
   while (!stop) {
     std::ifstream in(nav);
     std::string line;
     int complete = 0;
     while (std::getline(in, line) && complete < 2)
       if (!in.eof()) ++complete;
-    if (complete >= 2) return;  // header and one record
-    if (!told) std::fprintf(stderr, "seamap replay: waiting for navigation in %s\n", nav.c_str());
+    bool photo = false;
+    std::error_code ec;
+    if (complete >= 2 && fs::is_directory(images, ec)) {
+      for (const auto& entry : fs::directory_iterator(images, ec)) {
+        static const std::set<std::string> kImages = {".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp", ".webp", ".pgm"};
+        std::string ext = entry.path().extension().string();
+        for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        if (!entry.is_regular_file(ec) || !kImages.count(ext)) continue;
+        const uintmax_t size = entry.file_size(ec);
+        auto previous = sizes.find(entry.path().string());
+        if (size > 0 && previous != sizes.end() && previous->second == size) photo = true;
+        sizes[entry.path().string()] = size;
+      }
+    }
+    if (photo) return;  // header, one record, one photo that stopped growing
+    if (!told) std::fprintf(stderr, "seamap replay: waiting for navigation in %s and photos in %s\n", nav.c_str(),
+                            images.c_str());
     told = true;
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
   }
@@ -121,13 +140,14 @@ int RunReplay(int argc, char** argv, int first) {
   std::mutex mutex;
   std::condition_variable woken;
   FrameFeed* feed_ptr = nullptr;
+  StopSignalsOnExit stop_signals_first{shutdown};  // the callback below uses these locals
   shutdown.OnSignal([&] {
     std::lock_guard<std::mutex> lock(mutex);
     interrupted = true;
     if (feed_ptr) feed_ptr->Stop();
     woken.notify_all();
   });
-  if (watch) WaitForNavigation(args.GetOr("nav", ""), interrupted);
+  if (watch) WaitForFirstFrame(args.GetOr("nav", ""), args.GetOr("images", ""), interrupted);
   if (interrupted) return 130;
 
   BuildInputs in = ReadBuildInputs(args);
@@ -136,6 +156,7 @@ int RunReplay(int argc, char** argv, int first) {
   args.RejectUnknown();
 
   std::unique_ptr<FrameFeed> feed;
+  StopSignalsOnExit stop_signals{shutdown};  // ... and the feed
   if (watch) {
     NavReadOptions nav_options = in.config.nav;
     nav_options.origin = in.frame.origin();
@@ -271,8 +292,13 @@ int RunReplay(int argc, char** argv, int first) {
     exit_code = 1;
   }
   const bool complete = !interrupted && exit_code == 0;
-  if (!complete) store->SetMetadata("seamap_state", "stopped");
-  store->Flush();
+  try {
+    if (!complete) store->SetMetadata("seamap_state", "stopped");
+    store->Flush();
+  } catch (const std::exception& e) {  // e.g. the disk is still full: say so, keep serving what is there
+    std::fprintf(stderr, "seamap replay: cannot mark the mission stopped: %s\n", e.what());
+    exit_code = 1;
+  }
   publish_progress(complete ? "complete" : "stopped", true);
   if (!quiet) std::fprintf(stderr, "\n");
   const BuildStats& s = builder.stats();
@@ -288,6 +314,7 @@ int RunReplay(int argc, char** argv, int first) {
     woken.wait(lock, [&] { return interrupted.load(); });
   }
   http.Stop();
+  if (exit_code == 0 && !complete) exit_code = 130;  // stopped by Ctrl-C before the end
   return exit_code;
 }
 

@@ -25,8 +25,10 @@ server::ServerOptions ReadServerOptions(Args& args, const ServerSettings& settin
   o.token = args.GetOr("token", settings.token);
   o.threads = args.GetInt("threads", settings.threads);
   o.max_streams = args.GetInt("max-streams", settings.max_streams);
-  if (o.threads < 2) throw InputError("", 0, "--threads", "expected at least 2");
-  if (o.max_streams < 1) throw InputError("", 0, "--max-streams", "expected at least 1");
+  if (o.threads < 2 || o.threads > 1024)
+    throw InputError("", 0, "--threads", "expected 2..1024, got " + std::to_string(o.threads));
+  if (o.max_streams < 1 || o.max_streams > 1024)
+    throw InputError("", 0, "--max-streams", "expected 1..1024, got " + std::to_string(o.max_streams));
   const char* env = std::getenv("SEAMAP_WEB_DIR");
   o.web_dir = args.GetOr("web", env ? env : SEAMAP_WEB_DIR);
   std::error_code ec;

@@ -3,8 +3,12 @@
 #include <httplib.h>
 
 #include <sys/socket.h>
+#include <unistd.h>
 
 #include <chrono>
+#include <climits>
+#include <csignal>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <sstream>
@@ -118,6 +122,7 @@ TilePath ParseTilePath(const std::string& path) {
   std::stringstream in(path);
   std::string part;
   while (std::getline(in, part, '/')) parts.push_back(part);
+  if (!path.empty() && path.back() == '/') parts.push_back("");  // "z/x/y.png/" is not a tile
   if (parts.size() != 3 && parts.size() != 4)
     throw ApiError(400, "tile path: expected /tiles/{z}/{x}/{y}.{ext} or /tiles/{layer}/{z}/{x}/{y}.{ext}");
   TilePath t;
@@ -253,7 +258,8 @@ void HttpServer::Routes() {
 
   s.Get("/api/track", Guard([this](const httplib::Request& req, httplib::Response& res) {
           int since = 0;
-          if (auto v = Param(req, "since")) since = static_cast<int>(ParseId(*v, "parameter 'since'"));
+          if (auto v = Param(req, "since"))
+            since = static_cast<int>(std::min<int64_t>(ParseId(*v, "parameter 'since'"), INT_MAX));
           // Start at the point the client already has, so the new piece joins the line.
           const int from = std::max(0, since - 1);
           std::vector<TrackPoint> points = mission_->TrackFrom(from);
@@ -288,14 +294,14 @@ void HttpServer::Routes() {
 
   s.Get(R"(/api/frames/([^/]+))", Guard([this](const httplib::Request& req, httplib::Response& res) {
           const int64_t id = ParseId(req.matches[1], "frame id");
-          auto f = mission_->Frame(static_cast<int>(id));
+          auto f = id > INT_MAX ? std::nullopt : mission_->Frame(static_cast<int>(id));
           if (!f) throw ApiError(404, "no frame " + std::to_string(id));
           SendJson(res, FrameJson(*f));
         }));
 
   s.Get(R"(/api/frames/([^/]+)/image)", Guard([this](const httplib::Request& req, httplib::Response& res) {
           const int64_t id = ParseId(req.matches[1], "frame id");
-          auto f = mission_->Frame(static_cast<int>(id));
+          auto f = id > INT_MAX ? std::nullopt : mission_->Frame(static_cast<int>(id));
           if (!f) throw ApiError(404, "no frame " + std::to_string(id));
           int max_side = 0;
           if (auto v = Param(req, "max")) max_side = static_cast<int>(std::min<int64_t>(8192, ParseId(*v, "parameter 'max'")));
@@ -442,7 +448,14 @@ void HttpServer::Bind() {
   static_cast<BacklogServer*>(http_.get())->RaiseBacklog();
 }
 
-void HttpServer::Run() { http_->listen_after_bind(); }
+void HttpServer::Run() {
+  try {
+    http_->listen_after_bind();
+  } catch (const std::exception& e) {  // e.g. its threads could not be created
+    std::fprintf(stderr, "seamap: the HTTP server failed: %s\n", e.what());
+    ::kill(::getpid(), SIGTERM);  // to the process: the command shuts down the way Ctrl-C does
+  }
+}
 
 void HttpServer::Start() {
   thread_ = std::thread([this] { Run(); });

@@ -90,7 +90,8 @@ void TileSource::CheckLayer(const std::string& layer) {
 
 std::optional<Tile> TileSource::Get(const std::string& layer, const TileId& id) {
   const CacheKey key{layer, id.z, id.x, id.y};
-  if (auto hit = CacheLookup(key)) return hit;
+  uint64_t generation = 0;
+  if (auto hit = CacheLookup(key, &generation)) return hit;
   CheckLayer(layer);
   Reader* reader = Checkout();
   std::optional<std::vector<uint8_t>> bytes;
@@ -106,7 +107,7 @@ std::optional<Tile> TileSource::Get(const std::string& layer, const TileId& id) 
   auto text = std::make_shared<std::string>(bytes->begin(), bytes->end());
   tile.etag = "\"" + TileVersionHex(TileVersion(*text)) + "\"";
   tile.bytes = std::move(text);
-  CacheInsert(key, tile);
+  CacheInsert(key, tile, generation);
   return tile;
 }
 
@@ -114,9 +115,10 @@ TileSource::CacheShard& TileSource::ShardFor(const CacheKey& key) {
   return shards_[CacheKeyHash()(key) % kShards];
 }
 
-std::optional<Tile> TileSource::CacheLookup(const CacheKey& key) {
+std::optional<Tile> TileSource::CacheLookup(const CacheKey& key, uint64_t* generation) {
   CacheShard& shard = ShardFor(key);
   std::lock_guard<std::mutex> lock(shard.mutex);
+  *generation = shard.generation;
   auto it = shard.entries.find(key);
   if (it == shard.entries.end()) return std::nullopt;
   if (external_writer_ && std::chrono::steady_clock::now() - it->second.loaded > std::chrono::seconds(1)) {
@@ -129,11 +131,11 @@ std::optional<Tile> TileSource::CacheLookup(const CacheKey& key) {
   return it->second.tile;
 }
 
-void TileSource::CacheInsert(const CacheKey& key, const Tile& tile) {
+void TileSource::CacheInsert(const CacheKey& key, const Tile& tile, uint64_t generation) {
   if (tile.bytes->size() > shard_cap_ / 4) return;
   CacheShard& shard = ShardFor(key);
   std::lock_guard<std::mutex> lock(shard.mutex);
-  if (shard.entries.count(key)) return;
+  if (shard.generation != generation || shard.entries.count(key)) return;
   shard.lru.push_front(key);
   shard.entries[key] = {tile, std::chrono::steady_clock::now(), shard.lru.begin()};
   shard.bytes += tile.bytes->size();
@@ -149,6 +151,7 @@ void TileSource::Invalidate(const std::string& layer, const TileId& id) {
   const CacheKey key{layer, id.z, id.x, id.y};
   CacheShard& shard = ShardFor(key);
   std::lock_guard<std::mutex> lock(shard.mutex);
+  ++shard.generation;
   auto it = shard.entries.find(key);
   if (it == shard.entries.end()) return;
   shard.bytes -= it->second.tile.bytes->size();

@@ -76,6 +76,9 @@ class TileSource {
     std::unordered_map<CacheKey, CacheEntry, CacheKeyHash> entries;
     std::list<CacheKey> lru;  // most recent first
     size_t bytes = 0;
+    // Bumped by every Invalidate: a read that started before it must not
+    // cache what it read (it may be the tile the invalidation replaced).
+    uint64_t generation = 0;
   };
   // Metadata as last read, shared read-only by requests; refreshed once a second.
   struct MetadataSnapshot {
@@ -94,8 +97,9 @@ class TileSource {
   // `layer` must have passed CheckLayer.
   TileStore* StoreFor(Reader* reader, const std::string& layer);
   CacheShard& ShardFor(const CacheKey& key);
-  std::optional<Tile> CacheLookup(const CacheKey& key);
-  void CacheInsert(const CacheKey& key, const Tile& tile);
+  // The shard's generation is returned with a miss, for CacheInsert.
+  std::optional<Tile> CacheLookup(const CacheKey& key, uint64_t* generation);
+  void CacheInsert(const CacheKey& key, const Tile& tile, uint64_t generation);
   std::shared_ptr<const MetadataSnapshot> Snapshot();
 
   std::string path_;

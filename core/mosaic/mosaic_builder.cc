@@ -111,6 +111,10 @@ MosaicBuilder::MosaicBuilder(const BuildConfig& config, const CameraModel& camer
   const size_t cap = static_cast<size_t>(config.memory_cap_mb) << 20;
   pyramid_ = std::make_unique<OverviewPyramid>(writer_.get(), config.tile_size, plan.channels,
                                                plan.min_zoom, plan.base_zoom, cap / 4);
+  // Continuing a mission (--append): new frames and track points follow the
+  // stored ones instead of overwriting them.
+  for (const FrameRecord& f : store_->Frames()) frame_id_offset_ = std::max(frame_id_offset_, f.id + 1);
+  for (const TrackPoint& p : store_->Track()) track_seq_ = std::max(track_seq_, p.seq + 1);
   WriteMetadata(false);
   store_->Flush();
 }
@@ -192,7 +196,7 @@ void MosaicBuilder::Consume(Prepared p) {
   ++stats_.frames_seen;
   ++consumed_;  // this frame's number: tiles it paints are stamped with it
   FrameRecord record;
-  record.id = p.spec.index;
+  record.id = frame_id_offset_ + p.spec.index;
   record.image = p.spec.image;
   record.image_path = p.spec.image_path;
   record.time_s = p.spec.time_s;

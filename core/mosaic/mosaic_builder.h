@@ -115,6 +115,7 @@ class MosaicBuilder {
   size_t buffer_bytes_ = 0;
   int consumed_ = 0;
   int track_seq_ = 0;
+  int frame_id_offset_ = 0;  // ids of an appended mission's frames continue after the stored ones
   BuildStats stats_;
   std::chrono::steady_clock::time_point start_, last_flush_;
   int last_flush_frame_ = 0;

@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include "core/nav/nav_reader.h"
+#include "core/util/error.h"
 
 namespace seamap {
 namespace fs = std::filesystem;
@@ -69,17 +70,21 @@ NavTable FolderWatchFeed::ReadCompleteLines() {
     out << text;
   }
   NavTable nav;
+  std::error_code ec;
   try {
     nav = ReadNavigation(copy.string(), options_);
+  } catch (const InputError& e) {
+    fs::remove(copy, ec);
+    // Errors name the watched file, not the private copy.
+    throw InputError(e.file() == copy.string() ? nav_path_ : e.file(), e.line(), e.field(), e.detail());
   } catch (...) {
-    std::error_code ec;
     fs::remove(copy, ec);
     throw;
   }
-  std::error_code ec;
   fs::remove(copy, ec);
   nav.source = nav_path_;
-  for (auto& r : nav.rejected) r.file = nav_path_;
+  for (auto& r : nav.rejected)
+    if (r.file == copy.string()) r.file = nav_path_;
   if (!options_.origin) options_.origin = nav.origin;  // later reads keep the first origin
   return nav;
 }
@@ -87,14 +92,29 @@ NavTable FolderWatchFeed::ReadCompleteLines() {
 void FolderWatchFeed::Poll() {
   std::error_code ec;
   const uintmax_t size = fs::exists(nav_path_, ec) ? fs::file_size(nav_path_, ec) : 0;
-  if (size != nav_size_ && size > 0) {
-    nav_size_ = size;
-    NavTable nav = ReadCompleteLines();
-    if (!nav.records.empty() || !nav.rejected.empty()) {
-      FrameList list = MatchFrames(nav, images_dir_, std::nullopt);
-      if (list.frames.size() > list_.frames.size() || list.rejected.size() > list_.rejected.size()) last_news_ = Clock::now();
-      list.rejected.insert(list.rejected.begin(), nav.rejected.begin(), nav.rejected.end());
-      list_ = std::move(list);
+  if (size == nav_size_ || size == 0) return;
+  nav_size_ = size;
+  NavTable nav;
+  try {
+    nav = ReadCompleteLines();
+  } catch (const InputError& e) {
+    // A header without records yet (or a file being rewritten) is not an error while watching.
+    if (e.detail().find("no navigation records") != std::string::npos) return;
+    throw;
+  }
+  FrameList list = MatchFrames(nav, images_dir_, std::nullopt);
+  list.rejected.insert(list.rejected.begin(), nav.rejected.begin(), nav.rejected.end());
+  // Hand out each rejection once and each frame once, whatever the new list's order.
+  for (const Rejection& r : list.rejected) {
+    if (reported_.insert(r.Message()).second) {
+      pending_rejections_.push_back(r);
+      last_news_ = Clock::now();
+    }
+  }
+  for (const FrameSpec& f : list.frames) {
+    if (known_.insert(f.image_path).second) {
+      pending_frames_.push_back(f);
+      last_news_ = Clock::now();
     }
   }
 }
@@ -102,28 +122,32 @@ void FolderWatchFeed::Poll() {
 std::optional<FeedItem> FolderWatchFeed::Next() {
   while (!stopped()) {
     Poll();
-    if (next_rejection_ < list_.rejected.size()) return FeedItem{std::nullopt, list_.rejected[next_rejection_++]};
-    if (next_frame_ < list_.frames.size()) {
-      const FrameSpec& f = list_.frames[next_frame_];
+    if (!pending_rejections_.empty()) {
+      Rejection r = pending_rejections_.front();
+      pending_rejections_.pop_front();
+      return FeedItem{std::nullopt, r};
+    }
+    if (!pending_frames_.empty()) {
+      FrameSpec f = pending_frames_.front();
       std::error_code ec;
       const bool exists = fs::is_regular_file(f.image_path, ec);
       const uintmax_t size = exists ? fs::file_size(f.image_path, ec) : 0;
       auto previous = sizes_.find(f.image_path);
       if (exists && size > 0 && previous != sizes_.end() && previous->second == size) {
         sizes_.erase(previous);
-        ++next_frame_;
-        waiting_for_ = -1;
+        pending_frames_.pop_front();
+        waiting_since_.reset();
         last_news_ = Clock::now();
+        f.index = next_index_++;  // the order frames are handed out, whatever the file's later order
         return FeedItem{f, std::nullopt};
       }
       sizes_[f.image_path] = size;  // handed out once it has stopped growing
-      if (waiting_for_ != static_cast<int>(next_frame_)) {
-        waiting_for_ = static_cast<int>(next_frame_);
-        waiting_since_ = Clock::now();
-      } else if (!exists && next_frame_ + 1 < list_.frames.size() &&
-                 Clock::now() - waiting_since_ > std::chrono::duration<double>(image_wait_s_)) {
-        ++next_frame_;
-        waiting_for_ = -1;
+      if (!waiting_since_) waiting_since_ = Clock::now();
+      if (!exists && pending_frames_.size() > 1 &&
+          Clock::now() - *waiting_since_ > std::chrono::duration<double>(image_wait_s_)) {
+        pending_frames_.pop_front();
+        waiting_since_.reset();
+        sizes_.erase(f.image_path);
         return FeedItem{std::nullopt, Rejection{f.image_path, f.nav_line, "image",
                                                 "photo did not appear within " + std::to_string(int(image_wait_s_)) +
                                                     " s while later photos did"}};

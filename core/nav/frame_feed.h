@@ -6,6 +6,8 @@
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <deque>
+#include <set>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -62,7 +64,8 @@ class RecordedFeed : public FrameFeed {
 
 // A folder being filled: the navigation file grows line by line and photos
 // appear in `images_dir`. A frame is handed out when its navigation line is
-// complete and its photo exists and has stopped growing. A photo still
+// complete and its photo exists and has stopped growing; each photo and each
+// rejected line once, in the order they first appear. A photo still
 // missing `image_wait_s` after later frames' photos appeared is rejected.
 // The feed ends after `idle_timeout_s` without anything new (0: never; Stop()).
 class FolderWatchFeed : public FrameFeed {
@@ -81,12 +84,15 @@ class FolderWatchFeed : public FrameFeed {
   NavReadOptions options_;
   double idle_timeout_s_, image_wait_s_;
   int poll_ms_;
-  FrameList list_;
-  size_t next_frame_ = 0, next_rejection_ = 0;
+  // What the navigation has named so far, each handed out once, in the order first seen.
+  std::set<std::string> known_, reported_;
+  std::deque<FrameSpec> pending_frames_;
+  std::deque<Rejection> pending_rejections_;
   std::map<std::string, uintmax_t> sizes_;  // photo sizes at the last poll
-  std::chrono::steady_clock::time_point last_news_, waiting_since_;
-  int waiting_for_ = -1;
+  std::chrono::steady_clock::time_point last_news_;
+  std::optional<std::chrono::steady_clock::time_point> waiting_since_;
   uintmax_t nav_size_ = 0;
+  int next_index_ = 0;
 };
 
 }  // namespace seamap

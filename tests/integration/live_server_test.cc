@@ -255,6 +255,30 @@ TEST(LiveServer, BadCommandLinesGetErrorsNamingTheParameter) {
   EXPECT_NE(out.find("--port"), std::string::npos) << out;
   EXPECT_EQ(Seamap("export " + (tmp / "none.mbtiles").string() + " " + (tmp / "f").string(), &out), 2);
   EXPECT_NE(out.find("none.mbtiles"), std::string::npos) << out;
+  // Exporting a map onto itself is refused, and the map survives.
+  const std::string map = (tmp / "same.mbtiles").string();
+  ASSERT_EQ(Seamap(survey.BuildArgs() + " --quiet --out " + map, &out), 0) << out;
+  EXPECT_EQ(Seamap("export " + map + " " + map + " --overwrite", &out), 2);
+  EXPECT_NE(out.find("is the map being exported"), std::string::npos) << out;
+  EXPECT_TRUE(fs::exists(map));
+  EXPECT_GT(MBTilesStore(map, MBTilesStore::Mode::kReadOnly).TileCount(), 0);
+}
+
+TEST(LiveServer, AppendingAMissionContinuesItsFramesAndTrack) {
+  const SimulatedSurvey& survey = SharedSurvey("append", "--frames 20");
+  TempDir tmp;
+  const std::string map = (tmp / "m.mbtiles").string();
+  std::string out;
+  ASSERT_EQ(Seamap(survey.BuildArgs() + " --quiet --out " + map, &out), 0) << out;
+  ASSERT_EQ(Seamap(survey.BuildArgs() + " --quiet --append --out " + map, &out), 0) << out;
+  MBTilesStore store(map, MBTilesStore::Mode::kReadOnly);
+  auto frames = store.Frames();
+  auto track = store.Track();
+  ASSERT_EQ(frames.size(), 40u);
+  ASSERT_EQ(track.size(), 40u);
+  EXPECT_EQ(frames.back().id, 39);
+  EXPECT_EQ(track.back().seq, 39);
+  EXPECT_EQ(frames[20].image, frames[0].image);  // the same photos, painted again
 }
 
 }  // namespace

@@ -358,7 +358,7 @@ TEST_F(HttpServerTest, MalformedOrOutOfRangeTilePathsAre400WithAJsonError) {
       {"/tiles/3/-1/2.png", "non-negative"}, {"/tiles/3/4/2", "{y}.{ext}"},
       {"/tiles/3/4.png", "tile path"},      {"/tiles/enhanced/3/4/5/6.png", "tile path"},
       {"/tiles/3/4/.png", "tile path"},     {"/tiles/99999999999/0/0.png", "tile path"},
-      {"/tiles/", "tile path"}};
+      {"/tiles/", "tile path"},             {"/tiles/3/4/2.png/", "tile path"}};
   for (const auto& [path, needle] : cases) ExpectError(Get(path), 400, needle, path);
 }
 
@@ -643,6 +643,9 @@ TEST_F(HttpServerTest, OneFrameById) {
   EXPECT_DOUBLE_EQ(f["lat"].get<double>(), 43.0001);
   ExpectError(Get("/api/frames/9"), 404, "9", "unknown frame");
   ExpectError(Get("/api/frames/x"), 400, "frame id", "text id");
+  // Ids past the int range do not wrap around onto frame 0 or 1.
+  ExpectError(Get("/api/frames/4294967296"), 404, "4294967296", "id 2^32");
+  ExpectError(Get("/api/frames/4294967297/image"), 404, "4294967297", "id 2^32 + 1");
 }
 
 TEST_F(HttpServerTest, FrameImagesAreTheOriginalBytesOrAJpegThumbnail) {

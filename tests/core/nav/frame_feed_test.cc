@@ -6,6 +6,7 @@
 #include <fstream>
 #include <thread>
 
+#include "core/util/error.h"
 #include "tests/testing/temp_dir.h"
 
 namespace seamap {
@@ -100,6 +101,42 @@ TEST(FolderWatchFeed, TakesFramesAsLinesAndPhotosAppearAndSkipsLostPhotos) {
   EXPECT_EQ(frames, (std::vector<std::string>{"f0.png", "f2.png", "f3.png"}));
   ASSERT_GE(rejected.size(), 1u);
   EXPECT_NE(rejected[0].find("image: photo did not appear"), std::string::npos) << rejected[0];
+}
+
+TEST(FolderWatchFeed, WaitsThroughAHeaderOnlyFileAndHandsEachPhotoOutOnce) {
+  TempDir dir;
+  const fs::path nav = dir / "nav.csv";
+  NavReadOptions options;
+  options.origin = LatLon{43.1, 131.9};
+  std::ofstream(nav) << "image,time_s,x_m,y_m,altitude_m\n";
+  std::ofstream(dir / "a.png") << "a";
+  std::ofstream(dir / "b.png") << "b";
+  FolderWatchFeed feed(nav.string(), dir.path().string(), options, /*idle_timeout_s=*/0.5, 10, /*poll_ms=*/20);
+  std::thread diver([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    std::ofstream(nav, std::ios::app) << "b.png,2.0,0,0,1.8\n" << std::flush;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    // A line with an earlier time arrives later: it is still handed out, once, after b.
+    std::ofstream(nav, std::ios::app) << "a.png,1.0,0,0,1.8\n" << std::flush;
+  });
+  std::vector<std::pair<std::string, int>> frames;
+  while (auto item = feed.Next())
+    if (item->frame) frames.push_back({item->frame->image, item->frame->index});
+  diver.join();
+  EXPECT_EQ(frames, (std::vector<std::pair<std::string, int>>{{"b.png", 0}, {"a.png", 1}}));
+}
+
+TEST(FolderWatchFeed, ErrorsNameTheWatchedFileNotItsCopy) {
+  TempDir dir;
+  const fs::path nav = dir / "nav.csv";
+  std::ofstream(nav) << "no,known,columns\n1,2,3\n";
+  FolderWatchFeed feed(nav.string(), dir.path().string(), NavReadOptions{}, 0.2, 10, 20);
+  try {
+    feed.Next();
+    FAIL() << "an unreadable navigation file was accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), nav.string());
+  }
 }
 
 }  // namespace

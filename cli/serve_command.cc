@@ -1,4 +1,5 @@
 // seamap serve: a built map (MBTiles or folder) over HTTP with the console.
+#include <chrono>
 #include <condition_variable>
 #include <cstdio>
 #include <filesystem>
@@ -95,6 +96,7 @@ int RunServe(int argc, char** argv, int first) {
   std::mutex mutex;
   std::condition_variable stopped;
   bool stop = false;
+  StopSignalsOnExit stop_signals{shutdown};  // the callback uses the three above
   shutdown.OnSignal([&] {
     std::lock_guard<std::mutex> lock(mutex);
     stop = true;
@@ -105,9 +107,37 @@ int RunServe(int argc, char** argv, int first) {
               path.c_str(), static_cast<size_t>(mission.progress().frames_done),
               static_cast<size_t>(mission.TrackSize()));
   std::fflush(stdout);
+  // A map another process is still building: follow it every two seconds
+  // (frames, track, state) and tell the browsers.
+  std::string state_seen = state != metadata.end() ? state->second : "";
   {
     std::unique_lock<std::mutex> lock(mutex);
-    stopped.wait(lock, [&] { return stop; });
+    while (!stopped.wait_for(lock, std::chrono::seconds(2), [&] { return stop; })) {
+      lock.unlock();
+      try {
+        auto now = tiles.Metadata("");
+        const std::string state_now = now.count("seamap_state") ? now["seamap_state"] : "";
+        if (state_now == "building" || state_seen == "building") {
+          const int track_before = mission.TrackSize();
+          mission.Load(records);
+          server::Progress p = mission.progress();
+          p.state = state_now == "building" ? "building" : state_now == "complete" ? "complete" : "stopped";
+          mission.SetProgress(p);
+          tiles.SetExternalWriter(state_now == "building");
+          for (const TrackPoint& t : mission.TrackFrom(track_before))
+            events.Publish("track", nlohmann::json{{"seq", t.seq}, {"lat", t.position.lat}, {"lon", t.position.lon},
+                                                   {"time_s", t.time_s ? nlohmann::json(*t.time_s) : nlohmann::json()}}
+                                        .dump());
+          auto status = mission.StatusJson();
+          if (!status["last_pose"].is_null()) events.Publish("pose", status["last_pose"].dump());
+          events.Publish("progress", status.dump());
+        }
+        state_seen = state_now;
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "warning: cannot follow %s: %s\n", path.c_str(), e.what());
+      }
+      lock.lock();
+    }
   }
   std::fprintf(stderr, "seamap serve: stopping\n");
   http.Stop();

@@ -93,15 +93,20 @@ std::optional<Tile> TileSource::Get(const std::string& layer, const TileId& id) 
   uint64_t generation = 0;
   if (auto hit = CacheLookup(key, &generation)) return hit;
   CheckLayer(layer);
-  Reader* reader = Checkout();
   std::optional<std::vector<uint8_t>> bytes;
-  try {
-    bytes = StoreFor(reader, layer)->GetTile(id);
-  } catch (...) {
+  if (folder_ && layer.empty()) {
+    // A folder store reads files without shared state: no need to queue for the one reader.
+    bytes = readers_.front()->main->GetTile(id);
+  } else {
+    Reader* reader = Checkout();
+    try {
+      bytes = StoreFor(reader, layer)->GetTile(id);
+    } catch (...) {
+      Return(reader);
+      throw;
+    }
     Return(reader);
-    throw;
   }
-  Return(reader);
   if (!bytes) return std::nullopt;
   Tile tile;
   auto text = std::make_shared<std::string>(bytes->begin(), bytes->end());

@@ -205,6 +205,35 @@ TEST(LiveServer, ServesAnExportedFolderTileForTileLikeTheMbtiles) {
   EXPECT_EQ(photo->body, std::string(std::istreambuf_iterator<char>(original), {}));
 }
 
+TEST(LiveServer, ServeFollowsAMissionAnotherProcessIsBuilding) {
+  const SimulatedSurvey& survey = SharedSurvey("follow", "--frames 30");
+  TempDir tmp;
+  const std::string mission = (tmp / "m.mbtiles").string();
+  ChildProcess replay({SeamapBinary(), "replay", survey.dir, "--out", mission, "--speed", "1.5", "--host", "127.0.0.1",
+                       "--port", "0", "--web", kWeb, "--quiet", "--exit-when-done"});
+  ASSERT_TRUE(replay.WaitForLine("serving http://", seconds(60))) << replay.output();
+  ChildProcess serve({SeamapBinary(), "serve", mission, "--host", "127.0.0.1", "--port", "0", "--web", kWeb});
+  auto line = serve.WaitForLine("serving http://", seconds(30));
+  ASSERT_TRUE(line) << serve.output();
+  httplib::Client api("127.0.0.1", PortFromServingLine(*line));
+  std::set<std::string> states;
+  nlohmann::json status;
+  for (int i = 0; i < 300; ++i) {
+    auto res = api.Get("/api/status");
+    ASSERT_TRUE(res);
+    status = nlohmann::json::parse(res->body);
+    states.insert(status["state"].get<std::string>());
+    if (status["state"] == "complete" && status["track_points"] == 30) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  EXPECT_TRUE(states.count("building")) << "never saw the mission being built";
+  EXPECT_EQ(status["state"], "complete");
+  EXPECT_EQ(status["track_points"], 30);
+  auto code = replay.Wait(seconds(60));
+  ASSERT_TRUE(code);
+  EXPECT_EQ(*code, 0);
+}
+
 TEST(LiveServer, WatchBuildsFramesAsTheyAppearInAFolder) {
   const SimulatedSurvey& survey = SharedSurvey("watch", "--frames 30");
   TempDir tmp;

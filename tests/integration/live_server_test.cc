@@ -77,12 +77,13 @@ TEST(LiveServer, ReplayStreamsEventsForTilesPosesTrackAndProgressAndKeepsMarks) 
   // Listen to the live events while the replay runs.
   std::map<std::string, int> counts;
   std::vector<SseEvent> tiles;
-  std::atomic<bool> done{false};
+  std::atomic<bool> done{false}, connected{false};
   std::thread listener([&] {
     httplib::Client events("127.0.0.1", port);
     events.set_read_timeout(60, 0);
     std::string buffer;
     events.Get("/api/events", [&](const char* data, size_t n) {
+      connected = true;
       buffer.append(data, n);
       for (auto& e : ParseEvents(&buffer)) {
         ++counts[e.type];
@@ -93,7 +94,10 @@ TEST(LiveServer, ReplayStreamsEventsForTilesPosesTrackAndProgressAndKeepsMarks) 
     });
   });
 
-  // An operator marks an object meanwhile: refused without the token, kept with it.
+  // An operator marks an object meanwhile (once the stream is open, so it hears
+  // of it): refused without the token, kept with it.
+  for (int i = 0; i < 600 && !connected; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  EXPECT_TRUE(connected) << "the event stream never opened";
   httplib::Client api("127.0.0.1", port);
   const std::string mark =
       R"({"type":"Feature","geometry":{"type":"Point","coordinates":[131.90001,43.10003]},"properties":{"class":"tyre","note":"half buried"}})";

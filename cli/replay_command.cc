@@ -46,6 +46,13 @@ const char* kHelp =
     "  --exit-when-done    stop serving when the replay ends (default: keep serving until Ctrl-C)\n"
     "  --quiet             no progress line\n";
 
+// Degrees with every digit that matters (std::to_string keeps six decimals: 5 cm).
+std::string Degrees(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.10f", v);
+  return buf;
+}
+
 // Survey folder defaults for the build options a survey folder answers.
 void SurveyDefaults(Args& args, const fs::path& dir) {
   std::error_code ec;
@@ -58,8 +65,7 @@ void SurveyDefaults(Args& args, const fs::path& dir) {
       std::ifstream in(survey);
       auto j = nlohmann::json::parse(in);
       if (j.contains("origin") && j["origin"].is_array() && j["origin"].size() == 2)
-        args.SetDefault("origin", std::to_string(j["origin"][0].get<double>()) + "," +
-                                      std::to_string(j["origin"][1].get<double>()));
+        args.SetDefault("origin", Degrees(j["origin"][0].get<double>()) + "," + Degrees(j["origin"][1].get<double>()));
     } catch (const nlohmann::json::exception& e) {
       throw InputError(survey.string(), 0, "origin", std::string("cannot read the survey description: ") + e.what());
     }
@@ -192,7 +198,7 @@ int RunReplay(int argc, char** argv, int first) {
   store->SetMetadata("minzoom", std::to_string(plan.min_zoom));
   store->SetMetadata("maxzoom", std::to_string(plan.base_zoom));
   store->SetMetadata("seamap_state", "building");
-  store->SetMetadata("seamap_origin", std::to_string(in.frame.origin().lat) + "," + std::to_string(in.frame.origin().lon));
+  store->SetMetadata("seamap_origin", Degrees(in.frame.origin().lat) + "," + Degrees(in.frame.origin().lon));
   store->Flush();
 
   std::unique_ptr<server::TileSource> tiles;

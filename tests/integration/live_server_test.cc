@@ -238,6 +238,22 @@ TEST(LiveServer, ServeFollowsAMissionAnotherProcessIsBuilding) {
   EXPECT_EQ(*code, 0);
 }
 
+TEST(LiveServer, ReplayTakesTheSurveysOriginWithEveryDigit) {
+  const SimulatedSurvey& survey = SharedSurvey("origin", "--frames 10 --origin 43.12345678,131.98765432");
+  TempDir tmp;
+  const std::string mission = (tmp / "m.mbtiles").string();
+  ChildProcess replay({SeamapBinary(), "replay", survey.dir, "--out", mission, "--speed", "max", "--host",
+                       "127.0.0.1", "--port", "0", "--web", kWeb, "--quiet", "--exit-when-done"});
+  auto code = replay.Wait(seconds(120));
+  ASSERT_TRUE(code);
+  ASSERT_EQ(*code, 0) << replay.output();
+  MBTilesStore store(mission, MBTilesStore::Mode::kReadOnly);
+  double lat = 0, lon = 0;
+  ASSERT_EQ(std::sscanf(store.Metadata()["seamap_origin"].c_str(), "%lf,%lf", &lat, &lon), 2);
+  EXPECT_NEAR(lat, 43.12345678, 1e-7);  // six decimals would be 2-3e-7 off (up to 5 cm)
+  EXPECT_NEAR(lon, 131.98765432, 1e-7);
+}
+
 TEST(LiveServer, WatchBuildsFramesAsTheyAppearInAFolder) {
   const SimulatedSurvey& survey = SharedSurvey("watch", "--frames 30");
   TempDir tmp;

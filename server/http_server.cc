@@ -115,6 +115,17 @@ httplib::Server::Handler Guard(F f) {
   };
 }
 
+// Does the request carry "Authorization: Bearer <token>"? (Always, without a token.)
+bool Authorized(const httplib::Request& req, const std::string& token) {
+  if (token.empty()) return true;
+  const std::string header = req.get_header_value("Authorization");
+  const std::string expected = "Bearer " + token;
+  if (header.size() != expected.size()) return false;
+  unsigned char diff = 0;  // constant time: do not leak the token through timing
+  for (size_t i = 0; i < header.size(); ++i) diff |= header[i] ^ expected[i];
+  return diff == 0;
+}
+
 }  // namespace
 
 TilePath ParseTilePath(const std::string& path) {
@@ -176,17 +187,6 @@ HttpServer::HttpServer(ServerOptions options, TileSource* tiles, MissionState* m
 }
 
 HttpServer::~HttpServer() { Stop(); }
-
-bool HttpServer::Authorized(const void* request) const {
-  if (options_.token.empty()) return true;
-  const auto& req = *static_cast<const httplib::Request*>(request);
-  const std::string header = req.get_header_value("Authorization");
-  const std::string expected = "Bearer " + options_.token;
-  if (header.size() != expected.size()) return false;
-  unsigned char diff = 0;  // constant time: do not leak the token through timing
-  for (size_t i = 0; i < header.size(); ++i) diff |= header[i] ^ expected[i];
-  return diff == 0;
-}
 
 void HttpServer::Routes() {
   httplib::Server& s = *http_;
@@ -329,7 +329,7 @@ void HttpServer::Routes() {
         }));
 
   auto require_token = [this](const httplib::Request& req, httplib::Response& res) {
-    if (Authorized(&req)) return true;
+    if (Authorized(req, options_.token)) return true;
     res.set_header("WWW-Authenticate", "Bearer realm=\"seamap\"");
     SendError(res, 401, "writing needs 'Authorization: Bearer TOKEN' (the server's --token)");
     return false;

@@ -45,7 +45,6 @@ class HttpServer {
 
  private:
   void Routes();
-  bool Authorized(const void* request) const;
 
   ServerOptions options_;
   TileSource* tiles_;

@@ -178,6 +178,7 @@ int RunReplay(int argc, char** argv, int first) {
 
   // A live map: publish tiles every few frames (a build batches 25 for speed).
   in.config.batch_frames = std::min(in.config.batch_frames, 5);
+  in.config.live_tiles = true;
   auto store = OpenOutput(out, in.config, append, overwrite);
   MosaicPlan plan = PlanMosaic(in.config, in.camera, in.frame, in.frames.frames, in.channels);
   for (const auto& w : in.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());

@@ -102,6 +102,7 @@ void ApplyBuildConfig(const json& s, const std::string& source, BuildConfig* c) 
       if (!v.is_number() || v.get<double>() < 0) throw InputError(source, 0, key, "expected a number >= 0, got " + v.dump());
       c->batch_seconds = v.get<double>();
     } else if (key == "threads") c->threads = GetInt(v, source, key, 0, 256);
+    else if (key == "live_tiles") c->live_tiles = Get<bool>(v, source, key);
     else if (key == "max_footprint_ratio") c->max_footprint_ratio = GetPositive(v, source, key);
     else if (key == "sixteen_bit_white") c->sixteen_bit_white = GetInt(v, source, key, 1, 65535);
     else if (key == "navigation") ApplyNav(v, source, &c->nav);

@@ -32,6 +32,9 @@ struct BuildConfig {
   int memory_cap_mb = 512;            // base buffer + overview cache
   int batch_frames = 25;              // overviews and a transaction are flushed this often,
   double batch_seconds = 1.0;         // but not more often than this (fast offline builds)
+  // Also write the tiles still being painted at every batch, so a live view
+  // shows the map right under the vehicle (replay turns this on).
+  bool live_tiles = false;
   int threads = 0;                    // 0: one per core
   double max_footprint_ratio = 25;    // reject frames whose footprint is this much larger than at nadir
   int sixteen_bit_white = 65535;      // 16-bit frames are scaled to 8 bit by 255/white

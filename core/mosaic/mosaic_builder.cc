@@ -339,6 +339,15 @@ void MosaicBuilder::FinishTile(const TileId& id) {
 }
 
 void MosaicBuilder::FlushBatch() {
+  if (config_.live_tiles) {
+    // The unfinished tiles as painted so far; their final version replaces
+    // them (and their overview quadrants) when they are finished.
+    for (const auto& [id, slot] : buffer_) {
+      cv::Mat tile = slot.accumulator->Finalize();
+      writer_->Submit(id, tile);
+      pyramid_->UpdateChild(id, tile);
+    }
+  }
   pyramid_->Flush();
   WriteMetadata(false);
   writer_->Flush();

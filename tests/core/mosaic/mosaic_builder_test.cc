@@ -93,6 +93,35 @@ TEST_F(MosaicBuilderTest, TileIsWrittenOnceTheFrameMovesOn) {
   EXPECT_EQ(builder.stats().readbacks, 0);
 }
 
+TEST_F(MosaicBuilderTest, LiveTilesAreWrittenEarlyButTheMapEndsTheSame) {
+  // A slow pass: tiles stay in the buffer for several frames.
+  std::vector<FrameSpec> frames;
+  for (int i = 0; i < 12; ++i) frames.push_back(Frame(i, 0.05 * i, 0, static_cast<uint8_t>(60 + 10 * i)));
+  auto build = [&](bool live, const std::string& name) {
+    BuildConfig config = config_;
+    config.live_tiles = live;
+    config.batch_frames = 1;
+    config.batch_seconds = 0;
+    auto store = OpenTileStore((dir_ / name).string(), "png", true);
+    MosaicPlan plan = PlanMosaic(config, camera_, frame_, frames, 1);
+    MosaicBuilder builder(config, camera_, frame_, plan, store.get());
+    for (const auto& f : frames) builder.Push(f);
+    builder.Finish();
+    return std::make_pair(std::move(store), builder.stats());
+  };
+  auto [plain, plain_stats] = build(false, "plain.mbtiles");
+  auto [live, live_stats] = build(true, "live.mbtiles");
+  EXPECT_GT(live_stats.tiles_written, plain_stats.tiles_written);  // unfinished tiles went out too
+  auto ids = plain->TileIds();
+  ASSERT_FALSE(ids.empty());
+  EXPECT_EQ(live->TileIds().size(), ids.size());
+  for (const TileId& id : ids) {
+    auto a = plain->GetTile(id), b = live->GetTile(id);
+    ASSERT_TRUE(a && b) << id.z << "/" << id.x << "/" << id.y;
+    EXPECT_TRUE(*a == *b) << "tile " << id.z << "/" << id.x << "/" << id.y << " differs";
+  }
+}
+
 TEST_F(MosaicBuilderTest, MissingImageIsRejectedAndRecorded) {
   auto store = OpenTileStore((dir_ / "m.mbtiles").string(), "png", true);
   FrameSpec missing = Frame(0, 0, 0, 10);

@@ -17,6 +17,7 @@
 #include "core/util/error.h"
 #include "server/api_error.h"
 #include "server/photo_preview.h"
+#include "server/tile_answer.h"
 
 namespace seamap::server {
 namespace {
@@ -76,29 +77,6 @@ nlohmann::json ParseBody(const httplib::Request& req) {
   } catch (const nlohmann::json::exception& e) {
     throw ApiError(400, std::string("body: expected JSON: ") + e.what());
   }
-}
-
-std::string MimeForExtension(const std::string& ext) {
-  if (ext == "png") return "image/png";
-  if (ext == "jpg" || ext == "jpeg") return "image/jpeg";
-  if (ext == "webp") return "image/webp";
-  return "application/octet-stream";
-}
-
-// Does an If-None-Match header list this ETag (or "*")?
-bool EtagMatches(const std::string& header, const std::string& etag) {
-  if (header == "*") return true;
-  std::stringstream in(header);
-  std::string part;
-  while (std::getline(in, part, ',')) {
-    size_t a = part.find_first_not_of(' ');
-    size_t b = part.find_last_not_of(' ');
-    if (a == std::string::npos) continue;
-    std::string t = part.substr(a, b - a + 1);
-    if (t.rfind("W/", 0) == 0) t = t.substr(2);  // weak comparison is fine for GET
-    if (t == etag) return true;
-  }
-  return false;
 }
 
 // Runs a handler, turning ApiError and other exceptions into JSON errors.
@@ -217,35 +195,18 @@ void HttpServer::Routes() {
   // Tiles are most of the traffic: answered before httplib's routing, which
   // would first look for a static file of that name and then try every route's regex.
   auto serve_tile = [this](const httplib::Request& req, httplib::Response& res) {
-    TilePath t = ParseTilePath(req.path.substr(7));  // after "/tiles/"
-    const std::string format = tiles_->Format();
-    const bool same = t.ext == format || (format == "jpg" && t.ext == "jpeg");
-    if (!same) throw ApiError(404, "this mission's tiles are ." + format + ", not ." + t.ext);
-    std::optional<Tile> tile;
-    try {
-      tile = tiles_->Get(t.layer, t.id);
-    } catch (const std::out_of_range&) {
-      throw ApiError(404, "no layer '" + t.layer + "'");
-    }
-    res.set_header("Access-Control-Allow-Origin", "*");
-    // A growing map: keep the tile, but ask (cheaply, 304) before reusing it.
-    res.set_header("Cache-Control", mission_->building() ? "no-cache" : "public, max-age=300");
-    if (!tile) {
-      res.status = 204;
-      return;
-    }
-    res.set_header("ETag", tile->etag);
-    if (req.has_header("If-None-Match") && EtagMatches(req.get_header_value("If-None-Match"), tile->etag)) {
-      res.status = 304;
-      return;
-    }
-    res.set_content(tile->bytes->data(), tile->bytes->size(), MimeForExtension(format).c_str());
+    std::optional<std::string> if_none_match;
+    if (req.has_header("If-None-Match")) if_none_match = req.get_header_value("If-None-Match");
+    TileAnswer a = AnswerTile(*tiles_, mission_->building(), req.path.substr(7), if_none_match);  // after "/tiles/"
+    res.status = a.status;
+    for (const auto& [name, value] : a.headers) res.set_header(name, value);
+    if (a.body) res.set_content(a.body->data(), a.body->size(), a.content_type.c_str());
   };
   s.set_pre_routing_handler([serve_tile](const httplib::Request& req, httplib::Response& res) {
     const bool is_tile = (req.method == "GET" || req.method == "HEAD") && req.path.rfind("/tiles/", 0) == 0 &&
                          !(req.path.size() > 5 && req.path.compare(req.path.size() - 5, 5, ".json") == 0);
     if (!is_tile) return httplib::Server::HandlerResponse::Unhandled;
-    Guard(serve_tile)(req, res);
+    serve_tile(req, res);
     return httplib::Server::HandlerResponse::Handled;
   });
 

@@ -7,7 +7,7 @@
 set -euo pipefail
 seamap="$1" mission="$2" survey="$3"
 out="$(mkdir -p "$4" && cd "$4" && pwd)"
-duration="${SEAMAP_BENCH_SERVE_SECONDS:-10}"
+duration="${SEAMAP_BENCH_SERVE_SECONDS:-8}"
 folder="$out/tiles"
 "$seamap" export "$mission" "$folder" --overwrite --quiet >/dev/null
 (cd "$folder" && find . -regextype posix-extended -regex '\./[0-9]+/[0-9]+/[0-9]+\.(png|jpg|webp)' | sed 's|^\.||') >"$out/tiles.txt"
@@ -69,7 +69,7 @@ report() {  # label, "rps p50 p99 errors"
 tiles=$(wc -l <"$out/tiles.txt")
 # Alternate the two servers for a few rounds and keep each one's median run:
 # a shared machine's noise then hits both alike.
-rounds="${SEAMAP_BENCH_SERVE_ROUNDS:-3}"
+rounds="${SEAMAP_BENCH_SERVE_ROUNDS:-5}"
 : >"$out/nginx.runs"; : >"$out/seamap.runs"
 for _ in $(seq "$rounds"); do
   load nginx 18181 "" >>"$out/nginx.runs"

@@ -5,7 +5,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake pkg-config git
-  libopencv-dev libeigen3-dev libcpp-httplib-dev nlohmann-json3-dev
+  libopencv-dev libeigen3-dev libcpp-httplib-dev libevent-dev nlohmann-json3-dev
   libpng-dev libsqlite3-dev sqlite3 libproj-dev proj-data libgtest-dev
   gdal-bin   # tests open our MBTiles with gdalinfo
 )

@@ -394,19 +394,15 @@ void HttpServer::Routes() {
 }
 
 void HttpServer::Bind() {
-  if (options_.port == 0) {
-    port_ = http_->bind_to_any_port(options_.host);
-    if (port_ <= 0) throw InputError("", 0, "--host", "cannot listen on " + options_.host);
-  } else {
-    if (options_.port < 0 || options_.port > 65535)
-      throw InputError("", 0, "--port", "expected a port number 0..65535, got " + std::to_string(options_.port));
-    if (!http_->bind_to_port(options_.host, options_.port))
-      throw InputError("", 0, "--port",
-                       "cannot listen on " + options_.host + ":" + std::to_string(options_.port) +
-                           " (in use, or not allowed); pick another with --port");
-    port_ = options_.port;
-  }
+  if (options_.port < 0 || options_.port > 65535)
+    throw InputError("", 0, "--port", "expected a port number 0..65535, got " + std::to_string(options_.port));
+  // httplib listens on loopback only; the front end owns the public port.
+  const int backend = http_->bind_to_any_port("127.0.0.1");
+  if (backend <= 0) throw InputError("", 0, "--port", "cannot open the server's loopback port");
   static_cast<BacklogServer*>(http_.get())->RaiseBacklog();
+  const int loops = static_cast<int>(std::max(1u, std::min(4u, std::thread::hardware_concurrency())));
+  front_ = std::make_unique<TileFrontEnd>(tiles_, mission_, backend, loops);
+  port_ = front_->Bind(options_.host, options_.port);
 }
 
 void HttpServer::Run() {
@@ -421,6 +417,7 @@ void HttpServer::Run() {
 void HttpServer::Start() {
   thread_ = std::thread([this] { Run(); });
   for (int i = 0; i < 2500 && !http_->is_running(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  if (front_) front_->Start();
 }
 
 void HttpServer::Stop() {
@@ -429,6 +426,10 @@ void HttpServer::Stop() {
   for (int i = 0; i < 100 && streams_ > 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
   if (http_) http_->stop();
   if (thread_.joinable()) thread_.join();
+  // Connections passed to httplib now see it close: let them deliver what it sent.
+  for (int i = 0; front_ && i < 100 && front_->proxied() > 0; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  if (front_) front_->Stop();
 }
 
 }  // namespace seamap::server

@@ -11,6 +11,7 @@
 #include "server/detection_registry.h"
 #include "server/event_hub.h"
 #include "server/mission_state.h"
+#include "server/tile_front_end.h"
 #include "server/tile_source.h"
 
 namespace httplib {
@@ -51,7 +52,8 @@ class HttpServer {
   MissionState* mission_;
   DetectionRegistry* detections_;
   EventHub* events_;
-  std::unique_ptr<httplib::Server> http_;
+  std::unique_ptr<httplib::Server> http_;     // the API, on a loopback port
+  std::unique_ptr<class TileFrontEnd> front_;  // the public port: tiles itself, the rest to http_
   std::thread thread_;
   std::atomic<int> streams_{0};
   int port_ = 0;

@@ -1,0 +1,53 @@
+#pragma once
+// The server's public socket. Tiles are most of the traffic, and cpp-httplib
+// spends a thread wake-up and several system calls on every request; this
+// front end (libevent: one event loop per core) answers plain tile GETs itself
+// and passes every other connection, byte for byte, to the httplib server on
+// a loopback port — the REST API, live events, the console and anything it
+// does not recognise (which httplib then answers or refuses).
+#include <atomic>
+#include <memory>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "server/tile_source.h"
+
+struct event_base;
+struct evconnlistener;
+
+namespace seamap::server {
+
+class MissionState;
+
+class TileFrontEnd {
+ public:
+  TileFrontEnd(TileSource* tiles, MissionState* mission, int backend_port, int loops);
+  ~TileFrontEnd();
+
+  // Listens on host:port (0: any free port); throws InputError naming
+  // --port/--host when it cannot. Returns the port.
+  int Bind(const std::string& host, int port);
+  void Start();
+  void Stop();
+  // Connections currently passed to the backend (for a graceful stop).
+  int proxied() const { return proxied_; }
+
+  struct Connection;  // one client connection, in tile or pass-through mode
+  struct Loop;
+
+ private:
+  TileSource* tiles_;
+  MissionState* mission_;
+  int backend_port_;
+  int listen_fd_ = -1;
+  std::vector<std::unique_ptr<Loop>> loops_;
+  std::vector<std::unique_ptr<std::pair<TileFrontEnd*, Loop*>>> contexts_;  // listener callback arguments
+  std::vector<std::thread> threads_;
+  std::atomic<int> proxied_{0};
+  bool started_ = false;
+
+  friend struct Connection;
+};
+
+}  // namespace seamap::server

@@ -76,20 +76,13 @@ std::unique_ptr<TileStore> OpenOutput(const std::string& path, const BuildConfig
                                       bool append, bool overwrite) {
   if (append && overwrite)
     throw InputError("", 0, "--append", "cannot be combined with --overwrite");
-  const bool mbtiles = path.size() > 8 && path.compare(path.size() - 8, 8, ".mbtiles") == 0;
   std::error_code ec;
-  const bool exists = mbtiles ? fs::exists(path, ec) : (fs::exists(path, ec) && !fs::is_empty(path, ec));
+  const bool exists = IsMBTilesPath(path) ? fs::exists(path, ec) : (fs::exists(path, ec) && !fs::is_empty(path, ec));
   if (exists && !append) {
     if (!overwrite)
       throw InputError(path, 0, "--out",
                        "already exists; use --append to continue painting it or --overwrite to replace it");
-    if (mbtiles) {
-      for (const char* suffix : {"", "-wal", "-shm"}) fs::remove(path + suffix, ec);
-    } else if (fs::exists(fs::path(path) / "metadata.json")) {
-      fs::remove_all(path, ec);
-    } else {
-      throw InputError(path, 0, "--out", "is a non-empty folder that is not a tile pyramid; refusing to delete it");
-    }
+    RemoveMap(path, "--out");
   }
   return OpenTileStore(path, TileExtension(config.encoding.format), /*create=*/true);
 }

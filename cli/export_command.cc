@@ -6,8 +6,7 @@
 
 #include "cli/args.h"
 #include "cli/commands.h"
-#include "core/tiles/folder_store.h"
-#include "core/tiles/mbtiles_store.h"
+#include "core/tiles/tile_store.h"
 #include "core/util/error.h"
 #include "core/util/progress.h"
 
@@ -20,8 +19,6 @@ const char* kHelp =
     "Copies a map: NAME.mbtiles to a {z}/{x}/{y} folder any static web server can\n"
     "serve, or a folder to MBTiles. Layers, metadata, frames, track and detections\n"
     "come along.\n";
-
-bool IsMbtiles(const std::string& p) { return p.size() > 8 && p.compare(p.size() - 8, 8, ".mbtiles") == 0; }
 
 int64_t CopyTiles(const TileStore& from, TileStore* to, ProgressBar* progress, int64_t* done) {
   int64_t n = 0;
@@ -47,33 +44,18 @@ int RunExport(int argc, char** argv, int first) {
   args.RejectUnknown();
   if (args.positionals().size() != 2) throw InputError("", 0, "FROM TO", "expected a source map and a destination");
   const std::string from_path = args.positionals()[0], to_path = args.positionals()[1];
-  std::unique_ptr<TileStore> from;
-  std::string ext = "png";
-  if (IsMbtiles(from_path)) {
-    from = std::make_unique<MBTilesStore>(from_path, MBTilesStore::Mode::kReadOnly);
-    auto m = from->Metadata();
-    if (m.count("format")) ext = m["format"];
-  } else {
-    from = OpenTileStore(from_path, "png", /*create=*/false);
-    auto m = from->Metadata();
-    if (m.count("format") && m["format"] != "png") from = OpenTileStore(from_path, ext = m["format"], false);
-  }
+  std::unique_ptr<TileStore> from = OpenExistingMap(from_path, /*writable=*/false);
+  const auto metadata = from->Metadata();
+  const std::string ext = metadata.count("format") ? metadata.at("format") : "png";
   std::error_code ec;
   if (std::filesystem::exists(to_path, ec) && std::filesystem::equivalent(from_path, to_path, ec))
     throw InputError(to_path, 0, "TO", "is the map being exported; choose another destination");
   if (std::filesystem::exists(to_path, ec) && !std::filesystem::is_empty(to_path, ec)) {
     if (!overwrite) throw InputError(to_path, 0, "TO", "already exists; use --overwrite to replace it");
-    if (IsMbtiles(to_path)) {
-      for (const char* suffix : {"", "-wal", "-shm"}) std::filesystem::remove(to_path + suffix, ec);
-    } else if (std::filesystem::exists(std::filesystem::path(to_path) / "metadata.json")) {
-      std::filesystem::remove_all(to_path, ec);
-    } else {
-      throw InputError(to_path, 0, "TO", "is a non-empty folder that is not a tile pyramid; refusing to delete it");
-    }
+    RemoveMap(to_path, "TO");
   }
   auto to = OpenTileStore(to_path, ext, /*create=*/true);
 
-  const auto metadata = from->Metadata();
   std::vector<std::string> layers;
   if (metadata.count("seamap_layers")) {
     std::stringstream in(metadata.at("seamap_layers"));

@@ -220,21 +220,11 @@ int RunReplay(int argc, char** argv, int first) {
   server::DetectionRegistry detections(&observed, &events);
   detections.Load(*store);
 
-  int track_seq = mission.TrackSize();
   BuildHooks hooks = both ? BuildHooks{} : enhance;
-  hooks.on_frame = [&](const FrameRecord& record) {
-    TrackPoint point;
-    point.seq = track_seq++;
-    point.time_s = record.time_s;
-    point.position = record.position;
-    point.altitude_m = record.altitude_m;
-    point.depth_m = record.depth_m;
-    point.heading_deg = record.heading_deg;
+  hooks.on_frame = [&](const FrameRecord& record, const TrackPoint& point) {
     mission.AddFrame(record, point);
     if (record.status == "used") events.Publish("pose", server::PoseJson(record).dump());
-    events.Publish("track", nlohmann::json{{"seq", point.seq}, {"lat", point.position.lat}, {"lon", point.position.lon},
-                                           {"time_s", point.time_s ? nlohmann::json(*point.time_s) : nlohmann::json()}}
-                                .dump());
+    events.Publish("track", server::TrackPointJson(point).dump());
   };
   if (both) in.config.memory_cap_mb = std::max(16, in.config.memory_cap_mb / 2);
   MosaicBuilder builder(in.config, in.camera, in.frame, plan, &observed, hooks);

@@ -10,8 +10,7 @@
 #include "cli/server_setup.h"
 #include "cli/shutdown_signal.h"
 #include "core/mosaic/build_config.h"
-#include "core/tiles/folder_store.h"
-#include "core/tiles/mbtiles_store.h"
+#include "core/tiles/tile_store.h"
 #include "core/util/error.h"
 #include "server/http_server.h"
 
@@ -30,10 +29,9 @@ const char* kHelp =
     "  --read-only         never write to the map (operator marks are refused)\n";
 
 // The map opened for writing operator marks; null when it cannot be.
-std::unique_ptr<TileStore> OpenForMarks(const std::string& path, bool mbtiles, const std::string& ext) {
+std::unique_ptr<TileStore> OpenForMarks(const std::string& path) {
   try {
-    if (mbtiles) return std::make_unique<MBTilesStore>(path, MBTilesStore::Mode::kCreate);
-    return std::make_unique<FolderStore>(path, ext, FolderStore::Mode::kCreate);
+    return OpenExistingMap(path, /*writable=*/true);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "warning: %s: cannot open for writing (%s); operator marks are refused\n", path.c_str(),
                  e.what());
@@ -60,7 +58,7 @@ int RunServe(int argc, char** argv, int first) {
   args.RejectUnknown();
 
   ShutdownSignal shutdown;  // before any thread starts
-  const bool mbtiles = path.size() > 8 && path.compare(path.size() - 8, 8, ".mbtiles") == 0;
+  const bool mbtiles = IsMBTilesPath(path);
   std::error_code ec;
   if (mbtiles ? !fs::is_regular_file(path, ec) : !fs::is_regular_file(fs::path(path) / "metadata.json", ec))
     throw InputError(path, 0, "MAP",
@@ -69,12 +67,8 @@ int RunServe(int argc, char** argv, int first) {
   server::EventHub events;
   server::TileSource tiles(path, 8);
   const std::map<std::string, std::string> metadata = tiles.Metadata("");
-  std::unique_ptr<TileStore> writer = read_only ? nullptr : OpenForMarks(path, mbtiles, tiles.Format());
-  std::unique_ptr<TileStore> reader;
-  if (!writer) {
-    reader = mbtiles ? std::unique_ptr<TileStore>(std::make_unique<MBTilesStore>(path, MBTilesStore::Mode::kReadOnly))
-                     : std::make_unique<FolderStore>(path, tiles.Format(), FolderStore::Mode::kReadOnly);
-  }
+  std::unique_ptr<TileStore> writer = read_only ? nullptr : OpenForMarks(path);
+  std::unique_ptr<TileStore> reader = writer ? nullptr : OpenExistingMap(path, /*writable=*/false);
   const TileStore& records = writer ? *writer : *reader;
 
   server::MissionState mission;
@@ -125,9 +119,7 @@ int RunServe(int argc, char** argv, int first) {
           mission.SetProgress(p);
           tiles.SetExternalWriter(state_now == "building");
           for (const TrackPoint& t : mission.TrackFrom(track_before))
-            events.Publish("track", nlohmann::json{{"seq", t.seq}, {"lat", t.position.lat}, {"lon", t.position.lon},
-                                                   {"time_s", t.time_s ? nlohmann::json(*t.time_s) : nlohmann::json()}}
-                                        .dump());
+            events.Publish("track", server::TrackPointJson(t).dump());
           auto status = mission.StatusJson();
           if (!status["last_pose"].is_null()) events.Publish("pose", status["last_pose"].dump());
           events.Publish("progress", status.dump());

@@ -187,14 +187,19 @@ nlohmann::json DetectionRegistry::Create(const nlohmann::json& feature) {
   return DetectionFeature(d);
 }
 
-nlohmann::json DetectionRegistry::Update(int64_t id, const nlohmann::json& patch) {
-  CheckWritable();
-  std::lock_guard<std::mutex> lock(mutex_);
+std::map<int64_t, Detection>::iterator DetectionRegistry::OperatorMark(int64_t id, const char* verb) {
   auto it = detections_.find(id);
   if (it == detections_.end()) throw ApiError(404, "no detection " + std::to_string(id));
   if (it->second.source != "operator")
     throw ApiError(403, "detection " + std::to_string(id) + " comes from '" + it->second.source +
-                            "'; only operator marks can be changed");
+                            "'; only operator marks can be " + verb);
+  return it;
+}
+
+nlohmann::json DetectionRegistry::Update(int64_t id, const nlohmann::json& patch) {
+  CheckWritable();
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto it = OperatorMark(id, "changed");
   if (!patch.is_object()) throw ApiError(400, "body: expected a GeoJSON Feature or a properties object");
   Detection d = it->second;
   if (TypeOf(patch) == "Feature") {
@@ -215,11 +220,7 @@ nlohmann::json DetectionRegistry::Update(int64_t id, const nlohmann::json& patch
 void DetectionRegistry::Delete(int64_t id) {
   CheckWritable();
   std::lock_guard<std::mutex> lock(mutex_);
-  auto it = detections_.find(id);
-  if (it == detections_.end()) throw ApiError(404, "no detection " + std::to_string(id));
-  if (it->second.source != "operator")
-    throw ApiError(403, "detection " + std::to_string(id) + " comes from '" + it->second.source +
-                            "'; only operator marks can be deleted");
+  auto it = OperatorMark(id, "deleted");
   const Detection d = it->second;
   store_->DeleteDetection(id);
   store_->Flush();

@@ -51,6 +51,8 @@ class DetectionRegistry {
 
  private:
   void CheckWritable() const;
+  // The operator mark with this id (404 unknown, 403 a recogniser's); call with mutex_ held.
+  std::map<int64_t, Detection>::iterator OperatorMark(int64_t id, const char* verb);
   void Announce(const char* action, const Detection& d);
 
   TileStore* store_;

@@ -33,6 +33,10 @@ nlohmann::json PoseJson(const FrameRecord& f) {
           {"time_s", OptionalNumber(f.time_s)}};
 }
 
+nlohmann::json TrackPointJson(const TrackPoint& p) {
+  return {{"seq", p.seq}, {"lat", p.position.lat}, {"lon", p.position.lon}, {"time_s", OptionalNumber(p.time_s)}};
+}
+
 nlohmann::json FrameJson(const FrameRecord& f) {
   const std::string base = "/api/frames/" + std::to_string(f.id);
   return {{"id", f.id},

@@ -73,5 +73,7 @@ bool FootprintContains(const std::array<LatLon, 4>& footprint, const LatLon& poi
 // JSON a client gets for a frame: pose, footprint as [[lon,lat]...], image URLs.
 nlohmann::json FrameJson(const FrameRecord& frame);
 nlohmann::json PoseJson(const FrameRecord& frame);
+// {seq, lat, lon, time_s}: a `track` event.
+nlohmann::json TrackPointJson(const TrackPoint& point);
 
 }  // namespace seamap::server

@@ -1,19 +1,12 @@
 #include "server/tile_source.h"
 
-#include <fstream>
 #include <sstream>
 #include <stdexcept>
 
-#include "core/tiles/folder_store.h"
-#include "core/tiles/mbtiles_store.h"
 #include "core/tiles/tile_version.h"
 
 namespace seamap::server {
 namespace {
-
-bool EndsWith(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
 
 std::vector<std::string> SplitLayers(const std::map<std::string, std::string>& metadata) {
   std::vector<std::string> out;
@@ -32,25 +25,13 @@ std::vector<std::string> SplitLayers(const std::map<std::string, std::string>& m
 
 TileSource::TileSource(const std::string& path, int readers, size_t cache_bytes, const TileStore* live_metadata)
     : path_(path),
-      folder_(!EndsWith(path, ".mbtiles")),
+      folder_(!IsMBTilesPath(path)),
       live_metadata_(live_metadata),
       shard_cap_(std::max<size_t>(1, cache_bytes / kShards)) {
   const int n = folder_ ? 1 : std::max(1, readers);  // folder reads need no connection
   for (int i = 0; i < n; ++i) {
     auto reader = std::make_unique<Reader>();
-    if (folder_) {
-      std::string ext = "png";
-      std::ifstream probe(path + "/metadata.json");
-      if (probe) {
-        try {
-          ext = nlohmann::json::parse(probe).value("format", "png");
-        } catch (const nlohmann::json::exception&) {
-        }
-      }
-      reader->main = std::make_unique<FolderStore>(path, ext, FolderStore::Mode::kReadOnly);
-    } else {
-      reader->main = std::make_unique<MBTilesStore>(path, MBTilesStore::Mode::kReadOnly);
-    }
+    reader->main = OpenExistingMap(path, /*writable=*/false);
     free_.push_back(reader.get());
     readers_.push_back(std::move(reader));
   }

@@ -237,7 +237,7 @@ void MosaicBuilder::Consume(Prepared p) {
   point.depth_m = record.depth_m;
   point.heading_deg = record.heading_deg;
   store_->PutTrackPoint(point);
-  if (hooks_.on_frame) hooks_.on_frame(record);
+  if (hooks_.on_frame) hooks_.on_frame(record, point);
 
   FinishTiles(false);
   const auto now = std::chrono::steady_clock::now();

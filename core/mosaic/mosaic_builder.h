@@ -58,7 +58,8 @@ struct BuildStats {
 
 struct BuildHooks {
   std::function<void(const TileId&, uint64_t version)> on_tile_written;  // worker thread
-  std::function<void(const FrameRecord&)> on_frame;                        // builder's thread
+  // A frame went through (used or rejected) with the track point stored for it; builder's thread.
+  std::function<void(const FrameRecord&, const TrackPoint&)> on_frame;
   // Applied to every 8-bit frame before warping (the enhancement chain); thread-safe.
   std::function<cv::Mat(const cv::Mat&)> preprocess;
 };

@@ -53,6 +53,19 @@ class TileStore {
 // Throws InputError(name, 0, "layer", ...) unless name matches [a-z0-9_]{1,32}.
 void CheckLayerName(const std::string& name);
 
+// A path ending in ".mbtiles" names an MBTiles file; anything else a folder pyramid.
+bool IsMBTilesPath(const std::string& path);
+
+// Opens a map that exists, read-only or to write (operator marks, more tiles):
+// an MBTiles file, or a folder pyramid whose tile extension comes from its
+// metadata.json. Throws InputError naming the path when it is not a map.
+std::unique_ptr<TileStore> OpenExistingMap(const std::string& path, bool writable);
+
+// Deletes a map so it can be replaced: an MBTiles file with its -wal/-shm
+// files, or a folder pyramid (one with metadata.json). A non-empty folder that
+// is not a pyramid is refused: InputError(path, 0, param, ...).
+void RemoveMap(const std::string& path, const std::string& param);
+
 // Opens or creates a store: a path ending in ".mbtiles" is an MBTiles file,
 // anything else a folder pyramid {z}/{x}/{y}.{ext} with metadata.json.
 // `extension` is the tile file extension used by folder stores ("png"...).

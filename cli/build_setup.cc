@@ -5,7 +5,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "core/enhance/enhance_chain.h"
-#include "core/mosaic/frame_warper.h"
+#include "core/mosaic/frame_image.h"
 #include "core/nav/nav_reader.h"
 #include "core/util/error.h"
 

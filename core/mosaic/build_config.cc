@@ -95,6 +95,11 @@ void ApplyBuildConfig(const json& s, const std::string& source, BuildConfig* c) 
     else if (key == "webp_quality") c->encoding.webp_quality = GetInt(v, source, key, 1, 101);
     else if (key == "background") c->encoding.background = ParseColor(v, source, key);
     else if (key == "feather_power") c->feather_power = GetPositive(v, source, key);
+    else if (key == "seam_band") {
+      if (!v.is_number() || !(v.get<double>() > 0 && v.get<double>() <= 1))
+        throw InputError(source, 0, key, "expected a number in (0, 1], got " + v.dump());
+      c->seam_band = v.get<double>();
+    } else if (key == "blend_all_overlaps") c->blend_all_overlaps = Get<bool>(v, source, key);
     else if (key == "linger_frames") c->linger_frames = GetInt(v, source, key, 1, 100000);
     else if (key == "memory_cap_mb") c->memory_cap_mb = GetInt(v, source, key, 16, 1 << 20);
     else if (key == "batch_frames") c->batch_frames = GetInt(v, source, key, 1, 100000);

@@ -28,6 +28,11 @@ struct BuildConfig {
   std::optional<int> min_zoom;        // default: where the survey fits one tile
   TileEncoding encoding;
   double feather_power = 1.0;         // weight = (edge tent)^power; higher favours frame centres
+  // Consecutive frames hand each map pixel over to the one that sees it most
+  // centrally, feathered across a seam spanning this share (0..1] of the way
+  // from their midpoint to the neighbour's centre (see FrameWarper).
+  double seam_band = 0.5;
+  bool blend_all_overlaps = false;    // no handover: every overlapping frame blends everywhere (slower)
   int linger_frames = 1;              // a tile is finished when this many frames in a row miss it
   int memory_cap_mb = 512;            // base buffer + overview cache
   int batch_frames = 25;              // overviews and a transaction are flushed this often,

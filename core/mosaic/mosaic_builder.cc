@@ -23,28 +23,6 @@ double Median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
-// A JPEG that stops before its end-of-image marker decodes with grey garbage
-// at the bottom (libjpeg only warns), so check the marker ourselves.
-bool JpegLooksTruncated(const std::string& path) {
-  std::ifstream in(path, std::ios::binary | std::ios::ate);
-  if (!in) return false;
-  const auto size = static_cast<std::streamoff>(in.tellg());
-  if (size < 4) return true;
-  const std::streamoff tail = std::min<std::streamoff>(size, 64);
-  std::string buf(static_cast<size_t>(tail), '\0');
-  in.seekg(size - tail);
-  in.read(buf.data(), tail);
-  // The marker may be followed by padding bytes.
-  return buf.rfind("\xFF\xD9") == std::string::npos;
-}
-
-bool IsJpegPath(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
-  return ext == ".jpg" || ext == ".jpeg";
-}
-
-
 }  // namespace
 
 int64_t PeakRssBytes() {
@@ -100,7 +78,8 @@ MosaicBuilder::MosaicBuilder(const BuildConfig& config, const CameraModel& camer
       plan_(plan),
       store_(store),
       hooks_(std::move(hooks)),
-      warper_(camera, frame, plan.base_zoom, config.tile_size, plan.channels, config.feather_power),
+      warper_(camera, frame, plan.base_zoom, config.tile_size, plan.channels, config.feather_power,
+              config.blend_all_overlaps ? 0.0 : config.seam_band),
       pool_(std::make_unique<ThreadPool>(config.threads)),
       start_(std::chrono::steady_clock::now()),
       last_flush_(start_) {
@@ -122,17 +101,87 @@ MosaicBuilder::MosaicBuilder(const BuildConfig& config, const CameraModel& camer
 MosaicBuilder::~MosaicBuilder() {
   // Let queued work drain before members go away (errors were already
   // reported), and stop the pool while the writer its jobs use still exists.
-  for (auto& f : in_flight_)
+  for (auto& f : loading_)
     if (f.valid()) f.wait();
+  for (auto& q : queued_)
+    if (q->warp.valid()) q->warp.wait();
   pool_.reset();
 }
 
+namespace {
+template <typename T>
+bool IsReady(const std::future<T>& f) {
+  return f.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
+}
+}  // namespace
+
 void MosaicBuilder::Push(const FrameSpec& spec) {
-  in_flight_.push_back(pool_->Submit([this, spec] { return Prepare(spec); }));
-  const size_t depth = static_cast<size_t>(2 * pool_->size() + 2);
-  while (in_flight_.size() > depth) {
-    Prepared p = in_flight_.front().get();
-    in_flight_.pop_front();
+  loading_.push_back(pool_->Submit([this, spec] { return Load(spec); }));
+  // Keep the pool busy: take finished loads (starting their neighbours'
+  // warps) and blend finished warps as they come; block only when the
+  // pipeline is full, on its oldest frame.
+  const size_t depth = static_cast<size_t>(2 * pool_->size() + 4);
+  while (true) {
+    while (!loading_.empty() && IsReady(loading_.front())) TakeLoaded();
+    ConsumeReady(false);
+    if (loading_.size() + queued_.size() <= depth) return;
+    if (!queued_.empty() && queued_.front()->warp.valid()) ConsumeReady(true);
+    else if (!loading_.empty()) TakeLoaded();
+    else return;  // only the last usable frame waits, for its next neighbour
+  }
+}
+
+void MosaicBuilder::TakeLoaded() {
+  auto q = std::make_shared<Queued>();
+  q->prepared = loading_.front().get();
+  loading_.pop_front();
+  if (!q->prepared.image.empty()) {
+    if (awaiting_next_) {
+      awaiting_next_->neighbours.push_back(q->prepared.spec.pose);
+      q->neighbours.push_back(awaiting_next_->prepared.spec.pose);
+      StartWarp(awaiting_next_);
+    }
+    awaiting_next_ = q;
+  }
+  queued_.push_back(std::move(q));
+}
+
+void MosaicBuilder::StartWarp(const std::shared_ptr<Queued>& q) {
+  // The job owns q until it is done; nothing else touches q's frame meanwhile.
+  q->warp = pool_->Submit([this, q]() -> std::optional<WarpedFrame> {
+    FrameImage& image = q->prepared.image;
+    try {
+      return warper_.Warp([&image](int first, int last) -> const cv::Mat& { return image.Rows(first, last); },
+                          q->prepared.spec.pose, q->neighbours);
+    } catch (const InputError& e) {  // JPEG data broken past its header: this frame is rejected
+      q->problem = e.detail();
+      return std::nullopt;
+    }
+  });
+}
+
+void MosaicBuilder::ConsumeReady(bool wait_for_one) {
+  while (!queued_.empty()) {
+    Queued& q = *queued_.front();
+    const bool usable = !q.prepared.image.empty();
+    if (usable && !q.warp.valid()) return;  // waits for its next neighbour
+    if (usable && !wait_for_one && !IsReady(q.warp)) return;
+    wait_for_one = false;
+    std::optional<WarpedFrame> warped;
+    if (usable) warped = q.warp.get();  // before touching the frame the job reads
+    Prepared p = std::move(q.prepared);
+    if (usable) {
+      p.warped = std::move(warped);
+      p.image.Release();
+      if (!p.warped && !q.problem.empty()) {
+        p.reject_field = "image";
+        p.reject_reason = q.problem;
+      } else if (!p.warped) {
+        p.reject_field = "pitch_deg/roll_deg";
+        p.reject_reason = "the camera does not see the seabed in this attitude";
+      }
+    }
+    queued_.pop_front();
     Consume(std::move(p));
   }
 }
@@ -142,7 +191,7 @@ void MosaicBuilder::Reject(const Rejection& rejection) {
   stats_.rejections.push_back(rejection);
 }
 
-MosaicBuilder::Prepared MosaicBuilder::Prepare(const FrameSpec& spec) const {
+MosaicBuilder::Prepared MosaicBuilder::Load(const FrameSpec& spec) const {
   Prepared p;
   p.spec = spec;
   const auto corners = warper_.GroundCorners(spec.pose);
@@ -156,15 +205,13 @@ MosaicBuilder::Prepared MosaicBuilder::Prepare(const FrameSpec& spec) const {
     return p;
   };
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(spec.image_path, ec))
-    return reject("image", "missing image");
-  if (IsJpegPath(spec.image_path) && JpegLooksTruncated(spec.image_path))
-    return reject("image", "truncated JPEG (no end-of-image marker)");
-  cv::Mat raw = cv::imread(spec.image_path, cv::IMREAD_UNCHANGED);
-  if (raw.empty()) return reject("image", "unreadable image");
-  if (raw.cols != camera_.width || raw.rows != camera_.height) {
+  if (!std::filesystem::is_regular_file(spec.image_path, ec)) return reject("image", "missing image");
+  std::string problem;
+  auto image = FrameImage::Read(spec.image_path, plan_.channels, config_.sixteen_bit_white, &problem);
+  if (!image) return reject("image", problem);
+  if (image->width() != camera_.width || image->height() != camera_.height) {
     std::ostringstream s;
-    s << "image is " << raw.cols << "x" << raw.rows << ", the camera model expects "
+    s << "image is " << image->width() << "x" << image->height() << ", the camera model expects "
       << camera_.width << "x" << camera_.height;
     return reject("image", s.str());
   }
@@ -185,10 +232,11 @@ MosaicBuilder::Prepared MosaicBuilder::Prepare(const FrameSpec& spec) const {
       << config_.max_footprint_ratio << "): attitude too steep";
     return reject("pitch_deg/roll_deg", s.str());
   }
-  cv::Mat eight = ToEightBit(raw, plan_.channels, config_.sixteen_bit_white);
-  if (hooks_.preprocess) eight = hooks_.preprocess(eight);
-  p.warped = warper_.Warp(eight, spec.pose);
-  if (!p.warped) return reject("pitch_deg/roll_deg", "the camera does not see the seabed in this attitude");
+  if (!warper_.SeesSeabed(spec.pose))
+    return reject("pitch_deg/roll_deg", "the camera does not see the seabed in this attitude");
+  p.image = std::move(*image);
+  if (hooks_.preprocess)  // the enhancement chain works on whole frames
+    p.image = FrameImage::FromMat(hooks_.preprocess(p.image.Full()), plan_.channels, config_.sixteen_bit_white);
   return p;
 }
 
@@ -255,13 +303,24 @@ void MosaicBuilder::Paint(const WarpedFrame& warped) {
   // the Mercator limits; those parts are not mapped).
   const int64_t last = (int64_t{1} << plan_.base_zoom) - 1;
   auto floor_div = [ts](int64_t v) { return v >= 0 ? v / ts : -((-v + ts - 1) / ts); };
-  const int64_t tx0 = std::max<int64_t>(0, floor_div(warped.x0));
-  const int64_t ty0 = std::max<int64_t>(0, floor_div(warped.y0));
-  const int64_t tx1 = std::min(last, floor_div(warped.x0 + warped.pixels.cols - 1));
-  const int64_t ty1 = std::min(last, floor_div(warped.y0 + warped.pixels.rows - 1));
-  for (int64_t ty = ty0; ty <= ty1; ++ty) {
-    for (int64_t tx = tx0; tx <= tx1; ++tx) {
-      // Skip tiles inside the bounding box that the (rotated) frame misses.
+  auto tile_range = [&](int64_t x0, int64_t y0, int64_t w, int64_t h) {
+    return std::array<int64_t, 4>{std::max<int64_t>(0, floor_div(x0)), std::max<int64_t>(0, floor_div(y0)),
+                                  std::min(last, floor_div(x0 + w - 1)), std::min(last, floor_div(y0 + h - 1))};
+  };
+  // Tiles the frame is over but leaves to its neighbours are still being
+  // painted: keep them (finishing them now would only read them back a
+  // frame later).
+  const auto over = tile_range(warped.box_x0, warped.box_y0, warped.box_width, warped.box_height);
+  for (int64_t ty = over[1]; ty <= over[3]; ++ty)
+    for (int64_t tx = over[0]; tx <= over[2]; ++tx) {
+      auto it = buffer_.find(TileId{plan_.base_zoom, static_cast<int>(tx), static_cast<int>(ty)});
+      if (it != buffer_.end()) it->second.last_frame = consumed_;
+    }
+  const auto painted = tile_range(warped.x0, warped.y0, warped.pixels.cols, warped.pixels.rows);
+  for (int64_t ty = painted[1]; ty <= painted[3]; ++ty) {
+    for (int64_t tx = painted[0]; tx <= painted[2]; ++tx) {
+      // Tiles inside the painted box that the frame leaves empty (it is
+      // rotated, or hands them to a neighbour) are not started.
       const int64_t x_begin = std::max(tx * ts, warped.x0), y_begin = std::max(ty * ts, warped.y0);
       const int64_t x_end = std::min((tx + 1) * ts, warped.x0 + warped.pixels.cols);
       const int64_t y_end = std::min((ty + 1) * ts, warped.y0 + warped.pixels.rows);
@@ -275,8 +334,13 @@ void MosaicBuilder::Paint(const WarpedFrame& warped) {
         slot.accumulator = std::make_unique<TileAccumulator>(ts, plan_.channels, tx * ts, ty * ts);
         cv::Mat previous = ReadBack(id);
         if (!previous.empty()) {
-          slot.accumulator->Seed(previous);
+          auto kept = finished_weights_.find(id);
+          slot.accumulator->Seed(previous, kept != finished_weights_.end() ? kept->second.weights : cv::Mat());
           ++stats_.readbacks;
+        }
+        if (auto kept = finished_weights_.find(id); kept != finished_weights_.end()) {
+          finished_weights_bytes_ -= kept->second.weights.total() * kept->second.weights.elemSize();
+          finished_weights_.erase(kept);  // the accumulator has them now
         }
         buffer_bytes_ += slot.accumulator->Bytes();
         it = buffer_.emplace(id, std::move(slot)).first;
@@ -332,7 +396,22 @@ void MosaicBuilder::FinishTiles(bool all) {
 void MosaicBuilder::FinishTile(const TileId& id) {
   auto it = buffer_.find(id);
   cv::Mat tile = it->second.accumulator->Finalize();
+  cv::Mat weights = it->second.accumulator->Weights();
   buffer_bytes_ -= it->second.accumulator->Bytes();
+  const size_t weights_cap = (static_cast<size_t>(config_.memory_cap_mb) << 20) / 8;
+  if (auto old = finished_weights_.find(id); old != finished_weights_.end())
+    finished_weights_bytes_ -= old->second.weights.total() * old->second.weights.elemSize();
+  finished_weights_bytes_ += weights.total() * weights.elemSize();
+  finished_weights_[id] = {std::move(weights), ++finished_stamp_};
+  finished_order_.push_back({id, finished_stamp_});
+  while (finished_weights_bytes_ > weights_cap && !finished_order_.empty()) {
+    const auto [oldest_id, stamp] = finished_order_.front();
+    finished_order_.pop_front();
+    auto oldest = finished_weights_.find(oldest_id);
+    if (oldest == finished_weights_.end() || oldest->second.stamp != stamp) continue;  // superseded
+    finished_weights_bytes_ -= oldest->second.weights.total() * oldest->second.weights.elemSize();
+    finished_weights_.erase(oldest);
+  }
   buffer_.erase(it);
   writer_->Submit(id, tile);
   pyramid_->UpdateChild(id, tile);
@@ -357,11 +436,12 @@ void MosaicBuilder::FlushBatch() {
 
 void MosaicBuilder::Finish() {
   if (finished_) return;
-  while (!in_flight_.empty()) {
-    Prepared p = in_flight_.front().get();
-    in_flight_.pop_front();
-    Consume(std::move(p));
+  while (!loading_.empty()) TakeLoaded();
+  if (awaiting_next_) {
+    StartWarp(awaiting_next_);  // the last usable frame has no next neighbour
+    awaiting_next_.reset();
   }
+  while (!queued_.empty()) ConsumeReady(true);
   FinishTiles(true);
   pyramid_->Flush();
   writer_->Flush();

@@ -1,6 +1,8 @@
 #pragma once
 // The frame pipeline: frames are loaded, checked and warped in parallel on a
-// thread pool, then blended in acquisition order into base-zoom tiles kept in
+// thread pool (a frame's warp waits until the next usable frame is loaded: the
+// two hand over to each other at a feathered seam, see FrameWarper), then
+// blended in acquisition order into base-zoom tiles kept in
 // a RAM buffer. A tile is finished when `linger_frames` frames in a row have
 // missed it (the seed paper's rule for linger 1) or when the buffer reaches
 // its memory cap; finished tiles are encoded and written in the background and
@@ -22,6 +24,7 @@
 #include "core/geo/local_frame.h"
 #include "core/geo/web_mercator.h"
 #include "core/mosaic/build_config.h"
+#include "core/mosaic/frame_image.h"
 #include "core/mosaic/frame_warper.h"
 #include "core/mosaic/overview_pyramid.h"
 #include "core/mosaic/tile_accumulator.h"
@@ -83,16 +86,30 @@ class MosaicBuilder {
  private:
   struct Prepared {
     FrameSpec spec;
+    FrameImage image;  // the frame, until it is warped; empty when rejected
     std::optional<WarpedFrame> warped;
     std::optional<std::array<LatLon, 4>> footprint;
     std::string reject_field, reject_reason;
+  };
+  // A loaded frame waiting for its turn to be blended. A usable frame's warp
+  // starts once the next usable frame is known (its neighbour for seams).
+  struct Queued {
+    Prepared prepared;
+    std::vector<VehiclePose> neighbours;
+    std::string problem;  // set by the warp job when the image cannot be decoded
+    std::future<std::optional<WarpedFrame>> warp;
   };
   struct Slot {
     std::unique_ptr<TileAccumulator> accumulator;
     int last_frame = 0;
   };
 
-  Prepared Prepare(const FrameSpec& spec) const;
+  Prepared Load(const FrameSpec& spec) const;
+  void TakeLoaded();  // oldest load -> queued_ (waits for it); starts the previous usable frame's warp
+  void StartWarp(const std::shared_ptr<Queued>& q);
+  // Blends queued frames, oldest first, while their warps are done; with
+  // wait_for_one it first waits for the oldest.
+  void ConsumeReady(bool wait_for_one);
   void Consume(Prepared prepared);
   void Paint(const WarpedFrame& warped);
   void FinishTiles(bool all);
@@ -111,9 +128,21 @@ class MosaicBuilder {
   std::unique_ptr<ThreadPool> pool_;
   std::unique_ptr<TileWriter> writer_;
   std::unique_ptr<OverviewPyramid> pyramid_;
-  std::deque<std::future<Prepared>> in_flight_;
+  std::deque<std::future<Prepared>> loading_;
+  std::deque<std::shared_ptr<Queued>> queued_;  // loaded, in acquisition order
+  std::shared_ptr<Queued> awaiting_next_;       // last usable frame, warp not started yet
   std::unordered_map<TileId, Slot, TileIdHash> buffer_;
   size_t buffer_bytes_ = 0;
+  // Weights of finished base tiles (TileAccumulator::Weights), oldest
+  // dropped first past a share of the memory cap.
+  struct KeptWeights {
+    cv::Mat weights;
+    uint64_t stamp;  // which entry of finished_order_ is this one's
+  };
+  std::unordered_map<TileId, KeptWeights, TileIdHash> finished_weights_;
+  std::deque<std::pair<TileId, uint64_t>> finished_order_;
+  uint64_t finished_stamp_ = 0;
+  size_t finished_weights_bytes_ = 0;
   int consumed_ = 0;
   int track_seq_ = 0;
   int frame_id_offset_ = 0;  // ids of an appended mission's frames continue after the stored ones

@@ -13,18 +13,29 @@ TileAccumulator::TileAccumulator(int tile_size, int channels, int64_t origin_x, 
       sum_(tile_size, tile_size, CV_32FC(channels), cv::Scalar::all(0)),
       weight_(tile_size, tile_size, CV_32F, cv::Scalar(0)) {}
 
-void TileAccumulator::Seed(const cv::Mat& tile) {
+void TileAccumulator::Seed(const cv::Mat& tile, const cv::Mat& weights) {
   CV_Assert(tile.rows == tile_size_ && tile.cols == tile_size_ && tile.channels() == channels_ + 1);
+  const bool known = !weights.empty();
+  CV_Assert(!known || (weights.type() == CV_16U && weights.size() == tile.size()));
   for (int y = 0; y < tile_size_; ++y) {
     const uint8_t* src = tile.ptr<uint8_t>(y);
+    const uint16_t* kw = known ? weights.ptr<uint16_t>(y) : nullptr;
     float* s = sum_.ptr<float>(y);
     float* w = weight_.ptr<float>(y);
     for (int x = 0; x < tile_size_; ++x, src += channels_ + 1, s += channels_) {
       if (src[channels_] == 0) continue;
-      for (int c = 0; c < channels_; ++c) s[c] += src[c];
-      w[x] += 1.0f;
+      // A covered pixel whose weight rounded to 0 still counts a little.
+      const float k = known ? std::max(kw[x], uint16_t{1}) / 256.0f : 1.0f;
+      for (int c = 0; c < channels_; ++c) s[c] += k * src[c];
+      w[x] += k;
     }
   }
+}
+
+cv::Mat TileAccumulator::Weights() const {
+  cv::Mat out;
+  weight_.convertTo(out, CV_16U, 256.0);  // rounds and saturates
+  return out;
 }
 
 bool TileAccumulator::Blend(const WarpedFrame& frame) {
@@ -33,14 +44,20 @@ bool TileAccumulator::Blend(const WarpedFrame& frame) {
   const int64_t x_end = std::min(origin_x_ + tile_size_, frame.x0 + frame.pixels.cols);
   const int64_t y_end = std::min(origin_y_ + tile_size_, frame.y0 + frame.pixels.rows);
   if (x_begin >= x_end || y_begin >= y_end) return false;
-  const int n = static_cast<int>(x_end - x_begin);
   constexpr float kScale = 1.0f / 255.0f;
+  const bool spans = !frame.span_begin.empty();
   for (int64_t gy = y_begin; gy < y_end; ++gy) {
-    const int fy = static_cast<int>(gy - frame.y0), fx = static_cast<int>(x_begin - frame.x0);
+    const int fy = static_cast<int>(gy - frame.y0);
+    // Only the row's painted span (the rest has weight 0).
+    const int64_t row_begin = spans ? std::max(x_begin, frame.x0 + frame.span_begin[fy]) : x_begin;
+    const int64_t row_end = spans ? std::min(x_end, frame.x0 + frame.span_end[fy]) : x_end;
+    if (row_begin >= row_end) continue;
+    const int n = static_cast<int>(row_end - row_begin);
+    const int fx = static_cast<int>(row_begin - frame.x0);
     const uint8_t* src = frame.pixels.ptr<uint8_t>(fy) + fx * channels_;
     const uint8_t* wt = frame.weight.ptr<uint8_t>(fy) + fx;
     const int ty = static_cast<int>(gy - origin_y_);
-    const int tx = static_cast<int>(x_begin - origin_x_);
+    const int tx = static_cast<int>(row_begin - origin_x_);
     float* s = sum_.ptr<float>(ty) + tx * channels_;
     float* w = weight_.ptr<float>(ty) + tx;
     if (channels_ == 1) {

@@ -15,9 +15,15 @@ class TileAccumulator {
  public:
   TileAccumulator(int tile_size, int channels, int64_t origin_x, int64_t origin_y);
 
-  // Continues from a tile written earlier (CV_8UC2 / CV_8UC4 with alpha):
-  // its covered pixels count as one full-weight observation.
-  void Seed(const cv::Mat& tile);
+  // Continues from a tile written earlier (CV_8UC2 / CV_8UC4 with alpha)
+  // with the weights it had (from Weights()), or, when those are no longer
+  // known (empty), with each covered pixel as one full-weight observation.
+  void Seed(const cv::Mat& tile, const cv::Mat& weights = cv::Mat());
+
+  // The accumulated weight per pixel, CV_16U in 1/256 units (saturating):
+  // kept for finished tiles so that a tile painted again after it was
+  // written blends with what it had, not as if one frame had made it.
+  cv::Mat Weights() const;
 
   // Adds the part of `frame` that overlaps this tile. Returns true if it overlapped.
   bool Blend(const WarpedFrame& frame);

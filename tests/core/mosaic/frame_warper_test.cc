@@ -85,14 +85,146 @@ TEST(FrameWarper, WeightIsHighestInTheCentreAndZeroOutside) {
   EXPECT_GT(weight.at<uint8_t>(weight.rows / 2, weight.cols / 2), 240);
 }
 
-TEST(FrameWarper, ToEightBitHandlesDepthsAndChannels) {
-  cv::Mat sixteen(2, 2, CV_16U, cv::Scalar(65535));
-  EXPECT_EQ(ToEightBit(sixteen, 1, 65535).at<uint8_t>(0, 0), 255);
-  EXPECT_EQ(ToEightBit(sixteen, 1, 4095).type(), CV_8U);
-  cv::Mat bgr(2, 2, CV_8UC3, cv::Scalar(10, 10, 10));
-  EXPECT_EQ(ToEightBit(bgr, 1, 65535).type(), CV_8UC1);
-  cv::Mat gray_alpha(2, 2, CV_8UC2, cv::Scalar(7, 255));
-  EXPECT_EQ(ToEightBit(gray_alpha, 3, 65535).type(), CV_8UC3);
+
+}  // namespace
+}  // namespace seamap
+
+namespace seamap {
+namespace {
+
+int Covered(const WarpedFrame& f) { return cv::countNonZero(f.weight); }
+
+TEST(FrameWarper, HandsOverToCloserNeighboursWithAFeatheredSeam) {
+  LocalFrame frame({43.1, 131.9});
+  CameraModel cam = TestCamera();
+  FrameWarper all(cam, frame, 25, 256, 1, 1.0, 0.0);
+  FrameWarper banded(cam, frame, 25, 256, 1, 1.0, 0.5);
+  VehiclePose pose;
+  pose.altitude_m = 2.0;
+  const double footprint_h = cam.height * pose.altitude_m / cam.fy;
+  VehiclePose ahead = pose, behind = pose;
+  ahead.north_m += footprint_h / 10;  // 10x overlap along track, as at 5 frames/s
+  behind.north_m -= footprint_h / 10;
+  cv::Mat image(cam.height, cam.width, CV_8U, cv::Scalar(80));
+  auto full = all.Warp(image, pose, {behind, ahead});  // band 1: neighbours ignored
+  auto own = banded.Warp(image, pose, {behind, ahead});
+  ASSERT_TRUE(full && own);
+  EXPECT_EQ(Covered(*full), Covered(*banded.Warp(image, pose)));
+  // Keeps its own band between the midpoints plus half the way on to each
+  // neighbour's centre: 1.5 spacings, 15 % of the frame.
+  const double share = static_cast<double>(Covered(*own)) / Covered(*full);
+  EXPECT_GT(share, 0.13);
+  EXPECT_LT(share, 0.17);
+  // The weight ramps down towards the neighbours: highest in the middle row.
+  const int mid = own->weight.rows / 2, col = own->weight.cols / 2;
+  EXPECT_GT(own->weight.at<uint8_t>(mid, col), 240);
+  int first = -1;
+  for (int y = 0; y < own->weight.rows && first < 0; ++y)
+    if (own->weight.at<uint8_t>(y, col) > 0) first = y;
+  ASSERT_GE(first, 0);
+  EXPECT_LT(own->weight.at<uint8_t>(first, col), 60);
+  // Spans bound the painted pixels exactly.
+  for (int y = 0; y < own->weight.rows; ++y) {
+    const cv::Mat row = own->weight.row(y);
+    const int n = cv::countNonZero(row);
+    if (n == 0) {
+      EXPECT_EQ(own->span_begin[y], own->span_end[y]);
+      continue;
+    }
+    EXPECT_GT(row.at<uint8_t>(own->span_begin[y]), 0);
+    EXPECT_GT(row.at<uint8_t>(own->span_end[y] - 1), 0);
+  }
+}
+
+TEST(FrameWarper, EveryPixelIsKeptByTheFrameThatSeesItBest) {
+  // Three frames along a line with their neighbours: together they cover
+  // what the full middle frame covers between the outer frames' centres.
+  LocalFrame frame({43.1, 131.9});
+  CameraModel cam = TestCamera();
+  cam.distortion = {-0.2, 0.05, 0.001, -0.001, 0};
+  FrameWarper banded(cam, frame, 25, 256, 1, 1.0, 0.5);
+  std::vector<VehiclePose> poses(5);
+  for (int i = 0; i < 5; ++i) {
+    poses[i].altitude_m = 2.0 + 0.05 * i;
+    poses[i].north_m = 0.07 * i;
+    poses[i].east_m = 0.01 * i;
+    poses[i].heading_deg = 3.0 * i;
+  }
+  cv::Mat image(cam.height, cam.width, CV_8U, cv::Scalar(80));
+  std::vector<WarpedFrame> warped;
+  for (int i = 0; i < 5; ++i) {
+    std::vector<VehiclePose> n;
+    if (i > 0) n.push_back(poses[i - 1]);
+    if (i < 4) n.push_back(poses[i + 1]);
+    warped.push_back(*banded.Warp(image, poses[i], n));
+  }
+  // The middle frame's full footprint, between frames 1 and 3's centres.
+  const WarpedFrame whole = *FrameWarper(cam, frame, 25, 256, 1, 1.0, 0.0).Warp(image, poses[2]);
+  const GlobalPixel c1 = LatLonToPixel(frame.ToLatLon({poses[1].east_m, poses[1].north_m}), 25, 256);
+  const GlobalPixel c3 = LatLonToPixel(frame.ToLatLon({poses[3].east_m, poses[3].north_m}), 25, 256);
+  int checked = 0, holes = 0;
+  for (int y = 0; y < whole.weight.rows; ++y) {
+    const int64_t gy = whole.y0 + y;
+    if (gy < c3.y + 2 || gy > c1.y - 2) continue;  // north is up: frame 3 has the smaller y
+    for (int x = 2; x < whole.weight.cols - 2; ++x) {
+      if (whole.weight.at<uint8_t>(y, x) < 20) continue;  // stay off the frame edge
+      const int64_t gx = whole.x0 + x;
+      bool painted = false;
+      for (const auto& w : warped) {
+        const int64_t fx = gx - w.x0, fy = gy - w.y0;
+        if (fx >= 0 && fy >= 0 && fx < w.weight.cols && fy < w.weight.rows && w.weight.at<uint8_t>(fy, fx) > 0)
+          painted = true;
+      }
+      ++checked;
+      holes += !painted;
+    }
+  }
+  EXPECT_GT(checked, 10000);
+  EXPECT_EQ(holes, 0);
+}
+
+}  // namespace
+}  // namespace seamap
+
+namespace seamap {
+namespace {
+
+TEST(FrameWarper, InterpolatedMappingMatchesTheExactOne) {
+  // The default grid against exact evaluation at every pixel, on a textured
+  // frame seen with pitch, roll, heading and lens distortion.
+  LocalFrame frame({43.1, 131.9});
+  CameraModel cam = TestCamera();
+  cam.distortion = {-0.25, 0.08, 0.001, -0.002, 0};
+  VehiclePose pose;
+  pose.altitude_m = 1.8;
+  pose.heading_deg = 33;
+  pose.pitch_deg = 8;
+  pose.roll_deg = -6;
+  cv::Mat image(cam.height, cam.width, CV_8U);
+  cv::randu(image, 0, 255);
+  cv::GaussianBlur(image, image, {0, 0}, 2.0);
+  cv::normalize(image, image, 0, 255, cv::NORM_MINMAX);
+  FrameWarper gridded(cam, frame, 25, 256, 1, 1.0);
+  FrameWarper exact(cam, frame, 25, 256, 1, 1.0);
+  exact.SetGridStep(1);
+  auto a = gridded.Warp(image, pose);
+  auto b = exact.Warp(image, pose);
+  ASSERT_TRUE(a && b);
+  ASSERT_EQ(a->x0, b->x0);
+  ASSERT_EQ(a->y0, b->y0);
+  ASSERT_EQ(a->pixels.size(), b->pixels.size());
+  // Where both paint (the edge may differ by a pixel), values agree to a
+  // level or two: the texture changes by up to ~25 levels per pixel, so the
+  // sampling positions agree to well under a tenth of a pixel.
+  cv::Mat both = (a->weight > 0) & (b->weight > 0);
+  cv::Mat diff;
+  cv::absdiff(a->pixels, b->pixels, diff);
+  double max_diff = 0;
+  cv::minMaxLoc(diff, nullptr, &max_diff, nullptr, nullptr, both);
+  EXPECT_LE(max_diff, 2);
+  EXPECT_LT(cv::mean(diff, both)[0], 0.3);
+  // Coverage agrees but for the edge pixels.
+  EXPECT_NEAR(cv::countNonZero(a->weight), cv::countNonZero(b->weight), 0.01 * cv::countNonZero(b->weight));
 }
 
 }  // namespace

@@ -122,6 +122,88 @@ TEST_F(MosaicBuilderTest, LiveTilesAreWrittenEarlyButTheMapEndsTheSame) {
   }
 }
 
+TEST_F(MosaicBuilderTest, ASecondLineBlendsAsIfTheFirstHadStayedInMemory) {
+  // Two overlapping survey lines of textured frames at 10x overlap. Built
+  // with tiles finished between the lines (and read back) and with every
+  // tile kept in RAM, the maps agree to rounding: the read-back tiles bring
+  // their weights. Every pixel a frame covers is painted (no handover holes).
+  std::vector<FrameSpec> frames;
+  cv::RNG rng(7);
+  const double step = camera_.height * 2.0 / camera_.fy / 10, spacing = camera_.width * 2.0 / camera_.fx * 0.6;
+  for (int i = 0; i < 80; ++i) {
+    const bool back = i >= 40;
+    const std::string path = (dir_ / ("t" + std::to_string(i) + ".png")).string();
+    cv::Mat texture(camera_.height, camera_.width, CV_8U);
+    rng.fill(texture, cv::RNG::UNIFORM, 40, 220);
+    cv::imwrite(path, texture);
+    FrameSpec f;
+    f.index = i;
+    f.image = path;
+    f.image_path = path;
+    f.pose.east_m = back ? spacing : 0;
+    f.pose.north_m = step * (back ? 79 - i : i);
+    f.pose.heading_deg = back ? 180 : 0;
+    // Jitter between frames, as navigation noise makes it: frames' edges
+    // do not line up, so a frame alone sees slivers along its edge.
+    f.pose.roll_deg = rng.uniform(-1.0, 1.0);
+    f.pose.heading_deg += rng.uniform(-2.0, 2.0);
+    f.pose.east_m += rng.uniform(-0.005, 0.005);
+    f.pose.altitude_m = 2.0;
+    frames.push_back(f);
+  }
+  auto build = [&](int linger, const std::string& name) {
+    BuildConfig config = config_;
+    config.linger_frames = linger;
+    auto store = OpenTileStore((dir_ / name).string(), "png", true);
+    MosaicPlan plan = PlanMosaic(config, camera_, frame_, frames, 1);
+    MosaicBuilder builder(config, camera_, frame_, plan, store.get());
+    for (const auto& f : frames) builder.Push(f);
+    builder.Finish();
+    return std::make_pair(std::move(store), builder.stats());
+  };
+  auto [read_back, read_back_stats] = build(1, "read_back.mbtiles");
+  auto [in_memory, in_memory_stats] = build(1000, "in_memory.mbtiles");
+  EXPECT_GT(read_back_stats.readbacks, 0);
+  EXPECT_EQ(in_memory_stats.readbacks, 0);
+  int compared = 0;
+  for (const TileId& id : in_memory->TileIds()) {
+    if (id.z != 25) continue;
+    cv::Mat a = DecodeTile(*in_memory->GetTile(id)), b = DecodeTile(*read_back->GetTile(id));
+    std::vector<cv::Mat> ca, cb;
+    cv::split(a, ca);
+    cv::split(b, cb);
+    EXPECT_EQ(cv::norm(ca[1], cb[1], cv::NORM_INF), 0) << "coverage differs";
+    EXPECT_LE(cv::norm(ca[0], cb[0], cv::NORM_INF), 2) << "tile " << id.x << "/" << id.y;
+    ++compared;
+  }
+  EXPECT_GT(compared, 4);
+
+  // Coverage equals the union of the frames' footprints (all frames blended
+  // everywhere paints exactly that).
+  BuildConfig all = config_;
+  all.blend_all_overlaps = true;
+  auto every = OpenTileStore((dir_ / "all.mbtiles").string(), "png", true);
+  {
+    MosaicPlan plan = PlanMosaic(all, camera_, frame_, frames, 1);
+    MosaicBuilder builder(all, camera_, frame_, plan, every.get());
+    for (const auto& f : frames) builder.Push(f);
+    builder.Finish();
+  }
+  int64_t covered_all = 0, covered_handover = 0;
+  for (const TileId& id : every->TileIds()) {
+    if (id.z != 25) continue;
+    std::vector<cv::Mat> ca, cb;
+    cv::split(DecodeTile(*every->GetTile(id)), ca);
+    auto mine = read_back->GetTile(id);
+    ASSERT_TRUE(mine) << "tile " << id.x << "/" << id.y << " missing";
+    cv::split(DecodeTile(*mine), cb);
+    covered_all += cv::countNonZero(ca[1]);
+    covered_handover += cv::countNonZero(cb[1]);
+    EXPECT_EQ(cv::countNonZero(ca[1] & ~cb[1]), 0) << "holes in tile " << id.x << "/" << id.y;
+  }
+  EXPECT_EQ(covered_handover, covered_all);
+}
+
 TEST_F(MosaicBuilderTest, MissingImageIsRejectedAndRecorded) {
   auto store = OpenTileStore((dir_ / "m.mbtiles").string(), "png", true);
   FrameSpec missing = Frame(0, 0, 0, 10);

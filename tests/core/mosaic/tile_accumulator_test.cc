@@ -53,6 +53,24 @@ TEST(TileAccumulator, SeedFromWrittenTileBlendsInsteadOfOverwriting) {
   EXPECT_EQ(t.at<cv::Vec2b>(10, 200)[0], 180);  // only new
 }
 
+TEST(TileAccumulator, SeedWithKeptWeightsContinuesAsIfTheTileHadStayed) {
+  // A survey line's edge (weight 0.05) under the next line's frame
+  // (weight 0.5): read back with its weights, the edge counts as little as
+  // it did; read back without them, as one full frame.
+  TileAccumulator first(256, 1, 0, 0);
+  first.Blend(Constant(0, 0, 256, 256, 40, 13));
+  TileAccumulator kept(256, 1, 0, 0), assumed(256, 1, 0, 0), stayed(256, 1, 0, 0);
+  stayed.Blend(Constant(0, 0, 256, 256, 40, 13));
+  kept.Seed(first.Finalize(), first.Weights());
+  assumed.Seed(first.Finalize());
+  for (TileAccumulator* acc : {&kept, &assumed, &stayed}) acc->Blend(Constant(0, 0, 256, 256, 200, 128));
+  EXPECT_EQ(kept.Finalize().at<cv::Vec2b>(9, 9)[0], stayed.Finalize().at<cv::Vec2b>(9, 9)[0]);
+  EXPECT_NEAR(stayed.Finalize().at<cv::Vec2b>(9, 9)[0], (40 * 13 + 200 * 128) / 141.0, 1);
+  EXPECT_LT(assumed.Finalize().at<cv::Vec2b>(9, 9)[0], 100);  // the edge dominates: a seam
+  EXPECT_EQ(first.Weights().type(), CV_16U);
+  EXPECT_EQ(first.Weights().at<uint16_t>(0, 0), 13);  // 13/255 in 1/256 units
+}
+
 TEST(TileAccumulator, Colour) {
   TileAccumulator acc(256, 3, 0, 0);
   WarpedFrame f;

@@ -78,6 +78,7 @@ void WriteReport(const std::string& path, const BuildStats& s, const MosaicPlan&
                       {"seconds", s.seconds},
                       {"ms_per_frame", s.frames_seen ? 1000 * s.seconds / s.frames_seen : 0},
                       {"frames_per_s", s.seconds > 0 ? s.frames_seen / s.seconds : 0},
+                      {"cpu_ms_per_frame", s.frames_seen ? 1000 * s.cpu_seconds / s.frames_seen : 0},
                       {"tiles", distinct},
                       {"tile_writes", s.tiles_written},
                       {"tile_bytes", s.tile_bytes},

@@ -3,6 +3,7 @@
 #   scripts/bench.sh            gray seed-geometry survey, colour survey, 2,000-frame memory run,
 #                               serving (nginx vs seamap serve vs a live replay, wrk)
 #   SEAMAP_BENCH_QUICK=1 ...    smaller surveys, for a quick look
+#   SEAMAP_BENCH_SERVE=0 ...    builds only
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${SEAMAP_BUILD_DIR:-$root/build}"
@@ -27,11 +28,13 @@ build() {  # name, config json (inline), label
   local dir="$out/$1" cfg="$out/$1.config.json" report="$out/$1.report.json"
   echo "$2" >"$cfg"
   "$seamap" build --quiet --images "$dir/photo" --nav "$dir/nav.csv" --camera "$dir/camera.json" \
-    --origin 43.1,131.9 --config "$cfg" --out "$out/$1.mbtiles" --overwrite --report "$report" >/dev/null
+    --origin 43.1,131.9 --config "$cfg" --out "$out/$1.mbtiles" --overwrite --report "$report" >/dev/null \
+    2> >(grep -v '^seamap build: ' >&2)
   python3 - "$report" "$3" <<'PY'
 import json, sys
 r = json.load(open(sys.argv[1]))
 print(f"{sys.argv[2]:<34} {r['ms_per_frame']:7.2f} ms/frame  {r['frames_per_s']:7.1f} frames/s  "
+      f"(cpu {r['cpu_ms_per_frame']:5.2f} ms/frame)  "
       f"tiles {r['tiles']:6d} ({r['tile_writes']} writes)  bytes {r['tile_bytes']:>11,d}  "
       f"peak RSS {r['peak_rss_bytes'] / 2**20:6.1f} MiB")
 PY
@@ -50,4 +53,4 @@ build gray '{"tile_format":"png","enhance":{"ops":[{"op":"flatfield"},{"op":"deh
 echo "camera rate: 5 frames/s (200 ms/frame budget); seed paper: 173 ms/frame on an Atom Z8350"
 simulate long "$long_frames" "--image-format jpg --line-length 40"
 build long '{"tile_format":"png","png_level":1}' "gray x$long_frames (memory)"
-"$root/scripts/bench_serve.sh" "$seamap" "$out/gray.mbtiles" "$out/gray" "$out/serve"
+[[ "${SEAMAP_BENCH_SERVE:-1}" == 1 ]] && "$root/scripts/bench_serve.sh" "$seamap" "$out/gray.mbtiles" "$out/gray" "$out/serve"

@@ -31,6 +31,13 @@ int64_t PeakRssBytes() {
   return static_cast<int64_t>(usage.ru_maxrss) * 1024;
 }
 
+double ProcessCpuSeconds() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  auto seconds = [](const timeval& t) { return t.tv_sec + t.tv_usec / 1e6; };
+  return seconds(usage.ru_utime) + seconds(usage.ru_stime);
+}
+
 MosaicPlan PlanMosaic(const BuildConfig& config, const CameraModel& camera,
                       const LocalFrame& frame, const std::vector<FrameSpec>& frames, int channels) {
   MosaicPlan plan;
@@ -82,7 +89,8 @@ MosaicBuilder::MosaicBuilder(const BuildConfig& config, const CameraModel& camer
               config.blend_all_overlaps ? 0.0 : config.seam_band),
       pool_(std::make_unique<ThreadPool>(config.threads)),
       start_(std::chrono::steady_clock::now()),
-      last_flush_(start_) {
+      last_flush_(start_),
+      start_cpu_(ProcessCpuSeconds()) {
   // We parallelise across frames and tiles; OpenCV's own threads inside each
   // call would only compete with ours on a small on-board CPU.
   cv::setNumThreads(1);
@@ -398,7 +406,7 @@ void MosaicBuilder::FinishTile(const TileId& id) {
   cv::Mat tile = it->second.accumulator->Finalize();
   cv::Mat weights = it->second.accumulator->Weights();
   buffer_bytes_ -= it->second.accumulator->Bytes();
-  const size_t weights_cap = (static_cast<size_t>(config_.memory_cap_mb) << 20) / 8;
+  const size_t weights_cap = (static_cast<size_t>(config_.memory_cap_mb) << 20) / 16;
   if (auto old = finished_weights_.find(id); old != finished_weights_.end())
     finished_weights_bytes_ -= old->second.weights.total() * old->second.weights.elemSize();
   finished_weights_bytes_ += weights.total() * weights.elemSize();
@@ -451,6 +459,7 @@ void MosaicBuilder::Finish() {
   WriteMetadata(true);
   store_->Flush();
   stats_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  stats_.cpu_seconds = ProcessCpuSeconds() - start_cpu_;
   finished_ = true;
 }
 

@@ -56,6 +56,7 @@ struct BuildStats {
   std::map<int, int64_t> tiles_per_zoom;  // distinct tiles
   int64_t readbacks = 0;              // tiles read back to continue painting
   double seconds = 0;
+  double cpu_seconds = 0;             // process CPU time (all threads) over the same span
   std::optional<LatLonBounds> bounds;
 };
 
@@ -148,11 +149,14 @@ class MosaicBuilder {
   int frame_id_offset_ = 0;  // ids of an appended mission's frames continue after the stored ones
   BuildStats stats_;
   std::chrono::steady_clock::time_point start_, last_flush_;
+  double start_cpu_ = 0;
   int last_flush_frame_ = 0;
   bool finished_ = false;
 };
 
 // Peak resident memory of this process so far, bytes.
 int64_t PeakRssBytes();
+// CPU time this process has used so far (user + system, all threads), seconds.
+double ProcessCpuSeconds();
 
 }  // namespace seamap

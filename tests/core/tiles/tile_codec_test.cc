@@ -87,6 +87,20 @@ TEST(TileCodec, OpaqueTilesDropAlphaAndDecodeOpaque) {
   EXPECT_TRUE(SameMat(DecodeTile(rgb_png), bgra));
 }
 
+TEST(TileCodec, EveryPngLevelIsLosslessForEveryLayout) {
+  cv::Mat opaque_gray(256, 256, CV_8UC2, cv::Scalar(0, 255)), opaque_bgr(256, 256, CV_8UC4, cv::Scalar(0, 0, 0, 255));
+  cv::randu(opaque_gray.reshape(1), 0, 255);
+  opaque_gray.forEach<cv::Vec2b>([](cv::Vec2b& p, const int*) { p[1] = 255; });
+  cv::randu(opaque_bgr, 0, 255);
+  opaque_bgr.forEach<cv::Vec4b>([](cv::Vec4b& p, const int*) { p[3] = 255; });
+  for (int level = 0; level <= 9; ++level) {
+    TileEncoding enc;
+    enc.png_level = level;
+    for (const cv::Mat& tile : {GrayAlphaTile(), BgraTile(), opaque_gray, opaque_bgr})
+      EXPECT_TRUE(SameMat(DecodeTile(EncodeTile(tile, enc)), tile)) << "level " << level << ", " << tile.channels() << " channels";
+  }
+}
+
 TEST(TileCodec, PngLevelChangesSize) {
   const cv::Mat tile = BgraTile();
   TileEncoding fast, small;

@@ -262,38 +262,42 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
   // by a quarter of the seam). So no kept pixel is skipped.
   // The same test per row and cell below skips the cells the handover line
   // leaves out of a block.
-  // How far (raw pixels) the mapping moves across a block, with room to spare.
-  float reach_u = 32, reach_v = 32;
+  // How far (raw pixels) the mapping moves across a block, and along a row
+  // across a cell, with room to spare.
+  struct Reach {
+    float u, v;
+  };
+  Reach block_reach{32, 32}, cell_reach{32, 32};
   {
     const int cx = nx / 2, cy = ny / 2;
     const GridPoint& g = grid[static_cast<size_t>(cy) * nx + cx];
     const GridPoint& gx1 = grid[static_cast<size_t>(cy) * nx + cx + 1];
     const GridPoint& gy1 = grid[static_cast<size_t>(cy + 1) * nx + cx];
     if (g.valid && gx1.valid && gy1.valid) {
-      reach_u = 1.5f * (std::fabs(gx1.u - g.u) + std::fabs(gy1.u - g.u)) + 1;
-      reach_v = 1.5f * (std::fabs(gx1.v - g.v) + std::fabs(gy1.v - g.v)) + 1;
+      block_reach = {1.5f * (std::fabs(gx1.u - g.u) + std::fabs(gy1.u - g.u)) + 1,
+                     1.5f * (std::fabs(gx1.v - g.v) + std::fabs(gy1.v - g.v)) + 1};
+      cell_reach = {1.5f * std::fabs(gx1.u - g.u) + 1, 1.5f * std::fabs(gx1.v - g.v) + 1};
     }
   }
-  auto inside_by = [&](float u, float v) {  // inside the image by more than a block's reach
-    return u > reach_u - 0.5f && u < shape.width - 0.5f - reach_u && v > reach_v - 0.5f &&
-           v < shape.height - 0.5f - reach_v;
+  auto inside_by = [&](float u, float v, const Reach& r) {  // inside the image by more than the reach
+    return u > r.u - 0.5f && u < shape.width - 0.5f - r.u && v > r.v - 0.5f && v < shape.height - 0.5f - r.v;
   };
-  auto taken_by = [&](const GridPoint& g, int k) {
-    return g.rival_valid[k] && inside_by(g.ru[k], g.rv[k]) &&
+  auto taken_by = [&](const GridPoint& g, int k, const Reach& r) {
+    return g.rival_valid[k] && inside_by(g.ru[k], g.rv[k], r) &&
            (shape.Centrality(g.ru[k], g.rv[k]) - shape.Centrality(g.u, g.v)) * inv_seam[k] + 1.0f < -0.25f;
   };
-  auto outside = [&](const GridPoint& g) {  // outside the image by more than a block's reach
-    return !g.valid || g.u < -0.5f - reach_u || g.u > shape.width - 0.5f + reach_u || g.v < -0.5f - reach_v ||
-           g.v > shape.height - 0.5f + reach_v;
+  auto outside = [&](const GridPoint& g, const Reach& r) {  // outside the image by more than the reach
+    return !g.valid || g.u < -0.5f - r.u || g.u > shape.width - 0.5f + r.u || g.v < -0.5f - r.v ||
+           g.v > shape.height - 0.5f + r.v;
   };
   // Whether the frame may keep a pixel between these grid points.
-  auto may_keep = [&](std::initializer_list<const GridPoint*> corners) {
+  auto may_keep = [&](std::initializer_list<const GridPoint*> corners, const Reach& r) {
     bool all_outside = true;
-    for (const GridPoint* g : corners) all_outside = all_outside && outside(*g);
+    for (const GridPoint* g : corners) all_outside = all_outside && outside(*g, r);
     if (all_outside) return false;
     for (int k = 0; k < n_rivals; ++k) {
       bool all_taken = true;
-      for (const GridPoint* g : corners) all_taken = all_taken && taken_by(*g, k);
+      for (const GridPoint* g : corners) all_taken = all_taken && taken_by(*g, k, r);
       if (all_taken) return false;
     }
     return true;
@@ -306,7 +310,7 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
                                &grid[static_cast<size_t>(by + 1) * nx + bx],
                                &grid[static_cast<size_t>(by + 1) * nx + bx + 1]};
       if (!c[0]->valid || !c[1]->valid || !c[2]->valid || !c[3]->valid) continue;
-      if (!may_keep({c[0], c[1], c[2], c[3]})) continue;
+      if (!may_keep({c[0], c[1], c[2], c[3]}, block_reach)) continue;
       active[static_cast<size_t>(by) * nx + bx] = 1;
       bx_min = std::min(bx_min, bx); bx_max = std::max(bx_max, bx);
       by_min = std::min(by_min, by); by_max = std::max(by_max, by);
@@ -377,7 +381,7 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
       }
     }
     for (int run_begin = bx_min; run_begin <= bx_max;) {
-      auto needed = [&](int gx) { return block_active[gx] && may_keep({&row[gx], &row[gx + 1]}); };
+      auto needed = [&](int gx) { return block_active[gx] && may_keep({&row[gx], &row[gx + 1]}, cell_reach); };
       if (!needed(run_begin)) {
         ++run_begin;
         continue;

@@ -143,7 +143,9 @@ struct TileFrontEnd::Connection {
     auto* c = static_cast<Connection*>(arg);
     if (c->backend) return Forward(bev, c->backend);
     c->AnswerAll();
-    if (!c->backend) c->FlushNow();
+    if (c->backend) return;
+    c->FlushNow();
+    if (c->close_after_write && evbuffer_get_length(bufferevent_get_output(bev)) == 0) Close(c);
   }
 
   void AnswerAll() {
@@ -187,15 +189,26 @@ struct TileFrontEnd::Connection {
     }
   }
 
-  // Sends what the answers put in the output now, rather than on the next
-  // loop iteration (one writev for every reply to this read).
+  // Sends what the answers put in the output now (one writev for every
+  // reply to this read). In tile mode the socket is watched for writing only
+  // while a reply did not fit: registering and unregistering it around every
+  // reply cost two epoll_ctl calls per tile.
   void FlushNow() {
     evbuffer* out = bufferevent_get_output(client);
-    if (evbuffer_get_length(out) > 0) evbuffer_write(out, bufferevent_getfd(client));
+    if (evbuffer_get_length(out) > 0) {
+      // bufferevent keeps its output's start frozen outside its own write
+      // callback; without thawing it this write fails and the reply waits
+      // for the next loop iteration, in 16 KiB writes.
+      evbuffer_unfreeze(out, 1);
+      evbuffer_write(out, bufferevent_getfd(client));
+      evbuffer_freeze(out, 1);
+    }
+    if (evbuffer_get_length(out) > 0) bufferevent_enable(client, EV_WRITE);
   }
 
   // Everything from here on (including what was read) goes to httplib.
   void PassThrough() {
+    bufferevent_enable(client, EV_WRITE);  // httplib's replies flow through the output from now on
     backend = bufferevent_socket_new(loop->base, -1, BEV_OPT_CLOSE_ON_FREE);
     ++owner->proxied_;
     sockaddr_in to{};
@@ -225,7 +238,9 @@ struct TileFrontEnd::Connection {
 
   static void OnClientWrite(bufferevent* bev, void* arg) {
     auto* c = static_cast<Connection*>(arg);
-    if (c->close_after_write && evbuffer_get_length(bufferevent_get_output(bev)) == 0) Close(c);
+    const bool drained = evbuffer_get_length(bufferevent_get_output(bev)) == 0;
+    if (c->close_after_write && drained) return Close(c);
+    if (!c->backend && drained) bufferevent_disable(bev, EV_WRITE);
   }
 
   static void OnClientEvent(bufferevent*, short what, void* arg) {
@@ -237,6 +252,7 @@ struct TileFrontEnd::Connection {
       c->AnswerAll();
       if (c->backend) return c->ShutdownBackendWrite();
       c->close_after_write = true;
+      c->FlushNow();
       if (evbuffer_get_length(bufferevent_get_output(c->client)) == 0) Close(c);
       return;
     }
@@ -270,11 +286,15 @@ void OnAccept(evconnlistener*, evutil_socket_t fd, sockaddr*, int, void* arg) {
   auto* ctx = static_cast<std::pair<TileFrontEnd*, TileFrontEnd::Loop*>*>(arg);
   int one = 1;
   setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+  // Room for a few whole tiles, so a reply goes out in one writev.
+  int send_buffer = 512 << 10;
+  setsockopt(fd, SOL_SOCKET, SO_SNDBUF, &send_buffer, sizeof send_buffer);
   auto* c = new TileFrontEnd::Connection{ctx->first, ctx->second};
   c->client = bufferevent_socket_new(ctx->second->base, fd, BEV_OPT_CLOSE_ON_FREE);
   bufferevent_setcb(c->client, TileFrontEnd::Connection::OnClientRead, TileFrontEnd::Connection::OnClientWrite,
                     TileFrontEnd::Connection::OnClientEvent, c);
-  bufferevent_enable(c->client, EV_READ | EV_WRITE);
+  bufferevent_set_max_single_write(c->client, 1 << 20);  // a whole tile per write, not 16 KiB
+  bufferevent_enable(c->client, EV_READ);  // EV_WRITE only while a reply waits (FlushNow)
   ctx->second->connections.insert(c);
 }
 

@@ -428,7 +428,10 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
           const float* __restrict rv = qv[k];
           const float inv = inv_seam[k];
           for (int x = x_begin; x < x_end; ++x) {
-            const float sees = static_cast<float>(sh.Tent(ru[x], rv[x]) > 0);
+            // The rival must see the pixel by half a pixel: its own,
+            // separately interpolated mapping then agrees that it does.
+            const float sees = static_cast<float>((ru[x] > 0.0f) & (ru[x] < sh.width - 1.0f) &
+                                                  (rv[x] > 0.0f) & (rv[x] < sh.height - 1.0f));
             const float ramp = (sh.Centrality(ru[x], rv[x]) - sh.Centrality(u[x], v[x])) * inv + 1.0f;
             w[x] *= 1.0f + sees * (std::min(std::max(ramp, 0.0f), 1.0f) - 1.0f);
           }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include <opencv2/imgproc.hpp>
 
@@ -182,6 +183,86 @@ inline void Sample(const cv::Mat& image, float u, float v, int max_iu, int max_i
   }
 }
 
+// How far (raw pixels) the mapping moves across a block, or along a row
+// across a cell, with room to spare.
+struct Reach {
+  float u = 32, v = 32;
+};
+
+// Whether the frame may keep some pixel between a few grid points: not if
+// they are all clearly outside its image, nor if one rival clearly sees them
+// all, and more centrally ("clearly": by more than the mapping moves between
+// them, and by a quarter of the seam). So skipping what this rules out never
+// loses a pixel the frame keeps.
+class KeepTest {
+ public:
+  KeepTest(const ImageShape& shape, int rivals, const float* inv_seam)
+      : shape_(shape), rivals_(rivals), inv_seam_(inv_seam) {}
+
+  bool MayKeep(std::initializer_list<const GridPoint*> points, const Reach& r) const {
+    bool all_outside = true;
+    for (const GridPoint* g : points) all_outside = all_outside && Outside(*g, r);
+    if (all_outside) return false;
+    for (int k = 0; k < rivals_; ++k) {
+      bool all_taken = true;
+      for (const GridPoint* g : points) all_taken = all_taken && TakenBy(*g, k, r);
+      if (all_taken) return false;
+    }
+    return true;
+  }
+
+ private:
+  bool InsideBy(float u, float v, const Reach& r) const {
+    return u > r.u - 0.5f && u < shape_.width - 0.5f - r.u && v > r.v - 0.5f && v < shape_.height - 0.5f - r.v;
+  }
+  bool Outside(const GridPoint& g, const Reach& r) const {
+    return !g.valid || g.u < -0.5f - r.u || g.u > shape_.width - 0.5f + r.u || g.v < -0.5f - r.v ||
+           g.v > shape_.height - 0.5f + r.v;
+  }
+  bool TakenBy(const GridPoint& g, int k, const Reach& r) const {
+    return g.rival_valid[k] && InsideBy(g.ru[k], g.rv[k], r) &&
+           (shape_.Centrality(g.ru[k], g.rv[k]) - shape_.Centrality(g.u, g.v)) * inv_seam_[k] + 1.0f < -0.25f;
+  }
+
+  const ImageShape& shape_;
+  int rivals_;
+  const float* inv_seam_;
+};
+
+// The painted rows of a canvas, cut to their bounding box and copied into
+// `out` (pixels, weight, spans, origin); the canvas is left zero again.
+void CopyPainted(cv::Mat& canvas_pixels, cv::Mat& canvas_weight, const std::vector<int>& first,
+                 const std::vector<int>& last, WarpedFrame* out) {
+  const int height = static_cast<int>(first.size());
+  int px0 = std::numeric_limits<int>::max(), px1 = -1, py0 = height, py1 = -1;
+  for (int y = 0; y < height; ++y) {
+    if (last[y] < 0) continue;
+    px0 = std::min(px0, first[y]); px1 = std::max(px1, last[y]);
+    py0 = std::min(py0, y); py1 = y;
+  }
+  if (py1 < 0) px0 = px1 = py0 = py1 = 0;
+  const int out_w = px1 - px0 + 1, out_h = py1 - py0 + 1;
+  out->x0 += px0;
+  out->y0 += py0;
+  out->pixels = cv::Mat::zeros(out_h, out_w, canvas_pixels.type());
+  out->weight = cv::Mat::zeros(out_h, out_w, CV_8U);
+  out->span_begin.assign(out_h, 0);
+  out->span_end.assign(out_h, 0);
+  const size_t px_size = canvas_pixels.elemSize();
+  for (int y = py0; y <= py1; ++y) {
+    if (last[y] < 0) continue;
+    const int b = first[y], n = last[y] - b + 1;
+    uint8_t* pix = canvas_pixels.ptr<uint8_t>(y) + b * px_size;
+    uint8_t* wgt = canvas_weight.ptr<uint8_t>(y) + b;
+    std::memcpy(out->pixels.ptr<uint8_t>(y - py0) + (b - px0) * px_size, pix, n * px_size);
+    std::memcpy(out->weight.ptr<uint8_t>(y - py0) + (b - px0), wgt, n);
+    std::memset(pix, 0, n * px_size);
+    std::memset(wgt, 0, n);
+    out->span_begin[y - py0] = b - px0;
+    out->span_end[y - py0] = b - px0 + n;
+  }
+}
+
 }  // namespace
 
 std::optional<WarpedFrame> FrameWarper::Warp(const cv::Mat& image, const VehiclePose& pose,
@@ -255,19 +336,10 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
     }
   }
 
-  // Blocks between grid points worth visiting: all four corners mapped, and
-  // the frame may keep a pixel inside: not all corners clearly outside the
-  // image, and not all clearly inside one rival that clearly sees them more
-  // centrally ("clearly": by more than the mapping moves across a block, and
-  // by a quarter of the seam). So no kept pixel is skipped.
-  // The same test per row and cell below skips the cells the handover line
-  // leaves out of a block.
-  // How far (raw pixels) the mapping moves across a block, and along a row
-  // across a cell, with room to spare.
-  struct Reach {
-    float u, v;
-  };
-  Reach block_reach{32, 32}, cell_reach{32, 32};
+  // Blocks between grid points worth visiting (see KeepTest); the same test
+  // per row and cell below skips the cells the handover line leaves out of
+  // a block.
+  Reach block_reach, cell_reach;
   {
     const int cx = nx / 2, cy = ny / 2;
     const GridPoint& g = grid[static_cast<size_t>(cy) * nx + cx];
@@ -279,29 +351,7 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
       cell_reach = {1.5f * std::fabs(gx1.u - g.u) + 1, 1.5f * std::fabs(gx1.v - g.v) + 1};
     }
   }
-  auto inside_by = [&](float u, float v, const Reach& r) {  // inside the image by more than the reach
-    return u > r.u - 0.5f && u < shape.width - 0.5f - r.u && v > r.v - 0.5f && v < shape.height - 0.5f - r.v;
-  };
-  auto taken_by = [&](const GridPoint& g, int k, const Reach& r) {
-    return g.rival_valid[k] && inside_by(g.ru[k], g.rv[k], r) &&
-           (shape.Centrality(g.ru[k], g.rv[k]) - shape.Centrality(g.u, g.v)) * inv_seam[k] + 1.0f < -0.25f;
-  };
-  auto outside = [&](const GridPoint& g, const Reach& r) {  // outside the image by more than the reach
-    return !g.valid || g.u < -0.5f - r.u || g.u > shape.width - 0.5f + r.u || g.v < -0.5f - r.v ||
-           g.v > shape.height - 0.5f + r.v;
-  };
-  // Whether the frame may keep a pixel between these grid points.
-  auto may_keep = [&](std::initializer_list<const GridPoint*> corners, const Reach& r) {
-    bool all_outside = true;
-    for (const GridPoint* g : corners) all_outside = all_outside && outside(*g, r);
-    if (all_outside) return false;
-    for (int k = 0; k < n_rivals; ++k) {
-      bool all_taken = true;
-      for (const GridPoint* g : corners) all_taken = all_taken && taken_by(*g, k, r);
-      if (all_taken) return false;
-    }
-    return true;
-  };
+  const KeepTest keep(shape, n_rivals, inv_seam);
   std::vector<uint8_t> active(static_cast<size_t>(nx) * ny, 0);
   int bx_min = nx, bx_max = -1, by_min = ny, by_max = -1;
   for (int by = 0; by + 1 < ny; ++by) {
@@ -310,7 +360,7 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
                                &grid[static_cast<size_t>(by + 1) * nx + bx],
                                &grid[static_cast<size_t>(by + 1) * nx + bx + 1]};
       if (!c[0]->valid || !c[1]->valid || !c[2]->valid || !c[3]->valid) continue;
-      if (!may_keep({c[0], c[1], c[2], c[3]}, block_reach)) continue;
+      if (!keep.MayKeep({c[0], c[1], c[2], c[3]}, block_reach)) continue;
       active[static_cast<size_t>(by) * nx + bx] = 1;
       bx_min = std::min(bx_min, bx); bx_max = std::max(bx_max, bx);
       by_min = std::min(by_min, by); by_max = std::max(by_max, by);
@@ -381,7 +431,7 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
       }
     }
     for (int run_begin = bx_min; run_begin <= bx_max;) {
-      auto needed = [&](int gx) { return block_active[gx] && may_keep({&row[gx], &row[gx + 1]}, cell_reach); };
+      auto needed = [&](int gx) { return block_active[gx] && keep.MayKeep({&row[gx], &row[gx + 1]}, cell_reach); };
       if (!needed(run_begin)) {
         ++run_begin;
         continue;
@@ -461,34 +511,7 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
     }
   }
 
-  // Copy the painted part out and leave the canvas zero again.
-  int px0 = width, px1 = -1, py0 = height, py1 = -1;
-  for (int y = 0; y < height; ++y) {
-    if (last_painted[y] < 0) continue;
-    px0 = std::min(px0, first_painted[y]); px1 = std::max(px1, last_painted[y]);
-    py0 = std::min(py0, y); py1 = y;
-  }
-  if (py1 < 0) px0 = px1 = py0 = py1 = 0;
-  const int out_w = px1 - px0 + 1, out_h = py1 - py0 + 1;
-  out.x0 += px0;
-  out.y0 += py0;
-  out.pixels = cv::Mat::zeros(out_h, out_w, channels_ == 1 ? CV_8UC1 : CV_8UC3);
-  out.weight = cv::Mat::zeros(out_h, out_w, CV_8U);
-  out.span_begin.assign(out_h, 0);
-  out.span_end.assign(out_h, 0);
-  const size_t px_size = canvas_pixels.elemSize();
-  for (int y = py0; y <= py1; ++y) {
-    if (last_painted[y] < 0) continue;
-    const int b = first_painted[y], n = last_painted[y] - b + 1;
-    uint8_t* pix = canvas_pixels.ptr<uint8_t>(y) + b * px_size;
-    uint8_t* wgt = scratch_weight.ptr<uint8_t>(y) + b;
-    std::memcpy(out.pixels.ptr<uint8_t>(y - py0) + (b - px0) * px_size, pix, n * px_size);
-    std::memcpy(out.weight.ptr<uint8_t>(y - py0) + (b - px0), wgt, n);
-    std::memset(pix, 0, n * px_size);
-    std::memset(wgt, 0, n);
-    out.span_begin[y - py0] = b - px0;
-    out.span_end[y - py0] = b - px0 + n;
-  }
+  CopyPainted(canvas_pixels, scratch_weight, first_painted, last_painted, &out);
   return out;
 }
 

@@ -76,21 +76,29 @@ std::optional<std::array<LatLon, 4>> FrameWarper::Footprint(const VehiclePose& p
   return out;
 }
 
-std::optional<std::vector<cv::Point2d>> FrameWarper::MapBorder(const VehiclePose& pose) const {
+std::optional<std::vector<cv::Point2d>> FrameWarper::MapBorder(const VehiclePose& pose, size_t count) const {
   auto h = ImageToGround(camera_, pose);
-  if (!h) return std::nullopt;
+  if (!h || !SeesSeabed(*h)) return std::nullopt;
   // A pixel's centre is its index; global pixel i spans [i, i+1).
-  std::vector<cv::Point2d> global(border_.size());
-  for (size_t i = 0; i < border_.size(); ++i) {
+  std::vector<cv::Point2d> global(std::min(count, border_.size()));
+  for (size_t i = 0; i < global.size(); ++i) {
     Eigen::Vector3d g = *h * Eigen::Vector3d(border_[i].x, border_[i].y, 1.0);
-    if (g.z() <= 0) return std::nullopt;
     GlobalPixel px = LatLonToPixel(frame_.ToLatLon({g.x() / g.z(), g.y() / g.z()}), zoom_, tile_size_);
     global[i] = {px.x - 0.5, px.y - 0.5};
   }
   return global;
 }
 
-bool FrameWarper::SeesSeabed(const VehiclePose& pose) const { return MapBorder(pose).has_value(); }
+bool FrameWarper::SeesSeabed(const Eigen::Matrix3d& image_to_ground) const {
+  for (const auto& b : border_)
+    if ((image_to_ground * Eigen::Vector3d(b.x, b.y, 1.0)).z() <= 0) return false;
+  return true;
+}
+
+bool FrameWarper::SeesSeabed(const VehiclePose& pose) const {
+  auto h = ImageToGround(camera_, pose);
+  return h && SeesSeabed(*h);
+}
 
 cv::Matx33d FrameWarper::BoxToNormalised(const std::vector<cv::Point2d>& global, int64_t x0,
                                          int64_t y0) const {
@@ -229,6 +237,45 @@ class KeepTest {
   const float* inv_seam_;
 };
 
+// A row's pass across one grid cell: this frame's raw position and each
+// rival's, linear in the pixel index.
+struct CellLine {
+  float u0 = 0, du = 0, v0 = 0, dv = 0;
+  float ru0[kMaxRivals] = {0, 0}, rdu[kMaxRivals] = {0, 0}, rv0[kMaxRivals] = {0, 0}, rdv[kMaxRivals] = {0, 0};
+  bool rival[kMaxRivals] = {false, false};
+};
+constexpr int kChunk = 16;  // pixels per vectorised pass
+
+// Positions and weights of pixels [i0, i0 + m) of a cell (m <= kChunk): the
+// feather tent (shaped by `lut` when given), times, for each rival that sees
+// the pixel more centrally, a ramp to zero across its seam. Branch-free, so
+// GCC vectorises every loop.
+void CellWeights(const ImageShape& sh, const CellLine& line, int rivals, const float* inv_seam,
+                 const float* lut, int i0, int m, float* __restrict u, float* __restrict v,
+                 float* __restrict w) {
+  for (int i = 0; i < m; ++i) {
+    const float f = static_cast<float>(i0 + i);
+    u[i] = line.u0 + line.du * f;
+    v[i] = line.v0 + line.dv * f;
+    w[i] = sh.Tent(u[i], v[i]);
+  }
+  if (lut)
+    for (int i = 0; i < m; ++i) w[i] = w[i] > 0 ? lut[static_cast<int>(w[i] * (kLut - 1))] : w[i];
+  for (int k = 0; k < rivals; ++k) {
+    if (!line.rival[k]) continue;
+    const float ru0 = line.ru0[k], rdu = line.rdu[k], rv0 = line.rv0[k], rdv = line.rdv[k], inv = inv_seam[k];
+    for (int i = 0; i < m; ++i) {
+      const float f = static_cast<float>(i0 + i);
+      const float ru = ru0 + rdu * f, rv = rv0 + rdv * f;
+      // The rival must see the pixel by half a pixel: its own, separately
+      // interpolated mapping then agrees that it does.
+      const float sees = static_cast<float>((ru > 0.0f) & (ru < sh.width - 1.0f) & (rv > 0.0f) & (rv < sh.height - 1.0f));
+      const float ramp = (sh.Centrality(ru, rv) - sh.Centrality(u[i], v[i])) * inv + 1.0f;
+      w[i] *= 1.0f + sees * (std::min(std::max(ramp, 0.0f), 1.0f) - 1.0f);
+    }
+  }
+}
+
 // The painted rows of a canvas, cut to their bounding box and copied into
 // `out` (pixels, weight, spans, origin); the canvas is left zero again.
 void CopyPainted(cv::Mat& canvas_pixels, cv::Mat& canvas_weight, const std::vector<int>& first,
@@ -302,7 +349,7 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
     const cv::Point2d centre((*global)[4].x - out.x0, (*global)[4].y - out.y0);
     for (const VehiclePose& n : neighbours) {
       if (rivals.size() == kMaxRivals) break;
-      auto g = MapBorder(n);
+      auto g = MapBorder(n, 5);  // the corners and the centre are all a rival needs
       if (!g) continue;
       const cv::Matx33d r = BoxToNormalised(*g, out.x0, out.y0);
       const Projection c = Project(r, centre.x, centre.y, camera_, max_r2_);
@@ -391,14 +438,6 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
   // frame only where the weight is not zero.
   const int max_iu = (camera_.width - 1) * 256 - 1, max_iv = (camera_.height - 1) * 256 - 1;
   const bool shaped = feather_power_ != 1.0;
-  constexpr float kFar = -1e4f;  // a rival position far outside its image: it does not see the pixel
-  const size_t padded = static_cast<size_t>(nx) * cell;
-  std::vector<float> buffers((2 + 2 * kMaxRivals + 1) * padded);
-  float* const pu = buffers.data();
-  float* const pv = pu + padded;
-  float* const pw = pv + padded;
-  float* const qu[kMaxRivals] = {pw + padded, pw + 3 * padded};
-  float* const qv[kMaxRivals] = {pw + 2 * padded, pw + 4 * padded};
   const ImageShape sh = shape;  // a local copy: the loops vectorise
   std::vector<GridPoint> row(nx);
   struct Kept {
@@ -438,63 +477,35 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
       }
       int run_end = run_begin + 1;  // needed cells [run_begin, run_end)
       while (run_end <= bx_max && needed(run_end)) ++run_end;
-      // Positions along the run, linear within each cell.
+      // Each cell: positions linear across it, weights in branch-free
+      // (vectorised) passes, then the pixels kept.
       for (int gx = run_begin; gx < run_end; ++gx) {
         const GridPoint& l = row[gx];
         const GridPoint& r = row[gx + 1];
-        float* __restrict u = pu + gx * cell;
-        float* __restrict v = pv + gx * cell;
-        for (int i = 0; i < cell; ++i) {
-          u[i] = l.u + (r.u - l.u) * (i * inv_cell);
-          v[i] = l.v + (r.v - l.v) * (i * inv_cell);
-        }
+        const int x0 = gx * cell, n = std::min(cell, width - x0);
+        CellLine line;
+        line.u0 = l.u; line.du = (r.u - l.u) * inv_cell;
+        line.v0 = l.v; line.dv = (r.v - l.v) * inv_cell;
         for (int k = 0; k < n_rivals; ++k) {
-          float* __restrict qu_k = qu[k] + gx * cell;
-          float* __restrict qv_k = qv[k] + gx * cell;
-          if (!l.rival_valid[k] || !r.rival_valid[k]) {  // untrustworthy there: far from seeing this cell
-            std::fill(qu_k, qu_k + cell, kFar);
-            std::fill(qv_k, qv_k + cell, kFar);
-            continue;
-          }
-          for (int i = 0; i < cell; ++i) {
-            qu_k[i] = l.ru[k] + (r.ru[k] - l.ru[k]) * (i * inv_cell);
-            qv_k[i] = l.rv[k] + (r.rv[k] - l.rv[k]) * (i * inv_cell);
+          line.rival[k] = l.rival_valid[k] && r.rival_valid[k];  // else far from seeing this cell
+          line.ru0[k] = l.ru[k]; line.rdu[k] = (r.ru[k] - l.ru[k]) * inv_cell;
+          line.rv0[k] = l.rv[k]; line.rdv[k] = (r.rv[k] - l.rv[k]) * inv_cell;
+        }
+        for (int i0 = 0; i0 < n; i0 += kChunk) {
+          const int m = std::min(kChunk, n - i0);
+          alignas(32) float u[kChunk], v[kChunk], w[kChunk];
+          CellWeights(sh, line, n_rivals, inv_seam, shaped ? weight_lut_.data() : nullptr, i0, m, u, v, w);
+          for (int i = 0; i < m; ++i) {
+            if (!(w[i] > 0)) continue;
+            const int x = x0 + i0 + i;
+            wgt[x] = static_cast<uint8_t>(1.5f + 254.0f * w[i]);
+            kept.push_back({x, y, u[i], v[i]});
+            v_min = std::min(v_min, v[i]);
+            v_max = std::max(v_max, v[i]);
+            first = std::min(first, x);
+            last = x;
           }
         }
-      }
-      const int x_begin = run_begin * cell, x_end = std::min(width, run_end * cell);
-      {
-        float* __restrict w = pw;
-        const float* __restrict u = pu;
-        const float* __restrict v = pv;
-        for (int x = x_begin; x < x_end; ++x) w[x] = sh.Tent(u[x], v[x]);
-        if (shaped)
-          for (int x = x_begin; x < x_end; ++x)
-            w[x] = w[x] > 0 ? weight_lut_[static_cast<int>(w[x] * (kLut - 1))] : w[x];
-        for (int k = 0; k < n_rivals; ++k) {
-          // Where rival k sees the pixel more centrally by more than its
-          // seam, the pixel is its; the weight ramps to zero across the seam.
-          const float* __restrict ru = qu[k];
-          const float* __restrict rv = qv[k];
-          const float inv = inv_seam[k];
-          for (int x = x_begin; x < x_end; ++x) {
-            // The rival must see the pixel by half a pixel: its own,
-            // separately interpolated mapping then agrees that it does.
-            const float sees = static_cast<float>((ru[x] > 0.0f) & (ru[x] < sh.width - 1.0f) &
-                                                  (rv[x] > 0.0f) & (rv[x] < sh.height - 1.0f));
-            const float ramp = (sh.Centrality(ru[x], rv[x]) - sh.Centrality(u[x], v[x])) * inv + 1.0f;
-            w[x] *= 1.0f + sees * (std::min(std::max(ramp, 0.0f), 1.0f) - 1.0f);
-          }
-        }
-      }
-      for (int x = x_begin; x < x_end; ++x) {
-        if (!(pw[x] > 0)) continue;
-        wgt[x] = static_cast<uint8_t>(1.5f + 254.0f * pw[x]);
-        kept.push_back({x, y, pu[x], pv[x]});
-        v_min = std::min(v_min, pv[x]);
-        v_max = std::max(v_max, pv[x]);
-        first = std::min(first, x);
-        last = x;
       }
       run_begin = run_end;
     }

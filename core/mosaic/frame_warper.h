@@ -17,10 +17,12 @@
 // lines are not neighbours and blend in full.
 #include <array>
 #include <cstdint>
+#include <cstddef>
 #include <functional>
 #include <optional>
 #include <vector>
 
+#include <Eigen/Core>
 #include <opencv2/core.hpp>
 
 #include "core/camera/camera_model.h"
@@ -76,8 +78,11 @@ class FrameWarper {
                                   const std::vector<VehiclePose>& neighbours = {}) const;
 
  private:
-  // The image border samples on the map, in global pixel-index coordinates.
-  std::optional<std::vector<cv::Point2d>> MapBorder(const VehiclePose& pose) const;
+  // The first `count` image border samples (corners, centre, edges) on the
+  // map, in global pixel-index coordinates; nullopt unless the whole border
+  // lands on the seabed.
+  std::optional<std::vector<cv::Point2d>> MapBorder(const VehiclePose& pose, size_t count = SIZE_MAX) const;
+  bool SeesSeabed(const Eigen::Matrix3d& image_to_ground) const;
   // Box pixel (relative to x0, y0) -> normalised camera coordinates of a frame
   // whose border lies at `global` on the map.
   cv::Matx33d BoxToNormalised(const std::vector<cv::Point2d>& global, int64_t x0, int64_t y0) const;

@@ -38,6 +38,18 @@ class MosaicBuilderTest : public ::testing::Test {
     return {id, cv::Point(static_cast<int>(p.x - id.x * 256.0), static_cast<int>(p.y - id.y * 256.0))};
   }
 
+  // Builds `frames` into a new MBTiles file named `name` with `config`.
+  std::pair<std::unique_ptr<TileStore>, BuildStats> BuildMap(const BuildConfig& config,
+                                                             const std::vector<FrameSpec>& frames,
+                                                             const std::string& name) {
+    auto store = OpenTileStore((dir_ / name).string(), "png", true);
+    MosaicPlan plan = PlanMosaic(config, camera_, frame_, frames, 1);
+    MosaicBuilder builder(config, camera_, frame_, plan, store.get());
+    for (const auto& f : frames) builder.Push(f);
+    builder.Finish();
+    return {std::move(store), builder.stats()};
+  }
+
   testing::TempDir dir_;
   CameraModel camera_;
   LocalFrame frame_;
@@ -102,12 +114,7 @@ TEST_F(MosaicBuilderTest, LiveTilesAreWrittenEarlyButTheMapEndsTheSame) {
     config.live_tiles = live;
     config.batch_frames = 1;
     config.batch_seconds = 0;
-    auto store = OpenTileStore((dir_ / name).string(), "png", true);
-    MosaicPlan plan = PlanMosaic(config, camera_, frame_, frames, 1);
-    MosaicBuilder builder(config, camera_, frame_, plan, store.get());
-    for (const auto& f : frames) builder.Push(f);
-    builder.Finish();
-    return std::make_pair(std::move(store), builder.stats());
+    return BuildMap(config, frames, name);
   };
   auto [plain, plain_stats] = build(false, "plain.mbtiles");
   auto [live, live_stats] = build(true, "live.mbtiles");
@@ -154,12 +161,7 @@ TEST_F(MosaicBuilderTest, ASecondLineBlendsAsIfTheFirstHadStayedInMemory) {
   auto build = [&](int linger, const std::string& name) {
     BuildConfig config = config_;
     config.linger_frames = linger;
-    auto store = OpenTileStore((dir_ / name).string(), "png", true);
-    MosaicPlan plan = PlanMosaic(config, camera_, frame_, frames, 1);
-    MosaicBuilder builder(config, camera_, frame_, plan, store.get());
-    for (const auto& f : frames) builder.Push(f);
-    builder.Finish();
-    return std::make_pair(std::move(store), builder.stats());
+    return BuildMap(config, frames, name);
   };
   auto [read_back, read_back_stats] = build(1, "read_back.mbtiles");
   auto [in_memory, in_memory_stats] = build(1000, "in_memory.mbtiles");
@@ -182,13 +184,7 @@ TEST_F(MosaicBuilderTest, ASecondLineBlendsAsIfTheFirstHadStayedInMemory) {
   // everywhere paints exactly that).
   BuildConfig all = config_;
   all.blend_all_overlaps = true;
-  auto every = OpenTileStore((dir_ / "all.mbtiles").string(), "png", true);
-  {
-    MosaicPlan plan = PlanMosaic(all, camera_, frame_, frames, 1);
-    MosaicBuilder builder(all, camera_, frame_, plan, every.get());
-    for (const auto& f : frames) builder.Push(f);
-    builder.Finish();
-  }
+  auto every = BuildMap(all, frames, "all.mbtiles").first;
   int64_t covered_all = 0, covered_handover = 0;
   for (const TileId& id : every->TileIds()) {
     if (id.z != 25) continue;

@@ -53,4 +53,6 @@ build gray '{"tile_format":"png","enhance":{"ops":[{"op":"flatfield"},{"op":"deh
 echo "camera rate: 5 frames/s (200 ms/frame budget); seed paper: 173 ms/frame on an Atom Z8350"
 simulate long "$long_frames" "--image-format jpg --line-length 40"
 build long '{"tile_format":"png","png_level":1}' "gray x$long_frames (memory)"
-[[ "${SEAMAP_BENCH_SERVE:-1}" == 1 ]] && "$root/scripts/bench_serve.sh" "$seamap" "$out/gray.mbtiles" "$out/gray" "$out/serve"
+if [[ "${SEAMAP_BENCH_SERVE:-1}" == 1 ]]; then
+  "$root/scripts/bench_serve.sh" "$seamap" "$out/gray.mbtiles" "$out/gray" "$out/serve"
+fi

@@ -204,6 +204,7 @@ struct TileFrontEnd::Connection {
       evbuffer_freeze(out, 1);
     }
     if (evbuffer_get_length(out) > 0) bufferevent_enable(client, EV_WRITE);
+    else bufferevent_disable(client, EV_WRITE);
   }
 
   // Everything from here on (including what was read) goes to httplib.

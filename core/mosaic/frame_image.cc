@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <algorithm>
 #include <fstream>
+#include <stdexcept>
 
 #include <jpeglib.h>
 #include <opencv2/imgcodecs.hpp>
@@ -107,8 +108,12 @@ std::optional<FrameImage> FrameImage::Read(const std::string& path, int channels
     }
     jpeg_read_header(&reader.cinfo_, TRUE);
     const auto space = reader.cinfo_.jpeg_color_space;
-    // Row decoding for the common kinds; CMYK and the like go through OpenCV.
-    if (reader.cinfo_.data_precision == 8 && (space == JCS_GRAYSCALE || space == JCS_YCbCr || space == JCS_RGB)) {
+    // Row decoding for the common kinds: 8-bit, one scan (every table it
+    // needs is in the header just read, so decoding later cannot fail on
+    // them; broken data only warns). Progressive and multi-scan files, CMYK
+    // and the like are decoded in full through OpenCV now.
+    if (reader.cinfo_.data_precision == 8 && !jpeg_has_multiple_scans(&reader.cinfo_) &&
+        (space == JCS_GRAYSCALE || space == JCS_YCbCr || space == JCS_RGB)) {
       image.width_ = static_cast<int>(reader.cinfo_.image_width);
       image.height_ = static_cast<int>(reader.cinfo_.image_height);
       image.jpeg_ = std::move(bytes);
@@ -147,7 +152,8 @@ const cv::Mat& FrameImage::Rows(int first, int last) {
 }
 
 void FrameImage::DecodeJpegRows(int first, int last) {
-  if (pixels_.empty()) pixels_ = cv::Mat::zeros(height_, width_, channels_ == 1 ? CV_8UC1 : CV_8UC3);
+  if (jpeg_.empty()) throw std::logic_error("FrameImage: rows asked of a released frame");
+  pixels_.create(height_, width_, channels_ == 1 ? CV_8UC1 : CV_8UC3);
   JpegReader reader(jpeg_);
   jpeg_decompress_struct& c = reader.cinfo_;
   if (setjmp(reader.errors_.jump)) throw InputError(path_, 0, "image", std::string("unreadable image: ") + reader.errors_.message);

@@ -28,8 +28,8 @@ class FrameImage {
   int height() const { return height_; }
   bool empty() const { return width_ == 0; }
 
-  // The frame with at least rows [first, last] decoded; rows not decoded
-  // are zero. Throws InputError naming the file if the JPEG data is broken.
+  // The frame with at least rows [first, last] decoded; other rows hold
+  // anything. Throws InputError naming the file if the JPEG data is broken.
   // Not thread-safe: one job at a time.
   const cv::Mat& Rows(int first, int last);
   const cv::Mat& Full() { return Rows(0, height_ - 1); }

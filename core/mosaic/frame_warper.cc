@@ -322,8 +322,6 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
   auto global = MapBorder(pose);
   if (!global) return std::nullopt;
   WarpedFrame out;
-  for (int i = 0; i < 4; ++i)
-    out.footprint[i] = PixelToLatLon({(*global)[i].x + 0.5, (*global)[i].y + 0.5}, zoom_, tile_size_);
   double min_x = 1e300, min_y = 1e300, max_x = -1e300, max_y = -1e300;
   for (const auto& p : *global) {
     min_x = std::min(min_x, p.x); max_x = std::max(max_x, p.x);
@@ -514,7 +512,16 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
   // Only now is it known which raw rows the kept pixels sample (bilinear:
   // one more below): a frame kept compressed decodes just those.
   if (!kept.empty()) {
-    const cv::Mat& image = rows(static_cast<int>(std::floor(v_min)) - 1, static_cast<int>(std::ceil(v_max)) + 1);
+    const cv::Mat* decoded = nullptr;
+    try {
+      decoded = &rows(static_cast<int>(std::floor(v_min)) - 1, static_cast<int>(std::ceil(v_max)) + 1);
+    } catch (...) {  // leave this thread's canvas zero for its next frame
+      for (int y = 0; y < height; ++y)
+        if (last_painted[y] >= 0)
+          std::memset(scratch_weight.ptr<uint8_t>(y) + first_painted[y], 0, last_painted[y] - first_painted[y] + 1);
+      throw;
+    }
+    const cv::Mat& image = *decoded;
     for (const Kept& k : kept) {
       uint8_t* pix = canvas_pixels.ptr<uint8_t>(k.y);
       if (channels_ == 1) Sample<1>(image, k.u, k.v, max_iu, max_iv, pix + k.x);

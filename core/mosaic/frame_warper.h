@@ -42,7 +42,6 @@ struct WarpedFrame {
   cv::Mat weight;                   // CV_8UC1, 0 where the frame paints nothing, 1..255 elsewhere
   // Per row, the columns [begin, end) outside which weight is 0 (begin == end: none).
   std::vector<int> span_begin, span_end;
-  std::array<LatLon, 4> footprint;  // raw image corners on the seabed (TL, TR, BR, BL)
 };
 
 class FrameWarper {

@@ -143,7 +143,8 @@ void MosaicBuilder::TakeLoaded() {
   auto q = std::make_shared<Queued>();
   q->prepared = loading_.front().get();
   loading_.pop_front();
-  if (!q->prepared.image.empty()) {
+  q->usable = !q->prepared.image.empty();
+  if (q->usable) {
     if (awaiting_next_) {
       awaiting_next_->neighbours.push_back(q->prepared.spec.pose);
       q->neighbours.push_back(awaiting_next_->prepared.spec.pose);
@@ -171,7 +172,7 @@ void MosaicBuilder::StartWarp(const std::shared_ptr<Queued>& q) {
 void MosaicBuilder::ConsumeReady(bool wait_for_one) {
   while (!queued_.empty()) {
     Queued& q = *queued_.front();
-    const bool usable = !q.prepared.image.empty();
+    const bool usable = q.usable;
     if (usable && !q.warp.valid()) return;  // waits for its next neighbour
     if (usable && !wait_for_one && !IsReady(q.warp)) return;
     wait_for_one = false;
@@ -243,8 +244,14 @@ MosaicBuilder::Prepared MosaicBuilder::Load(const FrameSpec& spec) const {
   if (!warper_.SeesSeabed(spec.pose))
     return reject("pitch_deg/roll_deg", "the camera does not see the seabed in this attitude");
   p.image = std::move(*image);
-  if (hooks_.preprocess)  // the enhancement chain works on whole frames
-    p.image = FrameImage::FromMat(hooks_.preprocess(p.image.Full()), plan_.channels, config_.sixteen_bit_white);
+  if (hooks_.preprocess) {  // the enhancement chain works on whole frames
+    try {
+      p.image = FrameImage::FromMat(hooks_.preprocess(p.image.Full()), plan_.channels, config_.sixteen_bit_white);
+    } catch (const InputError& e) {
+      p.image = FrameImage();
+      return reject("image", e.detail());
+    }
+  }
   return p;
 }
 

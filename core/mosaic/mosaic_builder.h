@@ -96,6 +96,7 @@ class MosaicBuilder {
   // starts once the next usable frame is known (its neighbour for seams).
   struct Queued {
     Prepared prepared;
+    bool usable = false;  // loaded and checked: it will be warped
     std::vector<VehiclePose> neighbours;
     std::string problem;  // set by the warp job when the image cannot be decoded
     std::future<std::optional<WarpedFrame>> warp;

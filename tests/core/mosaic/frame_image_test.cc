@@ -35,8 +35,6 @@ TEST(FrameImage, JpegRowsDecodedAloneEqualTheFullDecode) {
   EXPECT_EQ(image->height(), 150);
   const cv::Mat& band = image->Rows(61, 90);
   EXPECT_EQ(cv::norm(band.rowRange(61, 91), reference.rowRange(61, 91), cv::NORM_INF), 0);
-  EXPECT_EQ(cv::countNonZero(band.rowRange(0, 50)), 0);   // not decoded
-  EXPECT_EQ(cv::countNonZero(band.rowRange(100, 150)), 0);
   // Asking for more decodes more; the whole frame equals OpenCV's decode.
   EXPECT_EQ(cv::norm(image->Full(), reference, cv::NORM_INF), 0);
 }
@@ -56,6 +54,17 @@ TEST(FrameImage, ColourJpegBecomesLumaForAGrayMapAndBgrForAColourOne) {
   cv::cvtColor(bgr, luma, cv::COLOR_BGR2GRAY);
   EXPECT_EQ(gray->Full().type(), CV_8UC1);
   EXPECT_LE(cv::norm(gray->Full(), luma, cv::NORM_INF), 3);
+}
+
+TEST(FrameImage, ProgressiveJpegsAreDecodedWhole) {
+  // Several scans: later tables could be missing, so no decoding by rows.
+  testing::TempDir dir;
+  const std::string path = (dir / "frame.jpg").string();
+  cv::imwrite(path, Texture(80, 60, CV_8UC1), {cv::IMWRITE_JPEG_PROGRESSIVE, 1});
+  std::string problem;
+  auto image = FrameImage::Read(path, 1, 65535, &problem);
+  ASSERT_TRUE(image) << problem;
+  EXPECT_EQ(cv::norm(image->Rows(10, 20), cv::imread(path, cv::IMREAD_GRAYSCALE), cv::NORM_INF), 0);
 }
 
 TEST(FrameImage, OtherFormatsAndDepthsAreConverted) {

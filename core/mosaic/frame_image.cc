@@ -2,6 +2,7 @@
 
 #include <csetjmp>
 #include <cstdio>
+#include <filesystem>
 #include <algorithm>
 #include <fstream>
 #include <stdexcept>
@@ -82,8 +83,9 @@ cv::Mat ToEightBit(const cv::Mat& image, int channels, int sixteen_bit_white) {
 
 std::optional<FrameImage> FrameImage::Read(const std::string& path, int channels, int sixteen_bit_white,
                                            std::string* problem) {
+  std::error_code ec;
   std::ifstream in(path, std::ios::binary | std::ios::ate);
-  if (!in) {
+  if (!std::filesystem::is_regular_file(path, ec) || !in) {
     *problem = "missing image";
     return std::nullopt;
   }

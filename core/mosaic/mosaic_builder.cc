@@ -4,8 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <sstream>
 
 #include <opencv2/imgcodecs.hpp>
@@ -25,15 +23,18 @@ double Median(std::vector<double> v) {
 
 }  // namespace
 
-int64_t PeakRssBytes() {
+namespace {
+rusage SelfUsage() {
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
-  return static_cast<int64_t>(usage.ru_maxrss) * 1024;
+  return usage;
 }
+}  // namespace
+
+int64_t PeakRssBytes() { return static_cast<int64_t>(SelfUsage().ru_maxrss) * 1024; }
 
 double ProcessCpuSeconds() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
+  const rusage usage = SelfUsage();
   auto seconds = [](const timeval& t) { return t.tv_sec + t.tv_usec / 1e6; };
   return seconds(usage.ru_utime) + seconds(usage.ru_stime);
 }
@@ -115,13 +116,6 @@ MosaicBuilder::~MosaicBuilder() {
     if (q->warp.valid()) q->warp.wait();
   pool_.reset();
 }
-
-namespace {
-template <typename T>
-bool IsReady(const std::future<T>& f) {
-  return f.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
-}
-}  // namespace
 
 void MosaicBuilder::Push(const FrameSpec& spec) {
   loading_.push_back(pool_->Submit([this, spec] { return Load(spec); }));
@@ -213,8 +207,6 @@ MosaicBuilder::Prepared MosaicBuilder::Load(const FrameSpec& spec) const {
     p.reject_reason = std::move(reason);
     return p;
   };
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(spec.image_path, ec)) return reject("image", "missing image");
   std::string problem;
   auto image = FrameImage::Read(spec.image_path, plan_.channels, config_.sixteen_bit_white, &problem);
   if (!image) return reject("image", problem);

@@ -1,5 +1,6 @@
 #pragma once
 // A fixed pool of worker threads running submitted jobs in FIFO order.
+#include <chrono>
 #include <condition_variable>
 #include <deque>
 #include <functional>
@@ -41,5 +42,11 @@ class ThreadPool {
   std::condition_variable wake_;
   bool stopping_ = false;
 };
+
+// Whether a job's result is there, without waiting.
+template <typename T>
+bool IsReady(const std::future<T>& f) {
+  return f.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
+}
 
 }  // namespace seamap

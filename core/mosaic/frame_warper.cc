@@ -5,6 +5,7 @@
 #include <cstring>
 #include <limits>
 
+#include <opencv2/core/hal/intrin.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "core/camera/frame_projector.h"
@@ -28,6 +29,17 @@ std::vector<cv::Point2d> RawBorder(const CameraModel& c) {
     pts.push_back({l, t + f * (b - t)});
   }
   return pts;
+}
+
+// The whole-pixel box {x0, y0, width, height} around border points.
+std::array<int64_t, 4> BoxAround(const std::vector<cv::Point2d>& global) {
+  double min_x = 1e300, min_y = 1e300, max_x = -1e300, max_y = -1e300;
+  for (const auto& p : global) {
+    min_x = std::min(min_x, p.x); max_x = std::max(max_x, p.x);
+    min_y = std::min(min_y, p.y); max_y = std::max(max_y, p.y);
+  }
+  const auto x0 = static_cast<int64_t>(std::floor(min_x)), y0 = static_cast<int64_t>(std::floor(min_y));
+  return {x0, y0, static_cast<int64_t>(std::ceil(max_x)) - x0 + 1, static_cast<int64_t>(std::ceil(max_y)) - y0 + 1};
 }
 
 }  // namespace
@@ -89,6 +101,12 @@ std::optional<std::vector<cv::Point2d>> FrameWarper::MapBorder(const VehiclePose
   return global;
 }
 
+std::optional<std::array<int64_t, 4>> FrameWarper::MapBox(const VehiclePose& pose) const {
+  auto global = MapBorder(pose);
+  if (!global) return std::nullopt;
+  return BoxAround(*global);
+}
+
 bool FrameWarper::SeesSeabed(const Eigen::Matrix3d& image_to_ground) const {
   for (const auto& b : border_)
     if ((image_to_ground * Eigen::Vector3d(b.x, b.y, 1.0)).z() <= 0) return false;
@@ -117,6 +135,7 @@ cv::Matx33d FrameWarper::BoxToNormalised(const std::vector<cv::Point2d>& global,
 namespace {
 
 constexpr int kMaxRivals = 2;  // the previous and the next painted frame
+constexpr int kMaxCell = 64;   // largest grid step
 
 // One exactly evaluated grid point: raw image positions in this frame and in
 // the rivals, each with whether its mapping is trustworthy there (in front of
@@ -177,13 +196,13 @@ struct ImageShape {
 // Bilinear sample at fixed-point (8-bit fraction) position, clamped so all
 // four neighbours are inside the image (edge pixels replicate).
 template <int kChannels>
-inline void Sample(const cv::Mat& image, float u, float v, int max_iu, int max_iv, uint8_t* out) {
+inline void Sample(const uint8_t* data, size_t step, float u, float v, int max_iu, int max_iv, uint8_t* out) {
   int iu = static_cast<int>(u * 256.0f), iv = static_cast<int>(v * 256.0f);
   iu = std::clamp(iu, 0, max_iu);
   iv = std::clamp(iv, 0, max_iv);
   const int fx = iu & 255, fy = iv & 255;
-  const uint8_t* r0 = image.ptr<uint8_t>(iv >> 8) + (iu >> 8) * kChannels;
-  const uint8_t* r1 = r0 + image.step[0];
+  const uint8_t* r0 = data + static_cast<size_t>(iv >> 8) * step + (iu >> 8) * kChannels;
+  const uint8_t* r1 = r0 + step;
   for (int ch = 0; ch < kChannels; ++ch) {
     const int top = r0[ch] * (256 - fx) + r0[ch + kChannels] * fx;
     const int bottom = r1[ch] * (256 - fx) + r1[ch + kChannels] * fx;
@@ -237,43 +256,94 @@ class KeepTest {
   const float* inv_seam_;
 };
 
-// A row's pass across one grid cell: this frame's raw position and each
-// rival's, linear in the pixel index.
-struct CellLine {
+// One pixel row of a grid block: positions in this frame and in each rival,
+// linear in the pixel index i (u0 + du * i).
+struct BlockRow {
   float u0 = 0, du = 0, v0 = 0, dv = 0;
   float ru0[kMaxRivals] = {0, 0}, rdu[kMaxRivals] = {0, 0}, rv0[kMaxRivals] = {0, 0}, rdv[kMaxRivals] = {0, 0};
-  bool rival[kMaxRivals] = {false, false};
+  bool rival[kMaxRivals] = {false, false};  // false: the rival is far from seeing this block
 };
-constexpr int kChunk = 16;  // pixels per vectorised pass
 
-// Positions and weights of pixels [i0, i0 + m) of a cell (m <= kChunk): the
-// feather tent (shaped by `lut` when given), times, for each rival that sees
-// the pixel more centrally, a ramp to zero across its seam. Branch-free, so
-// GCC vectorises every loop.
-void CellWeights(const ImageShape& sh, const CellLine& line, int rivals, const float* inv_seam,
-                 const float* lut, int i0, int m, float* __restrict u, float* __restrict v,
-                 float* __restrict w) {
-  for (int i = 0; i < m; ++i) {
-    const float f = static_cast<float>(i0 + i);
-    u[i] = line.u0 + line.du * f;
-    v[i] = line.v0 + line.dv * f;
-    w[i] = sh.Tent(u[i], v[i]);
-  }
-  if (lut)
-    for (int i = 0; i < m; ++i) w[i] = w[i] > 0 ? lut[static_cast<int>(w[i] * (kLut - 1))] : w[i];
+// Weights of pixels [0, n) of a block row into w (room for n rounded up to
+// 4): the feather tent (shaped by `lut` when given), times, for each rival
+// that sees the pixel more centrally, a ramp to zero across its seam.
+// Explicit SIMD through OpenCV's universal intrinsics (SSE2 here, NEON on
+// ARM boards): the same arithmetic as ImageShape, four pixels at a time.
+void RowWeights(const ImageShape& sh, const BlockRow& r, int rivals, const float* inv_seam, const float* lut,
+                int n, float* w) {
+  using cv::v_float32x4;
+  const v_float32x4 zero = cv::v_setzero_f32(), one = cv::v_setall_f32(1.0f), half = cv::v_setall_f32(0.5f);
+  const v_float32x4 right = cv::v_setall_f32(sh.width - 0.5f), bottom = cv::v_setall_f32(sh.height - 0.5f);
+  const v_float32x4 inv_hw = cv::v_setall_f32(sh.inv_half_w), inv_hh = cv::v_setall_f32(sh.inv_half_h);
+  const v_float32x4 cu = cv::v_setall_f32(sh.centre_u), cv_ = cv::v_setall_f32(sh.centre_v);
+  const v_float32x4 last_u = cv::v_setall_f32(sh.width - 1.0f), last_v = cv::v_setall_f32(sh.height - 1.0f);
+  auto centrality = [&](const v_float32x4& u, const v_float32x4& v) {
+    const v_float32x4 a = (u - cu) * inv_hw, b = (v - cv_) * inv_hh;
+    return a * a + b * b;
+  };
+  const v_float32x4 u0 = cv::v_setall_f32(r.u0), du = cv::v_setall_f32(r.du);
+  const v_float32x4 v0 = cv::v_setall_f32(r.v0), dv = cv::v_setall_f32(r.dv);
+  v_float32x4 ru0[kMaxRivals], rdu[kMaxRivals], rv0[kMaxRivals], rdv[kMaxRivals], inv[kMaxRivals];
   for (int k = 0; k < rivals; ++k) {
-    if (!line.rival[k]) continue;
-    const float ru0 = line.ru0[k], rdu = line.rdu[k], rv0 = line.rv0[k], rdv = line.rdv[k], inv = inv_seam[k];
-    for (int i = 0; i < m; ++i) {
-      const float f = static_cast<float>(i0 + i);
-      const float ru = ru0 + rdu * f, rv = rv0 + rdv * f;
+    ru0[k] = cv::v_setall_f32(r.ru0[k]); rdu[k] = cv::v_setall_f32(r.rdu[k]);
+    rv0[k] = cv::v_setall_f32(r.rv0[k]); rdv[k] = cv::v_setall_f32(r.rdv[k]);
+    inv[k] = cv::v_setall_f32(inv_seam[k]);
+  }
+  v_float32x4 idx(0.0f, 1.0f, 2.0f, 3.0f);
+  const v_float32x4 four = cv::v_setall_f32(4.0f);
+  alignas(16) float ramps[kMaxCell + 4];
+  for (int i = 0; i < n; i += 4, idx = idx + four) {
+    const v_float32x4 u = u0 + du * idx, v = v0 + dv * idx;
+    const v_float32x4 ta = cv::v_min(u + half, right - u) * inv_hw;
+    const v_float32x4 tb = cv::v_min(v + half, bottom - v) * inv_hh;
+    const v_float32x4 inside = cv::v_min(ta * tb, one);
+    const v_float32x4 outside = cv::v_min(ta, zero) + cv::v_min(tb, zero);
+    const v_float32x4 tent = cv::v_select((ta > zero) & (tb > zero), inside, outside);
+    const v_float32x4 c = centrality(u, v);
+    v_float32x4 factor = one;
+    for (int k = 0; k < rivals; ++k) {
+      if (!r.rival[k]) continue;
+      const v_float32x4 ru = ru0[k] + rdu[k] * idx, rv = rv0[k] + rdv[k] * idx;
       // The rival must see the pixel by half a pixel: its own, separately
       // interpolated mapping then agrees that it does.
-      const float sees = static_cast<float>((ru > 0.0f) & (ru < sh.width - 1.0f) & (rv > 0.0f) & (rv < sh.height - 1.0f));
-      const float ramp = (sh.Centrality(ru, rv) - sh.Centrality(u[i], v[i])) * inv + 1.0f;
-      w[i] *= 1.0f + sees * (std::min(std::max(ramp, 0.0f), 1.0f) - 1.0f);
+      const v_float32x4 sees = (ru > zero) & (ru < last_u) & (rv > zero) & (rv < last_v);
+      const v_float32x4 ramp = cv::v_min(cv::v_max((centrality(ru, rv) - c) * inv[k] + one, zero), one);
+      factor = factor * cv::v_select(sees, ramp, one);
+    }
+    if (lut) {
+      cv::v_store(w + i, tent);
+      cv::v_store(ramps + i, factor);
+    } else {
+      cv::v_store(w + i, tent * factor);
     }
   }
+  if (lut)
+    for (int i = 0; i < n; ++i)
+      w[i] = (w[i] > 0 ? lut[static_cast<int>(w[i] * (kLut - 1))] : w[i]) * ramps[i];
+}
+
+// Weights [0, n) to the canvas's 8 bits (0: not painted, else 1..255);
+// returns which pixels are painted, bit i for pixel i.
+uint64_t ToCanvasWeights(const float* w, int n, uint8_t* out) {
+  const cv::v_float32x4 zero = cv::v_setzero_f32(), scale = cv::v_setall_f32(254.0f), bias = cv::v_setall_f32(1.5f);
+  uint64_t kept = 0;
+  int i = 0;
+  for (; i + 16 <= n; i += 16) {
+    cv::v_int32x4 q[4];
+    for (int g = 0; g < 4; ++g) {
+      const cv::v_float32x4 x = cv::v_load(w + i + 4 * g);
+      const cv::v_float32x4 is_kept = x > zero;
+      q[g] = cv::v_trunc(cv::v_select(is_kept, bias + scale * x, zero));
+      kept |= static_cast<uint64_t>(cv::v_signmask(is_kept)) << (i + 4 * g);
+    }
+    cv::v_store(out + i, cv::v_pack_u(cv::v_pack(q[0], q[1]), cv::v_pack(q[2], q[3])));
+  }
+  for (; i < n; ++i) {
+    const bool is_kept = w[i] > 0.0f;
+    out[i] = static_cast<uint8_t>(is_kept ? 1.5f + 254.0f * w[i] : 0.0f);
+    kept |= static_cast<uint64_t>(is_kept) << i;
+  }
+  return kept;
 }
 
 // The painted rows of a canvas, cut to their bounding box and copied into
@@ -291,18 +361,30 @@ void CopyPainted(cv::Mat& canvas_pixels, cv::Mat& canvas_weight, const std::vect
   const int out_w = px1 - px0 + 1, out_h = py1 - py0 + 1;
   out->x0 += px0;
   out->y0 += py0;
-  out->pixels = cv::Mat::zeros(out_h, out_w, canvas_pixels.type());
-  out->weight = cv::Mat::zeros(out_h, out_w, CV_8U);
+  // Not zero-filled first: each row is copied, and only its margins outside
+  // the painted span are cleared.
+  out->pixels.create(out_h, out_w, canvas_pixels.type());
+  out->weight.create(out_h, out_w, CV_8U);
   out->span_begin.assign(out_h, 0);
   out->span_end.assign(out_h, 0);
   const size_t px_size = canvas_pixels.elemSize();
   for (int y = py0; y <= py1; ++y) {
-    if (last[y] < 0) continue;
-    const int b = first[y], n = last[y] - b + 1;
+    uint8_t* out_pix = out->pixels.ptr<uint8_t>(y - py0);
+    uint8_t* out_wgt = out->weight.ptr<uint8_t>(y - py0);
+    if (last[y] < 0) {
+      std::memset(out_pix, 0, out_w * px_size);
+      std::memset(out_wgt, 0, out_w);
+      continue;
+    }
+    const int b = first[y], n = last[y] - b + 1, left = b - px0, right = out_w - left - n;
     uint8_t* pix = canvas_pixels.ptr<uint8_t>(y) + b * px_size;
     uint8_t* wgt = canvas_weight.ptr<uint8_t>(y) + b;
-    std::memcpy(out->pixels.ptr<uint8_t>(y - py0) + (b - px0) * px_size, pix, n * px_size);
-    std::memcpy(out->weight.ptr<uint8_t>(y - py0) + (b - px0), wgt, n);
+    std::memset(out_pix, 0, left * px_size);
+    std::memset(out_wgt, 0, left);
+    std::memcpy(out_pix + left * px_size, pix, n * px_size);
+    std::memcpy(out_wgt + left, wgt, n);
+    std::memset(out_pix + (left + n) * px_size, 0, right * px_size);
+    std::memset(out_wgt + left + n, 0, right);
     std::memset(pix, 0, n * px_size);
     std::memset(wgt, 0, n);
     out->span_begin[y - py0] = b - px0;
@@ -322,19 +404,11 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
   auto global = MapBorder(pose);
   if (!global) return std::nullopt;
   WarpedFrame out;
-  double min_x = 1e300, min_y = 1e300, max_x = -1e300, max_y = -1e300;
-  for (const auto& p : *global) {
-    min_x = std::min(min_x, p.x); max_x = std::max(max_x, p.x);
-    min_y = std::min(min_y, p.y); max_y = std::max(max_y, p.y);
-  }
-  out.x0 = static_cast<int64_t>(std::floor(min_x));
-  out.y0 = static_cast<int64_t>(std::floor(min_y));
-  const int width = static_cast<int>(std::ceil(max_x) - out.x0) + 1;
-  const int height = static_cast<int>(std::ceil(max_y) - out.y0) + 1;
-  out.box_x0 = out.x0;
-  out.box_y0 = out.y0;
-  out.box_width = width;
-  out.box_height = height;
+  const std::array<int64_t, 4> box = BoxAround(*global);
+  out.x0 = out.box_x0 = box[0];
+  out.y0 = out.box_y0 = box[1];
+  const int width = out.box_width = static_cast<int>(box[2]);
+  const int height = out.box_height = static_cast<int>(box[3]);
   const cv::Matx33d m = BoxToNormalised(*global, out.x0, out.y0);
   const ImageShape shape(camera_);
 
@@ -381,10 +455,8 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
     }
   }
 
-  // Blocks between grid points worth visiting (see KeepTest); the same test
-  // per row and cell below skips the cells the handover line leaves out of
-  // a block.
-  Reach block_reach, cell_reach;
+  // Blocks between grid points worth visiting (see KeepTest).
+  Reach block_reach, row_reach;
   {
     const int cx = nx / 2, cy = ny / 2;
     const GridPoint& g = grid[static_cast<size_t>(cy) * nx + cx];
@@ -393,26 +465,26 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
     if (g.valid && gx1.valid && gy1.valid) {
       block_reach = {1.5f * (std::fabs(gx1.u - g.u) + std::fabs(gy1.u - g.u)) + 1,
                      1.5f * (std::fabs(gx1.v - g.v) + std::fabs(gy1.v - g.v)) + 1};
-      cell_reach = {1.5f * std::fabs(gx1.u - g.u) + 1, 1.5f * std::fabs(gx1.v - g.v) + 1};
+      row_reach = {1.5f * std::fabs(gx1.u - g.u) + 1, 1.5f * std::fabs(gx1.v - g.v) + 1};
     }
   }
   const KeepTest keep(shape, n_rivals, inv_seam);
-  std::vector<uint8_t> active(static_cast<size_t>(nx) * ny, 0);
-  int bx_min = nx, bx_max = -1, by_min = ny, by_max = -1;
+  struct Block {
+    int bx, by;
+  };
+  thread_local std::vector<Block> blocks;
+  blocks.clear();
   for (int by = 0; by + 1 < ny; ++by) {
     for (int bx = 0; bx + 1 < nx; ++bx) {
       const GridPoint* c[4] = {&grid[static_cast<size_t>(by) * nx + bx], &grid[static_cast<size_t>(by) * nx + bx + 1],
                                &grid[static_cast<size_t>(by + 1) * nx + bx],
                                &grid[static_cast<size_t>(by + 1) * nx + bx + 1]};
       if (!c[0]->valid || !c[1]->valid || !c[2]->valid || !c[3]->valid) continue;
-      if (!keep.MayKeep({c[0], c[1], c[2], c[3]}, block_reach)) continue;
-      active[static_cast<size_t>(by) * nx + bx] = 1;
-      bx_min = std::min(bx_min, bx); bx_max = std::max(bx_max, bx);
-      by_min = std::min(by_min, by); by_max = std::max(by_max, by);
+      if (keep.MayKeep({c[0], c[1], c[2], c[3]}, block_reach)) blocks.push_back({bx, by});
     }
   }
 
-  if (bx_max < 0) {  // nothing to paint
+  if (blocks.empty()) {  // nothing to paint
     out.pixels = cv::Mat::zeros(1, 1, channels_ == 1 ? CV_8UC1 : CV_8UC3);
     out.weight = cv::Mat::zeros(1, 1, CV_8U);
     out.span_begin.assign(1, 0);
@@ -431,87 +503,73 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
     scratch_weight = cv::Mat::zeros(std::max(height, scratch_weight.rows), std::max(width, scratch_weight.cols), CV_8U);
   std::vector<int> first_painted(height, width), last_painted(height, -1);
 
-  // Per row: interpolate the mappings along each run of active cells,
-  // compute the weights in branch-free (vectorised) passes, then sample the
-  // frame only where the weight is not zero.
-  const int max_iu = (camera_.width - 1) * 256 - 1, max_iv = (camera_.height - 1) * 256 - 1;
-  const bool shaped = feather_power_ != 1.0;
-  const ImageShape sh = shape;  // a local copy: the loops vectorise
-  std::vector<GridPoint> row(nx);
-  struct Kept {
-    int x, y;
-    float u, v;
-  };
-  thread_local std::vector<Kept> kept;
-  kept.clear();
-  float v_min = 1e30f, v_max = -1e30f;
-  for (int y = by_min * cell; y < std::min(height, (by_max + 1) * cell); ++y) {
-    const int gy = y / cell;
-    const float fy = (y - gy * cell) * inv_cell;
-    const GridPoint* a = &grid[static_cast<size_t>(gy) * nx];
-    const GridPoint* b = a + nx;
-    const uint8_t* block_active = &active[static_cast<size_t>(gy) * nx];
-    uint8_t* wgt = scratch_weight.ptr<uint8_t>(y);
-    int& first = first_painted[y];
-    int& last = last_painted[y];
-    // This row's values at the grid columns, and which cells of the active
-    // blocks this row still needs (the handover line crosses blocks).
-    for (int gx = bx_min; gx <= bx_max + 1; ++gx) {
-      GridPoint& r = row[gx];
-      r.valid = a[gx].valid && b[gx].valid;
-      r.u = a[gx].u + (b[gx].u - a[gx].u) * fy;
-      r.v = a[gx].v + (b[gx].v - a[gx].v) * fy;
-      for (int k = 0; k < n_rivals; ++k) {
-        r.rival_valid[k] = a[gx].rival_valid[k] && b[gx].rival_valid[k];
-        r.ru[k] = a[gx].ru[k] + (b[gx].ru[k] - a[gx].ru[k]) * fy;
-        r.rv[k] = a[gx].rv[k] + (b[gx].rv[k] - a[gx].rv[k]) * fy;
-      }
+  // Per block row: positions linear along it (the grid interpolated
+  // bilinearly), weights four pixels at a time, then to the canvas. Pixels
+  // are sampled afterwards, once it is known which raw rows they need.
+  const float* lut = feather_power_ != 1.0 ? weight_lut_.data() : nullptr;
+  const ImageShape sh = shape;
+  auto block_row = [&](const Block& b, int j, bool with_rivals, BlockRow& r) {
+    const GridPoint& g00 = grid[static_cast<size_t>(b.by) * nx + b.bx];
+    const GridPoint& g10 = (&g00)[1];
+    const GridPoint& g01 = (&g00)[nx];
+    const GridPoint& g11 = (&g00)[nx + 1];
+    const float fy = j * inv_cell;
+    auto line = [&](float c00, float c10, float c01, float c11, float& start, float& step) {
+      const float left = c00 + (c01 - c00) * fy, right = c10 + (c11 - c10) * fy;
+      start = left;
+      step = (right - left) * inv_cell;
+    };
+    line(g00.u, g10.u, g01.u, g11.u, r.u0, r.du);
+    line(g00.v, g10.v, g01.v, g11.v, r.v0, r.dv);
+    for (int k = 0; with_rivals && k < n_rivals; ++k) {
+      r.rival[k] = g00.rival_valid[k] && g10.rival_valid[k] && g01.rival_valid[k] && g11.rival_valid[k];
+      line(g00.ru[k], g10.ru[k], g01.ru[k], g11.ru[k], r.ru0[k], r.rdu[k]);
+      line(g00.rv[k], g10.rv[k], g01.rv[k], g11.rv[k], r.rv0[k], r.rdv[k]);
     }
-    for (int run_begin = bx_min; run_begin <= bx_max;) {
-      auto needed = [&](int gx) { return block_active[gx] && keep.MayKeep({&row[gx], &row[gx + 1]}, cell_reach); };
-      if (!needed(run_begin)) {
-        ++run_begin;
-        continue;
-      }
-      int run_end = run_begin + 1;  // needed cells [run_begin, run_end)
-      while (run_end <= bx_max && needed(run_end)) ++run_end;
-      // Each cell: positions linear across it, weights in branch-free
-      // (vectorised) passes, then the pixels kept.
-      for (int gx = run_begin; gx < run_end; ++gx) {
-        const GridPoint& l = row[gx];
-        const GridPoint& r = row[gx + 1];
-        const int x0 = gx * cell, n = std::min(cell, width - x0);
-        CellLine line;
-        line.u0 = l.u; line.du = (r.u - l.u) * inv_cell;
-        line.v0 = l.v; line.dv = (r.v - l.v) * inv_cell;
+  };
+  thread_local std::vector<uint8_t> painted_blocks;
+  painted_blocks.assign(blocks.size(), 0);
+  float v_min = 1e30f, v_max = -1e30f;
+  alignas(16) float w[kMaxCell + 4];
+  BlockRow r;
+  GridPoint ends[2];
+  for (size_t bi = 0; bi < blocks.size(); ++bi) {
+    const Block& b = blocks[bi];
+    const int x0 = b.bx * cell, y0 = b.by * cell;
+    const int w_cols = std::min(cell, width - x0), h_rows = std::min(cell, height - y0);
+    for (int j = 0; j < h_rows; ++j) {
+      block_row(b, j, true, r);
+      // The row's ends, for the same test as the block's: the handover
+      // line crosses blocks, leaving some rows to the rivals.
+      for (int e = 0; e < 2; ++e) {
+        const float f = static_cast<float>(e * cell);
+        ends[e].valid = true;
+        ends[e].u = r.u0 + r.du * f;
+        ends[e].v = r.v0 + r.dv * f;
         for (int k = 0; k < n_rivals; ++k) {
-          line.rival[k] = l.rival_valid[k] && r.rival_valid[k];  // else far from seeing this cell
-          line.ru0[k] = l.ru[k]; line.rdu[k] = (r.ru[k] - l.ru[k]) * inv_cell;
-          line.rv0[k] = l.rv[k]; line.rdv[k] = (r.rv[k] - l.rv[k]) * inv_cell;
-        }
-        for (int i0 = 0; i0 < n; i0 += kChunk) {
-          const int m = std::min(kChunk, n - i0);
-          alignas(32) float u[kChunk], v[kChunk], w[kChunk];
-          CellWeights(sh, line, n_rivals, inv_seam, shaped ? weight_lut_.data() : nullptr, i0, m, u, v, w);
-          for (int i = 0; i < m; ++i) {
-            if (!(w[i] > 0)) continue;
-            const int x = x0 + i0 + i;
-            wgt[x] = static_cast<uint8_t>(1.5f + 254.0f * w[i]);
-            kept.push_back({x, y, u[i], v[i]});
-            v_min = std::min(v_min, v[i]);
-            v_max = std::max(v_max, v[i]);
-            first = std::min(first, x);
-            last = x;
-          }
+          ends[e].rival_valid[k] = r.rival[k];
+          ends[e].ru[k] = r.ru0[k] + r.rdu[k] * f;
+          ends[e].rv[k] = r.rv0[k] + r.rdv[k] * f;
         }
       }
-      run_begin = run_end;
+      if (!keep.MayKeep({&ends[0], &ends[1]}, row_reach)) continue;
+      RowWeights(sh, r, n_rivals, inv_seam, lut, w_cols, w);
+      const uint64_t kept = ToCanvasWeights(w, w_cols, scratch_weight.ptr<uint8_t>(y0 + j) + x0);
+      if (!kept) continue;
+      const int i0 = __builtin_ctzll(kept), i1 = 63 - __builtin_clzll(kept);
+      first_painted[y0 + j] = std::min(first_painted[y0 + j], x0 + i0);
+      last_painted[y0 + j] = std::max(last_painted[y0 + j], x0 + i1);
+      // The raw rows sampled: v is linear along the row, so its ends bound it.
+      const float va = r.v0 + r.dv * static_cast<float>(i0), vb = r.v0 + r.dv * static_cast<float>(i1);
+      v_min = std::min(v_min, std::min(va, vb));
+      v_max = std::max(v_max, std::max(va, vb));
+      painted_blocks[bi] = 1;
     }
   }
 
   // Only now is it known which raw rows the kept pixels sample (bilinear:
   // one more below): a frame kept compressed decodes just those.
-  if (!kept.empty()) {
+  if (v_max >= v_min) {
     const cv::Mat* decoded = nullptr;
     try {
       decoded = &rows(static_cast<int>(std::floor(v_min)) - 1, static_cast<int>(std::ceil(v_max)) + 1);
@@ -521,11 +579,26 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
           std::memset(scratch_weight.ptr<uint8_t>(y) + first_painted[y], 0, last_painted[y] - first_painted[y] + 1);
       throw;
     }
-    const cv::Mat& image = *decoded;
-    for (const Kept& k : kept) {
-      uint8_t* pix = canvas_pixels.ptr<uint8_t>(k.y);
-      if (channels_ == 1) Sample<1>(image, k.u, k.v, max_iu, max_iv, pix + k.x);
-      else Sample<3>(image, k.u, k.v, max_iu, max_iv, pix + 3 * k.x);
+    const uint8_t* data = decoded->ptr<uint8_t>();
+    const size_t step = decoded->step[0];
+    const int max_iu = (camera_.width - 1) * 256 - 1, max_iv = (camera_.height - 1) * 256 - 1;
+    for (size_t bi = 0; bi < blocks.size(); ++bi) {
+      if (!painted_blocks[bi]) continue;
+      const Block& b = blocks[bi];
+      const int x0 = b.bx * cell, y0 = b.by * cell;
+      const int w_cols = std::min(cell, width - x0), h_rows = std::min(cell, height - y0);
+      for (int j = 0; j < h_rows; ++j) {
+        const uint8_t* wgt = scratch_weight.ptr<uint8_t>(y0 + j) + x0;
+        uint8_t* pix = canvas_pixels.ptr<uint8_t>(y0 + j) + x0 * channels_;
+        block_row(b, j, false, r);
+        for (int i = 0; i < w_cols; ++i) {
+          if (!wgt[i]) continue;
+          const float fi = static_cast<float>(i);
+          const float u = r.u0 + r.du * fi, v = r.v0 + r.dv * fi;
+          if (channels_ == 1) Sample<1>(data, step, u, v, max_iu, max_iv, pix + i);
+          else Sample<3>(data, step, u, v, max_iu, max_iv, pix + 3 * i);
+        }
+      }
     }
   }
 

@@ -55,7 +55,7 @@ class FrameWarper {
   // interpolated bilinearly in between: it is smooth (homography and lens
   // polynomial), so at the default step it stays within a few hundredths of
   // a pixel of the exact one (tested against step 1) at a 16th of the cost.
-  void SetGridStep(int step) { grid_step_ = step < 1 ? 1 : step; }
+  void SetGridStep(int step) { grid_step_ = step < 1 ? 1 : step > 64 ? 64 : step; }  // 1..64
 
   // Where the raw image corners land, or nullopt when the frame does not see the seabed.
   std::optional<std::array<LatLon, 4>> Footprint(const VehiclePose& pose) const;
@@ -63,6 +63,10 @@ class FrameWarper {
   std::optional<std::array<LocalXY, 4>> GroundCorners(const VehiclePose& pose) const;
   // Whether the whole image border lands on the seabed (what Warp needs).
   bool SeesSeabed(const VehiclePose& pose) const;
+  // The frame's bounding box at the base zoom in global pixels, {x0, y0,
+  // width, height}: WarpedFrame's box_*, known before warping. nullopt when
+  // the frame does not see the seabed.
+  std::optional<std::array<int64_t, 4>> MapBox(const VehiclePose& pose) const;
 
   // image: CV_8UC1 / CV_8UC3 matching `channels`, of the camera's size.
   // neighbours: poses of the previous and/or next painted frames (see above; at most two).

@@ -130,6 +130,8 @@ int RunBuild(int argc, char** argv, int first) {
   }
   store->SetMetadata("seamap_layers", both ? "raw,enhanced" : enhance.preprocess ? "enhanced" : "raw");
   for (const auto& r : in.frames.rejected) builder.Reject(r);
+  builder.Foresee(in.frames.frames);  // the whole survey is known: tiles are written once
+  if (enhanced) enhanced->Foresee(in.frames.frames);
   ProgressBar progress("frames", static_cast<long>(in.frames.frames.size()), !quiet);
   for (const auto& f : in.frames.frames) {
     builder.Push(f);

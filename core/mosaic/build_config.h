@@ -34,6 +34,10 @@ struct BuildConfig {
   double seam_band = 0.5;
   bool blend_all_overlaps = false;    // no handover: every overlapping frame blends everywhere (slower)
   int linger_frames = 1;              // a tile is finished when this many frames in a row miss it
+  // Offline builds know every pose up front: a tile that a frame among the
+  // next this many will be over again stays in the buffer instead of being
+  // written and read back (0: off; live builds never look ahead).
+  int lookahead_frames = 300;
   int memory_cap_mb = 512;            // base buffer + overview cache
   int batch_frames = 25;              // overviews and a transaction are flushed this often,
   double batch_seconds = 1.0;         // but not more often than this (fast offline builds)

@@ -117,6 +117,41 @@ MosaicBuilder::~MosaicBuilder() {
   pool_.reset();
 }
 
+void MosaicBuilder::Foresee(const std::vector<FrameSpec>& frames) {
+  foreseen_.clear();
+  if (config_.lookahead_frames <= 0) return;
+  // Boxes on the pool (each is a few dozen projections), tiles in order.
+  std::vector<std::future<std::optional<std::array<int64_t, 4>>>> boxes;
+  boxes.reserve(frames.size());
+  for (const FrameSpec& f : frames) boxes.push_back(pool_->Submit([this, &f] { return warper_.MapBox(f.pose); }));
+  for (size_t i = 0; i < frames.size(); ++i) {
+    const auto box = boxes[i].get();
+    if (!box) continue;
+    const auto t = TilesUnder((*box)[0], (*box)[1], (*box)[2], (*box)[3]);
+    for (int64_t ty = t[1]; ty <= t[3]; ++ty)
+      for (int64_t tx = t[0]; tx <= t[2]; ++tx)
+        foreseen_[TileId{plan_.base_zoom, static_cast<int>(tx), static_cast<int>(ty)}].push_back(frames[i].index);
+  }
+  for (auto& [id, indices] : foreseen_) std::sort(indices.begin(), indices.end());
+}
+
+bool MosaicBuilder::OverSoon(const TileId& id) const {
+  auto it = foreseen_.find(id);
+  if (it == foreseen_.end()) return false;
+  auto next = std::upper_bound(it->second.begin(), it->second.end(), last_index_);
+  return next != it->second.end() && *next <= last_index_ + config_.lookahead_frames;
+}
+
+std::array<int64_t, 4> MosaicBuilder::TilesUnder(int64_t x0, int64_t y0, int64_t width, int64_t height) const {
+  const int64_t ts = config_.tile_size;
+  // Tiles that exist at this zoom (frames may reach past the antimeridian or
+  // the Mercator limits; those parts are not mapped).
+  const int64_t last = (int64_t{1} << plan_.base_zoom) - 1;
+  auto floor_div = [ts](int64_t v) { return v >= 0 ? v / ts : -((-v + ts - 1) / ts); };
+  return {std::max<int64_t>(0, floor_div(x0)), std::max<int64_t>(0, floor_div(y0)),
+          std::min(last, floor_div(x0 + width - 1)), std::min(last, floor_div(y0 + height - 1))};
+}
+
 void MosaicBuilder::Push(const FrameSpec& spec) {
   loading_.push_back(pool_->Submit([this, spec] { return Load(spec); }));
   // Keep the pool busy: take finished loads (starting their neighbours'
@@ -250,6 +285,7 @@ MosaicBuilder::Prepared MosaicBuilder::Load(const FrameSpec& spec) const {
 void MosaicBuilder::Consume(Prepared p) {
   ++stats_.frames_seen;
   ++consumed_;  // this frame's number: tiles it paints are stamped with it
+  last_index_ = p.spec.index;
   FrameRecord record;
   record.id = frame_id_offset_ + p.spec.index;
   record.image = p.spec.image;
@@ -306,24 +342,16 @@ void MosaicBuilder::Consume(Prepared p) {
 
 void MosaicBuilder::Paint(const WarpedFrame& warped) {
   const int ts = config_.tile_size;
-  // Tiles that exist at this zoom (frames may reach past the antimeridian or
-  // the Mercator limits; those parts are not mapped).
-  const int64_t last = (int64_t{1} << plan_.base_zoom) - 1;
-  auto floor_div = [ts](int64_t v) { return v >= 0 ? v / ts : -((-v + ts - 1) / ts); };
-  auto tile_range = [&](int64_t x0, int64_t y0, int64_t w, int64_t h) {
-    return std::array<int64_t, 4>{std::max<int64_t>(0, floor_div(x0)), std::max<int64_t>(0, floor_div(y0)),
-                                  std::min(last, floor_div(x0 + w - 1)), std::min(last, floor_div(y0 + h - 1))};
-  };
   // Tiles the frame is over but leaves to its neighbours are still being
   // painted: keep them (finishing them now would only read them back a
   // frame later).
-  const auto over = tile_range(warped.box_x0, warped.box_y0, warped.box_width, warped.box_height);
+  const auto over = TilesUnder(warped.box_x0, warped.box_y0, warped.box_width, warped.box_height);
   for (int64_t ty = over[1]; ty <= over[3]; ++ty)
     for (int64_t tx = over[0]; tx <= over[2]; ++tx) {
       auto it = buffer_.find(TileId{plan_.base_zoom, static_cast<int>(tx), static_cast<int>(ty)});
       if (it != buffer_.end()) it->second.last_frame = consumed_;
     }
-  const auto painted = tile_range(warped.x0, warped.y0, warped.pixels.cols, warped.pixels.rows);
+  const auto painted = TilesUnder(warped.x0, warped.y0, warped.pixels.cols, warped.pixels.rows);
   for (int64_t ty = painted[1]; ty <= painted[3]; ++ty) {
     for (int64_t tx = painted[0]; tx <= painted[2]; ++tx) {
       // Tiles inside the painted box that the frame leaves empty (it is
@@ -380,16 +408,17 @@ cv::Mat MosaicBuilder::ReadBack(const TileId& id) {
 
 void MosaicBuilder::FinishTiles(bool all) {
   std::vector<TileId> done;
-  for (const auto& [id, slot] : buffer_)
-    if (all || consumed_ - slot.last_frame >= config_.linger_frames) done.push_back(id);
+  std::vector<std::pair<int, TileId>> by_age;  // the tiles kept
+  for (const auto& [id, slot] : buffer_) {
+    if (all || (consumed_ - slot.last_frame >= config_.linger_frames && !OverSoon(id))) done.push_back(id);
+    else by_age.push_back({slot.last_frame, id});
+  }
   // Memory cap: finish the least recently painted tiles first.
   const size_t cap = (static_cast<size_t>(config_.memory_cap_mb) << 20) * 3 / 4;
-  if (!all && buffer_bytes_ > cap) {
-    std::vector<std::pair<int, TileId>> by_age;
-    for (const auto& [id, slot] : buffer_)
-      if (consumed_ - slot.last_frame < config_.linger_frames) by_age.push_back({slot.last_frame, id});
+  size_t bytes = buffer_bytes_;  // what stays once `done` is written
+  for (const TileId& id : done) bytes -= buffer_.at(id).accumulator->Bytes();
+  if (!all && bytes > cap) {
     std::sort(by_age.begin(), by_age.end());
-    size_t bytes = buffer_bytes_;
     for (const auto& [age, id] : by_age) {
       if (bytes <= cap) break;
       bytes -= buffer_.at(id).accumulator->Bytes();

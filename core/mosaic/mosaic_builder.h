@@ -74,6 +74,10 @@ class MosaicBuilder {
                 const MosaicPlan& plan, TileStore* store, BuildHooks hooks = {});
   ~MosaicBuilder();
 
+  // Offline builds: the whole survey, before the first Push. A tile is then
+  // kept in the buffer while a frame among the next `lookahead_frames` will
+  // be over it, so a survey line returning to it does not read it back.
+  void Foresee(const std::vector<FrameSpec>& frames);
   // Queues a frame; blocks while the pipeline is full. Frames must come in acquisition order.
   void Push(const FrameSpec& frame);
   // Rejects a frame before it enters the pipeline (e.g. navigation problems).
@@ -114,6 +118,9 @@ class MosaicBuilder {
   void ConsumeReady(bool wait_for_one);
   void Consume(Prepared prepared);
   void Paint(const WarpedFrame& warped);
+  // Base tiles [x0, x1] x [y0, y1] under a box of global pixels (clipped to the zoom's tiles).
+  std::array<int64_t, 4> TilesUnder(int64_t x0, int64_t y0, int64_t width, int64_t height) const;
+  bool OverSoon(const TileId& id) const;  // a foreseen frame soon to come is over the tile
   void FinishTiles(bool all);
   void FinishTile(const TileId& id);
   void FlushBatch();
@@ -145,6 +152,10 @@ class MosaicBuilder {
   std::deque<std::pair<TileId, uint64_t>> finished_order_;
   uint64_t finished_stamp_ = 0;
   size_t finished_weights_bytes_ = 0;
+  // Foresee: for each base tile, the indices (FrameSpec::index, ascending)
+  // of the frames whose box is over it; and the last index consumed.
+  std::unordered_map<TileId, std::vector<int>, TileIdHash> foreseen_;
+  int last_index_ = -1;
   int consumed_ = 0;
   int track_seq_ = 0;
   int frame_id_offset_ = 0;  // ids of an appended mission's frames continue after the stored ones

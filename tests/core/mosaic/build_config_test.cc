@@ -14,7 +14,7 @@ using testing::WriteFile;
 TEST(BuildConfig, ReadsEveryKey) {
   TempDir dir;
   auto path = WriteFile(dir / "c.json", R"({"name":"m","tile_size":512,"base_zoom":24,"min_zoom":14,
-    "tile_format":"webp","webp_quality":90,"feather_power":2,"linger_frames":3,"memory_cap_mb":64,
+    "tile_format":"webp","webp_quality":90,"feather_power":2,"linger_frames":3,"lookahead_frames":50,"memory_cap_mb":64,
     "batch_frames":10,"threads":2,"background":"#102030",
     "navigation":{"columns":{"altitude_m":"alt2"},"utm_zone":52,"origin":[43.1,131.9]}})");
   BuildConfig c = LoadBuildConfig(path.string());
@@ -25,6 +25,7 @@ TEST(BuildConfig, ReadsEveryKey) {
   EXPECT_EQ(c.encoding.format, TileFormat::kWebp);
   EXPECT_EQ(c.encoding.webp_quality, 90);
   EXPECT_EQ(c.linger_frames, 3);
+  EXPECT_EQ(c.lookahead_frames, 50);
   EXPECT_EQ(c.encoding.background, cv::Scalar(0x30, 0x20, 0x10));
   EXPECT_EQ(c.nav.columns.at("altitude_m"), "alt2");
   EXPECT_EQ(*c.nav.utm_zone, 52);
@@ -70,6 +71,7 @@ TEST(BuildConfig, ErrorsNameFileAndKey) {
   expect_error(R"({"tile_size":300})", "tile_size");
   expect_error(R"({"tile_sise":256})", "tile_sise");
   expect_error(R"({"png_level":"fast"})", "png_level");
+  expect_error(R"({"lookahead_frames":-1})", "lookahead_frames");
   expect_error(R"({"background":"red"})", "background");
   expect_error(R"({"navigation":{"colums":{}}})", "navigation.colums");
   expect_error(R"({"base_zoom":10,"min_zoom":12})", "min_zoom");

@@ -1,5 +1,7 @@
 #include "core/mosaic/mosaic_builder.h"
 
+#include <filesystem>
+
 #include <gtest/gtest.h>
 
 #include <opencv2/imgcodecs.hpp>
@@ -39,12 +41,14 @@ class MosaicBuilderTest : public ::testing::Test {
   }
 
   // Builds `frames` into a new MBTiles file named `name` with `config`.
+  // With `foresee`, the builder is told the whole survey first (as an offline build is).
   std::pair<std::unique_ptr<TileStore>, BuildStats> BuildMap(const BuildConfig& config,
                                                              const std::vector<FrameSpec>& frames,
-                                                             const std::string& name) {
+                                                             const std::string& name, bool foresee = false) {
     auto store = OpenTileStore((dir_ / name).string(), "png", true);
     MosaicPlan plan = PlanMosaic(config, camera_, frame_, frames, 1);
     MosaicBuilder builder(config, camera_, frame_, plan, store.get());
+    if (foresee) builder.Foresee(frames);
     for (const auto& f : frames) builder.Push(f);
     builder.Finish();
     return {std::move(store), builder.stats()};
@@ -129,11 +133,9 @@ TEST_F(MosaicBuilderTest, LiveTilesAreWrittenEarlyButTheMapEndsTheSame) {
   }
 }
 
-TEST_F(MosaicBuilderTest, ASecondLineBlendsAsIfTheFirstHadStayedInMemory) {
-  // Two overlapping survey lines of textured frames at 10x overlap. Built
-  // with tiles finished between the lines (and read back) and with every
-  // tile kept in RAM, the maps agree to rounding: the read-back tiles bring
-  // their weights. Every pixel a frame covers is painted (no handover holes).
+// Two overlapping survey lines (there and back) of textured frames at 10x
+// overlap, with navigation jitter.
+std::vector<FrameSpec> TwoLines(const CameraModel& camera_, const std::filesystem::path& dir_) {
   std::vector<FrameSpec> frames;
   cv::RNG rng(7);
   const double step = camera_.height * 2.0 / camera_.fy / 10, spacing = camera_.width * 2.0 / camera_.fx * 0.6;
@@ -158,6 +160,15 @@ TEST_F(MosaicBuilderTest, ASecondLineBlendsAsIfTheFirstHadStayedInMemory) {
     f.pose.altitude_m = 2.0;
     frames.push_back(f);
   }
+  return frames;
+}
+
+TEST_F(MosaicBuilderTest, ASecondLineBlendsAsIfTheFirstHadStayedInMemory) {
+  // Built with tiles finished between the lines (and read back) and with
+  // every tile kept in RAM, the maps agree to rounding: the read-back tiles
+  // bring their weights. Every pixel a frame covers is painted (no handover
+  // holes).
+  const std::vector<FrameSpec> frames = TwoLines(camera_, dir_.path());
   auto build = [&](int linger, const std::string& name) {
     BuildConfig config = config_;
     config.linger_frames = linger;
@@ -198,6 +209,44 @@ TEST_F(MosaicBuilderTest, ASecondLineBlendsAsIfTheFirstHadStayedInMemory) {
     EXPECT_EQ(cv::countNonZero(ca[1] & ~cb[1]), 0) << "holes in tile " << id.x << "/" << id.y;
   }
   EXPECT_EQ(covered_handover, covered_all);
+}
+
+TEST_F(MosaicBuilderTest, ForeseenSurveyWritesEachTileOnceAndTheSameMap) {
+  // Told the whole survey, the builder keeps the first line's tiles until the
+  // second line has passed them: nothing is read back, every tile is written
+  // once, and the map is the one built by reading tiles back.
+  const std::vector<FrameSpec> frames = TwoLines(camera_, dir_.path());
+  BuildConfig config = config_;
+  config.batch_seconds = 1e6;  // overviews written once, at the end, however slow the machine
+  auto [read_back, read_back_stats] = BuildMap(config, frames, "read_back.mbtiles");
+  auto [foreseen, foreseen_stats] = BuildMap(config, frames, "foreseen.mbtiles", true);
+  EXPECT_GT(read_back_stats.readbacks, 0);
+  EXPECT_EQ(foreseen_stats.readbacks, 0);
+  int64_t distinct = 0;
+  for (const auto& [zoom, count] : foreseen_stats.tiles_per_zoom) distinct += count;
+  EXPECT_EQ(foreseen_stats.tiles_written, distinct);
+  EXPECT_GT(read_back_stats.tiles_written, distinct);
+  const auto ids = foreseen->TileIds();
+  EXPECT_EQ(ids.size(), read_back->TileIds().size());
+  for (const TileId& id : ids) {
+    auto other = read_back->GetTile(id);
+    ASSERT_TRUE(other) << "tile " << id.z << "/" << id.x << "/" << id.y;
+    std::vector<cv::Mat> ca, cb;
+    cv::split(DecodeTile(*foreseen->GetTile(id)), ca);
+    cv::split(DecodeTile(*other), cb);
+    EXPECT_EQ(cv::norm(ca[1], cb[1], cv::NORM_INF), 0) << "coverage differs";
+    EXPECT_LE(cv::norm(ca[0], cb[0], cv::NORM_INF), 2) << "tile " << id.z << "/" << id.x << "/" << id.y;
+  }
+
+  // lookahead_frames 0 turns it off; a look-ahead shorter than the way back
+  // along the line keeps only the tiles revisited soon enough.
+  BuildConfig off = config, short_look = config;
+  off.lookahead_frames = 0;
+  short_look.lookahead_frames = 10;
+  EXPECT_EQ(BuildMap(off, frames, "off.mbtiles", true).second.readbacks, read_back_stats.readbacks);
+  const int64_t short_readbacks = BuildMap(short_look, frames, "short.mbtiles", true).second.readbacks;
+  EXPECT_GT(short_readbacks, 0);
+  EXPECT_LT(short_readbacks, read_back_stats.readbacks);
 }
 
 TEST_F(MosaicBuilderTest, MissingImageIsRejectedAndRecorded) {

@@ -109,6 +109,27 @@ TEST(TileCodec, PngLevelChangesSize) {
   EXPECT_GT(EncodeTile(tile, fast).size(), EncodeTile(tile, small).size());
 }
 
+TEST(TileCodec, FastPngIsAtMostAQuarterLargerThanZlibDefault) {
+  // A seabed-like tile: smooth texture plus fine grain, partly transparent.
+  cv::Mat gray(256, 256, CV_8U), grain(256, 256, CV_8U);
+  cv::randu(gray, 0, 255);
+  cv::GaussianBlur(gray, gray, cv::Size(0, 0), 3);
+  cv::normalize(gray, gray, 30, 220, cv::NORM_MINMAX);
+  cv::randn(grain, 0, 6);
+  gray += grain;
+  cv::Mat alpha(256, 256, CV_8U, cv::Scalar(255));
+  alpha(cv::Rect(0, 0, 256, 40)) = 0;
+  gray.setTo(0, alpha == 0);
+  cv::Mat tile;
+  cv::merge(std::vector<cv::Mat>{gray, alpha}, tile);
+  TileEncoding fast, standard;
+  fast.png_level = 1;
+  standard.png_level = 6;
+  const size_t fast_size = EncodeTile(tile, fast).size(), standard_size = EncodeTile(tile, standard).size();
+  EXPECT_LE(fast_size, standard_size * 5 / 4) << fast_size << " vs " << standard_size;
+  EXPECT_TRUE(SameMat(DecodeTile(EncodeTile(tile, fast)), tile));
+}
+
 TEST(TileCodec, JpegPaintsBackgroundUnderTransparentPixels) {
   cv::Mat tile(256, 256, CV_8UC4, cv::Scalar(0, 0, 255, 255));  // opaque red
   tile(cv::Rect(0, 0, 128, 256)).setTo(cv::Scalar(0, 0, 255, 0));  // transparent red

@@ -346,49 +346,79 @@ uint64_t ToCanvasWeights(const float* w, int n, uint8_t* out) {
   return kept;
 }
 
-// The painted rows of a canvas, cut to their bounding box and copied into
-// `out` (pixels, weight, spans, origin); the canvas is left zero again.
-void CopyPainted(cv::Mat& canvas_pixels, cv::Mat& canvas_weight, const std::vector<int>& first,
-                 const std::vector<int>& last, WarpedFrame* out) {
-  const int height = static_cast<int>(first.size());
+// Runs of painted pixels per row, [begin, end] inclusive in box columns, in
+// increasing order: a frame paints a band and, along its side edges, slivers
+// no neighbour sees, so a row's bounding span is mostly empty.
+class RowRuns {
+ public:
+  static constexpr int kMax = 4;        // per row; later runs merge into the last
+  static constexpr int kMergeGap = 16;  // closer runs merge
+  void Reset(int rows) {
+    count_.assign(rows, 0);
+    runs_.resize(static_cast<size_t>(rows) * kMax);
+  }
+  // Pixels [a, b] of row y are painted; a is not left of the row's earlier runs' starts.
+  void Add(int y, int a, int b) {
+    int& n = count_[y];
+    std::array<int, 2>* r = &runs_[static_cast<size_t>(y) * kMax];
+    if (n > 0 && (a <= r[n - 1][1] + kMergeGap || n == kMax)) r[n - 1][1] = std::max(r[n - 1][1], b);
+    else r[n++] = {a, b};
+  }
+  int Count(int y) const { return count_[y]; }
+  const std::array<int, 2>& Run(int y, int k) const { return runs_[static_cast<size_t>(y) * kMax + k]; }
+
+ private:
+  std::vector<int> count_;
+  std::vector<std::array<int, 2>> runs_;
+};
+
+// The painted runs of a canvas, cut to their bounding box and copied into
+// `out` (pixels, weight, runs, spans, origin); the canvas is left zero again.
+void CopyPainted(cv::Mat& canvas_pixels, cv::Mat& canvas_weight, const RowRuns& runs, int height,
+                 WarpedFrame* out) {
   int px0 = std::numeric_limits<int>::max(), px1 = -1, py0 = height, py1 = -1;
   for (int y = 0; y < height; ++y) {
-    if (last[y] < 0) continue;
-    px0 = std::min(px0, first[y]); px1 = std::max(px1, last[y]);
+    const int n = runs.Count(y);
+    if (n == 0) continue;
+    px0 = std::min(px0, runs.Run(y, 0)[0]); px1 = std::max(px1, runs.Run(y, n - 1)[1]);
     py0 = std::min(py0, y); py1 = y;
   }
   if (py1 < 0) px0 = px1 = py0 = py1 = 0;
   const int out_w = px1 - px0 + 1, out_h = py1 - py0 + 1;
   out->x0 += px0;
   out->y0 += py0;
-  // Not zero-filled first: each row is copied, and only its margins outside
-  // the painted span are cleared.
+  // Not zero-filled first: each row's runs are copied and the gaps cleared.
   out->pixels.create(out_h, out_w, canvas_pixels.type());
   out->weight.create(out_h, out_w, CV_8U);
   out->span_begin.assign(out_h, 0);
   out->span_end.assign(out_h, 0);
+  out->run_offset.assign(out_h + 1, 0);
+  out->runs.clear();
   const size_t px_size = canvas_pixels.elemSize();
   for (int y = py0; y <= py1; ++y) {
     uint8_t* out_pix = out->pixels.ptr<uint8_t>(y - py0);
     uint8_t* out_wgt = out->weight.ptr<uint8_t>(y - py0);
-    if (last[y] < 0) {
-      std::memset(out_pix, 0, out_w * px_size);
-      std::memset(out_wgt, 0, out_w);
-      continue;
+    int done = 0;  // out columns [0, done) are written
+    for (int k = 0; k < runs.Count(y); ++k) {
+      const int b = runs.Run(y, k)[0], n = runs.Run(y, k)[1] - b + 1, at = b - px0;
+      std::memset(out_pix + done * px_size, 0, (at - done) * px_size);
+      std::memset(out_wgt + done, 0, at - done);
+      uint8_t* pix = canvas_pixels.ptr<uint8_t>(y) + b * px_size;
+      uint8_t* wgt = canvas_weight.ptr<uint8_t>(y) + b;
+      std::memcpy(out_pix + at * px_size, pix, n * px_size);
+      std::memcpy(out_wgt + at, wgt, n);
+      std::memset(pix, 0, n * px_size);
+      std::memset(wgt, 0, n);
+      out->runs.push_back({at, at + n});
+      done = at + n;
     }
-    const int b = first[y], n = last[y] - b + 1, left = b - px0, right = out_w - left - n;
-    uint8_t* pix = canvas_pixels.ptr<uint8_t>(y) + b * px_size;
-    uint8_t* wgt = canvas_weight.ptr<uint8_t>(y) + b;
-    std::memset(out_pix, 0, left * px_size);
-    std::memset(out_wgt, 0, left);
-    std::memcpy(out_pix + left * px_size, pix, n * px_size);
-    std::memcpy(out_wgt + left, wgt, n);
-    std::memset(out_pix + (left + n) * px_size, 0, right * px_size);
-    std::memset(out_wgt + left + n, 0, right);
-    std::memset(pix, 0, n * px_size);
-    std::memset(wgt, 0, n);
-    out->span_begin[y - py0] = b - px0;
-    out->span_end[y - py0] = b - px0 + n;
+    std::memset(out_pix + done * px_size, 0, (out_w - done) * px_size);
+    std::memset(out_wgt + done, 0, out_w - done);
+    out->run_offset[y - py0 + 1] = static_cast<int>(out->runs.size());
+    if (runs.Count(y) > 0) {
+      out->span_begin[y - py0] = runs.Run(y, 0)[0] - px0;
+      out->span_end[y - py0] = runs.Run(y, runs.Count(y) - 1)[1] - px0 + 1;
+    }
   }
 }
 
@@ -489,6 +519,7 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
     out.weight = cv::Mat::zeros(1, 1, CV_8U);
     out.span_begin.assign(1, 0);
     out.span_end.assign(1, 0);
+    out.run_offset.assign(2, 0);
     return out;
   }
   // Painting goes to this thread's scratch canvas (zero, and returned to
@@ -501,7 +532,8 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
                                    channels_ == 1 ? CV_8UC1 : CV_8UC3);
   if (scratch_weight.rows < height || scratch_weight.cols < width)
     scratch_weight = cv::Mat::zeros(std::max(height, scratch_weight.rows), std::max(width, scratch_weight.cols), CV_8U);
-  std::vector<int> first_painted(height, width), last_painted(height, -1);
+  thread_local RowRuns painted;
+  painted.Reset(height);
 
   // Per block row: positions linear along it (the grid interpolated
   // bilinearly), weights four pixels at a time, then to the canvas. Pixels
@@ -557,8 +589,7 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
       const uint64_t kept = ToCanvasWeights(w, w_cols, scratch_weight.ptr<uint8_t>(y0 + j) + x0);
       if (!kept) continue;
       const int i0 = __builtin_ctzll(kept), i1 = 63 - __builtin_clzll(kept);
-      first_painted[y0 + j] = std::min(first_painted[y0 + j], x0 + i0);
-      last_painted[y0 + j] = std::max(last_painted[y0 + j], x0 + i1);
+      painted.Add(y0 + j, x0 + i0, x0 + i1);
       // The raw rows sampled: v is linear along the row, so its ends bound it.
       const float va = r.v0 + r.dv * static_cast<float>(i0), vb = r.v0 + r.dv * static_cast<float>(i1);
       v_min = std::min(v_min, std::min(va, vb));
@@ -575,8 +606,9 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
       decoded = &rows(static_cast<int>(std::floor(v_min)) - 1, static_cast<int>(std::ceil(v_max)) + 1);
     } catch (...) {  // leave this thread's canvas zero for its next frame
       for (int y = 0; y < height; ++y)
-        if (last_painted[y] >= 0)
-          std::memset(scratch_weight.ptr<uint8_t>(y) + first_painted[y], 0, last_painted[y] - first_painted[y] + 1);
+        for (int k = 0; k < painted.Count(y); ++k)
+          std::memset(scratch_weight.ptr<uint8_t>(y) + painted.Run(y, k)[0], 0,
+                      painted.Run(y, k)[1] - painted.Run(y, k)[0] + 1);
       throw;
     }
     const uint8_t* data = decoded->ptr<uint8_t>();
@@ -602,7 +634,7 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
     }
   }
 
-  CopyPainted(canvas_pixels, scratch_weight, first_painted, last_painted, &out);
+  CopyPainted(canvas_pixels, scratch_weight, painted, height, &out);
   return out;
 }
 

@@ -42,6 +42,11 @@ struct WarpedFrame {
   cv::Mat weight;                   // CV_8UC1, 0 where the frame paints nothing, 1..255 elsewhere
   // Per row, the columns [begin, end) outside which weight is 0 (begin == end: none).
   std::vector<int> span_begin, span_end;
+  // Per row y, runs[run_offset[y] .. run_offset[y + 1]) are column ranges
+  // [begin, end), in order, outside which weight is 0 (a band and the
+  // slivers along the frame's sides leave most of a span empty).
+  std::vector<int> run_offset;
+  std::vector<std::array<int, 2>> runs;
 };
 
 class FrameWarper {

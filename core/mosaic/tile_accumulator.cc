@@ -45,34 +45,40 @@ bool TileAccumulator::Blend(const WarpedFrame& frame) {
   const int64_t y_end = std::min(origin_y_ + tile_size_, frame.y0 + frame.pixels.rows);
   if (x_begin >= x_end || y_begin >= y_end) return false;
   constexpr float kScale = 1.0f / 255.0f;
+  const bool has_runs = !frame.run_offset.empty();
   const bool spans = !frame.span_begin.empty();
   for (int64_t gy = y_begin; gy < y_end; ++gy) {
     const int fy = static_cast<int>(gy - frame.y0);
-    // Only the row's painted span (the rest has weight 0).
-    const int64_t row_begin = spans ? std::max(x_begin, frame.x0 + frame.span_begin[fy]) : x_begin;
-    const int64_t row_end = spans ? std::min(x_end, frame.x0 + frame.span_end[fy]) : x_end;
-    if (row_begin >= row_end) continue;
-    const int n = static_cast<int>(row_end - row_begin);
-    const int fx = static_cast<int>(row_begin - frame.x0);
-    const uint8_t* src = frame.pixels.ptr<uint8_t>(fy) + fx * channels_;
-    const uint8_t* wt = frame.weight.ptr<uint8_t>(fy) + fx;
-    const int ty = static_cast<int>(gy - origin_y_);
-    const int tx = static_cast<int>(row_begin - origin_x_);
-    float* s = sum_.ptr<float>(ty) + tx * channels_;
-    float* w = weight_.ptr<float>(ty) + tx;
-    if (channels_ == 1) {
-      for (int i = 0; i < n; ++i) {
-        const float k = wt[i] * kScale;
-        s[i] += k * src[i];
-        w[i] += k;
-      }
-    } else {
-      for (int i = 0; i < n; ++i) {
-        const float k = wt[i] * kScale;
-        s[3 * i] += k * src[3 * i];
-        s[3 * i + 1] += k * src[3 * i + 1];
-        s[3 * i + 2] += k * src[3 * i + 2];
-        w[i] += k;
+    // Only the row's painted runs (the rest has weight 0).
+    const std::array<int, 2> whole{spans ? frame.span_begin[fy] : 0, spans ? frame.span_end[fy] : frame.pixels.cols};
+    const std::array<int, 2>* run = has_runs ? frame.runs.data() + frame.run_offset[fy] : &whole;
+    const std::array<int, 2>* run_end = has_runs ? frame.runs.data() + frame.run_offset[fy + 1] : &whole + 1;
+    for (; run != run_end; ++run) {
+      const int64_t row_begin = std::max(x_begin, frame.x0 + (*run)[0]);
+      const int64_t row_end = std::min(x_end, frame.x0 + (*run)[1]);
+      if (row_begin >= row_end) continue;
+      const int n = static_cast<int>(row_end - row_begin);
+      const int fx = static_cast<int>(row_begin - frame.x0);
+      const uint8_t* src = frame.pixels.ptr<uint8_t>(fy) + fx * channels_;
+      const uint8_t* wt = frame.weight.ptr<uint8_t>(fy) + fx;
+      const int ty = static_cast<int>(gy - origin_y_);
+      const int tx = static_cast<int>(row_begin - origin_x_);
+      float* s = sum_.ptr<float>(ty) + tx * channels_;
+      float* w = weight_.ptr<float>(ty) + tx;
+      if (channels_ == 1) {
+        for (int i = 0; i < n; ++i) {
+          const float k = wt[i] * kScale;
+          s[i] += k * src[i];
+          w[i] += k;
+        }
+      } else {
+        for (int i = 0; i < n; ++i) {
+          const float k = wt[i] * kScale;
+          s[3 * i] += k * src[3 * i];
+          s[3 * i + 1] += k * src[3 * i + 1];
+          s[3 * i + 2] += k * src[3 * i + 2];
+          w[i] += k;
+        }
       }
     }
   }

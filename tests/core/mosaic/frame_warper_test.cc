@@ -136,6 +136,39 @@ TEST(FrameWarper, HandsOverToCloserNeighboursWithAFeatheredSeam) {
   }
 }
 
+TEST(FrameWarper, RunsHoldEveryPaintedPixelAndSkipTheGaps) {
+  // A rolled frame between level neighbours paints a band plus the slivers
+  // along its sides that they do not see: each row's runs cover every
+  // painted pixel, are ordered, and leave the empty middle out.
+  CameraModel cam = CameraFromFocalLength(8, 12.9, 160, 120);
+  LocalFrame frame({43.1, 131.9});
+  FrameWarper banded(cam, frame, 25, 256, 1, 1.0, 0.5);
+  VehiclePose pose;
+  pose.altitude_m = 2.0;
+  VehiclePose ahead = pose, behind = pose;
+  const double footprint_h = cam.height * pose.altitude_m / cam.fy;
+  ahead.north_m += footprint_h / 10;
+  behind.north_m -= footprint_h / 10;
+  pose.altitude_m = 2.1;  // wider than both neighbours: its side edges are its own
+  auto own = banded.Warp(cv::Mat(cam.height, cam.width, CV_8U, cv::Scalar(80)), pose, {behind, ahead});
+  ASSERT_TRUE(own);
+  ASSERT_EQ(own->run_offset.size(), static_cast<size_t>(own->weight.rows) + 1);
+  int64_t in_runs = 0, split_rows = 0;
+  for (int y = 0; y < own->weight.rows; ++y) {
+    int previous_end = -1;
+    for (int k = own->run_offset[y]; k < own->run_offset[y + 1]; ++k) {
+      const auto& r = own->runs[k];
+      EXPECT_LT(previous_end, r[0]);
+      EXPECT_LT(r[0], r[1]);
+      in_runs += cv::countNonZero(own->weight.row(y).colRange(r[0], r[1]));
+      previous_end = r[1];
+    }
+    split_rows += own->run_offset[y + 1] - own->run_offset[y] > 1;
+  }
+  EXPECT_EQ(in_runs, cv::countNonZero(own->weight));
+  EXPECT_GT(split_rows, 10);  // slivers apart from the band
+}
+
 TEST(FrameWarper, EveryPixelIsKeptByTheFrameThatSeesItBest) {
   // Three frames along a line with their neighbours: together they cover
   // what the full middle frame covers between the outer frames' centres.

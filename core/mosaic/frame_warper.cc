@@ -559,8 +559,10 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
       line(g00.rv[k], g10.rv[k], g01.rv[k], g11.rv[k], r.rv0[k], r.rdv[k]);
     }
   };
-  thread_local std::vector<uint8_t> painted_blocks;
-  painted_blocks.assign(blocks.size(), 0);
+  // Which pixels of each block row are painted (bit i: pixel i), for the
+  // sampling pass.
+  thread_local std::vector<uint64_t> painted_masks;
+  painted_masks.assign(blocks.size() * cell, 0);
   float v_min = 1e30f, v_max = -1e30f;
   alignas(16) float w[kMaxCell + 4];
   BlockRow r;
@@ -594,7 +596,7 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
       const float va = r.v0 + r.dv * static_cast<float>(i0), vb = r.v0 + r.dv * static_cast<float>(i1);
       v_min = std::min(v_min, std::min(va, vb));
       v_max = std::max(v_max, std::max(va, vb));
-      painted_blocks[bi] = 1;
+      painted_masks[bi * cell + j] = kept;
     }
   }
 
@@ -615,16 +617,15 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
     const size_t step = decoded->step[0];
     const int max_iu = (camera_.width - 1) * 256 - 1, max_iv = (camera_.height - 1) * 256 - 1;
     for (size_t bi = 0; bi < blocks.size(); ++bi) {
-      if (!painted_blocks[bi]) continue;
       const Block& b = blocks[bi];
       const int x0 = b.bx * cell, y0 = b.by * cell;
-      const int w_cols = std::min(cell, width - x0), h_rows = std::min(cell, height - y0);
-      for (int j = 0; j < h_rows; ++j) {
-        const uint8_t* wgt = scratch_weight.ptr<uint8_t>(y0 + j) + x0;
+      for (int j = 0; j < cell; ++j) {
+        uint64_t mask = painted_masks[bi * cell + j];
+        if (!mask) continue;
         uint8_t* pix = canvas_pixels.ptr<uint8_t>(y0 + j) + x0 * channels_;
         block_row(b, j, false, r);
-        for (int i = 0; i < w_cols; ++i) {
-          if (!wgt[i]) continue;
+        for (; mask; mask &= mask - 1) {
+          const int i = __builtin_ctzll(mask);
           const float fi = static_cast<float>(i);
           const float u = r.u0 + r.du * fi, v = r.v0 + r.dv * fi;
           if (channels_ == 1) Sample<1>(data, step, u, v, max_iu, max_iv, pix + i);

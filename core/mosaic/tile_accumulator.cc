@@ -86,17 +86,27 @@ bool TileAccumulator::Blend(const WarpedFrame& frame) {
 }
 
 cv::Mat TileAccumulator::Finalize() const {
-  cv::Mat out(tile_size_, tile_size_, CV_8UC(channels_ + 1), cv::Scalar::all(0));
+  cv::Mat out(tile_size_, tile_size_, CV_8UC(channels_ + 1));
   for (int y = 0; y < tile_size_; ++y) {
     const float* s = sum_.ptr<float>(y);
     const float* w = weight_.ptr<float>(y);
     uint8_t* d = out.ptr<uint8_t>(y);
+    // Branch-free, so the loops vectorise: uncovered pixels come out 0 with alpha 0.
+    if (channels_ == 1) {
+      for (int x = 0; x < tile_size_; ++x) {
+        const bool covered = w[x] > 0;
+        const float value = covered ? s[x] / w[x] + 0.5f : 0.0f;
+        d[2 * x] = static_cast<uint8_t>(std::min(255.0f, value));
+        d[2 * x + 1] = covered ? 255 : 0;
+      }
+      continue;
+    }
     for (int x = 0; x < tile_size_; ++x, s += channels_, d += channels_ + 1) {
-      if (w[x] <= 0) continue;
-      const float inv = 1.0f / w[x];
+      const bool covered = w[x] > 0;
+      const float inv = covered ? 1.0f / w[x] : 0.0f;
       for (int c = 0; c < channels_; ++c)
-        d[c] = static_cast<uint8_t>(std::min(255.0f, s[c] * inv + 0.5f));
-      d[channels_] = 255;
+        d[c] = static_cast<uint8_t>(std::min(255.0f, covered ? s[c] * inv + 0.5f : 0.0f));
+      d[channels_] = covered ? 255 : 0;
     }
   }
   return out;

@@ -156,8 +156,11 @@ void MosaicBuilder::Push(const FrameSpec& spec) {
   loading_.push_back(pool_->Submit([this, spec] { return Load(spec); }));
   // Keep the pool busy: take finished loads (starting their neighbours'
   // warps) and blend finished warps as they come; block only when the
-  // pipeline is full, on its oldest frame.
-  const size_t depth = static_cast<size_t>(2 * pool_->size() + 4);
+  // pipeline is full, on its oldest frame. Eight frames per pool thread:
+  // frames finish out of order and tile encodes come in bursts, and with
+  // two per thread plus four the cores sat idle for a fifth of a build. A
+  // queued frame holds its compressed image and warped band (under 1 MB).
+  const size_t depth = static_cast<size_t>(8 * pool_->size());
   while (true) {
     while (!loading_.empty() && IsReady(loading_.front())) TakeLoaded();
     ConsumeReady(false);

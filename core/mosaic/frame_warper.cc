@@ -228,27 +228,29 @@ class KeepTest {
 
   bool MayKeep(std::initializer_list<const GridPoint*> points, const Reach& r) const {
     bool all_outside = true;
-    for (const GridPoint* g : points) all_outside = all_outside && Outside(*g, r);
+    for (const GridPoint* g : points) all_outside = all_outside && (!g->valid || Outside(g->u, g->v, r));
     if (all_outside) return false;
     for (int k = 0; k < rivals_; ++k) {
       bool all_taken = true;
-      for (const GridPoint* g : points) all_taken = all_taken && TakenBy(*g, k, r);
+      for (const GridPoint* g : points)
+        all_taken = all_taken && g->rival_valid[k] && TakenBy(g->ru[k], g->rv[k], g->u, g->v, k, r);
       if (all_taken) return false;
     }
     return true;
   }
 
+  // This frame's position (u, v) clearly outside its image.
+  bool Outside(float u, float v, const Reach& r) const {
+    return u < -0.5f - r.u || u > shape_.width - 0.5f + r.u || v < -0.5f - r.v || v > shape_.height - 0.5f + r.v;
+  }
+  // Rival k, at (ru, rv), clearly sees the pixel this frame sees at (u, v), and more centrally.
+  bool TakenBy(float ru, float rv, float u, float v, int k, const Reach& r) const {
+    return InsideBy(ru, rv, r) && (shape_.Centrality(ru, rv) - shape_.Centrality(u, v)) * inv_seam_[k] + 1.0f < -0.25f;
+  }
+
  private:
   bool InsideBy(float u, float v, const Reach& r) const {
     return u > r.u - 0.5f && u < shape_.width - 0.5f - r.u && v > r.v - 0.5f && v < shape_.height - 0.5f - r.v;
-  }
-  bool Outside(const GridPoint& g, const Reach& r) const {
-    return !g.valid || g.u < -0.5f - r.u || g.u > shape_.width - 0.5f + r.u || g.v < -0.5f - r.v ||
-           g.v > shape_.height - 0.5f + r.v;
-  }
-  bool TakenBy(const GridPoint& g, int k, const Reach& r) const {
-    return g.rival_valid[k] && InsideBy(g.ru[k], g.rv[k], r) &&
-           (shape_.Centrality(g.ru[k], g.rv[k]) - shape_.Centrality(g.u, g.v)) * inv_seam_[k] + 1.0f < -0.25f;
   }
 
   const ImageShape& shape_;
@@ -566,7 +568,16 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
   float v_min = 1e30f, v_max = -1e30f;
   alignas(16) float w[kMaxCell + 4];
   BlockRow r;
-  GridPoint ends[2];
+  const float row_length = static_cast<float>(cell);
+  auto row_may_keep = [&](const BlockRow& r) {
+    const float u1 = r.u0 + r.du * row_length, v1 = r.v0 + r.dv * row_length;
+    if (keep.Outside(r.u0, r.v0, row_reach) && keep.Outside(u1, v1, row_reach)) return false;
+    for (int k = 0; k < n_rivals; ++k)
+      if (r.rival[k] && keep.TakenBy(r.ru0[k], r.rv0[k], r.u0, r.v0, k, row_reach) &&
+          keep.TakenBy(r.ru0[k] + r.rdu[k] * row_length, r.rv0[k] + r.rdv[k] * row_length, u1, v1, k, row_reach))
+        return false;
+    return true;
+  };
   for (size_t bi = 0; bi < blocks.size(); ++bi) {
     const Block& b = blocks[bi];
     const int x0 = b.bx * cell, y0 = b.by * cell;
@@ -575,18 +586,7 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
       block_row(b, j, true, r);
       // The row's ends, for the same test as the block's: the handover
       // line crosses blocks, leaving some rows to the rivals.
-      for (int e = 0; e < 2; ++e) {
-        const float f = static_cast<float>(e * cell);
-        ends[e].valid = true;
-        ends[e].u = r.u0 + r.du * f;
-        ends[e].v = r.v0 + r.dv * f;
-        for (int k = 0; k < n_rivals; ++k) {
-          ends[e].rival_valid[k] = r.rival[k];
-          ends[e].ru[k] = r.ru0[k] + r.rdu[k] * f;
-          ends[e].rv[k] = r.rv0[k] + r.rdv[k] * f;
-        }
-      }
-      if (!keep.MayKeep({&ends[0], &ends[1]}, row_reach)) continue;
+      if (!row_may_keep(r)) continue;
       RowWeights(sh, r, n_rivals, inv_seam, lut, w_cols, w);
       const uint64_t kept = ToCanvasWeights(w, w_cols, scratch_weight.ptr<uint8_t>(y0 + j) + x0);
       if (!kept) continue;

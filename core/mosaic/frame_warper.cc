@@ -210,6 +210,45 @@ inline void Sample(const uint8_t* data, size_t step, float u, float v, int max_i
   }
 }
 
+// Sample<1> for the pixels of a block row whose bits are set in `mask`
+// (pixel i at u0 + du * i, v0 + dv * i), four at a time: positions and
+// blending in SIMD, the four neighbours' loads scalar. Same arithmetic as
+// Sample<1>, so the same values.
+inline void SampleGray4(const uint8_t* data, size_t step, float u0, float du, float v0, float dv, int max_iu,
+                        int max_iv, uint64_t mask, uint8_t* out) {
+  using cv::v_float32x4;
+  using cv::v_int32x4;
+  const v_float32x4 vu0 = cv::v_setall_f32(u0), vdu = cv::v_setall_f32(du);
+  const v_float32x4 vv0 = cv::v_setall_f32(v0), vdv = cv::v_setall_f32(dv), scale = cv::v_setall_f32(256.0f);
+  const v_int32x4 zero = cv::v_setzero_s32(), hi_u = cv::v_setall_s32(max_iu), hi_v = cv::v_setall_s32(max_iv);
+  const v_int32x4 frac = cv::v_setall_s32(255), one = cv::v_setall_s32(256), round = cv::v_setall_s32(32768);
+  const int stride = static_cast<int>(step);
+  while (mask) {
+    const int g = __builtin_ctzll(mask) & ~3;  // first pixel of the next group with a painted pixel
+    const unsigned bits = static_cast<unsigned>(mask >> g) & 15u;
+    mask &= ~(uint64_t{15} << g);
+    const v_float32x4 idx(static_cast<float>(g), static_cast<float>(g + 1), static_cast<float>(g + 2),
+                          static_cast<float>(g + 3));
+    const v_int32x4 iu = cv::v_min(cv::v_max(cv::v_trunc((vu0 + vdu * idx) * scale), zero), hi_u);
+    const v_int32x4 iv = cv::v_min(cv::v_max(cv::v_trunc((vv0 + vdv * idx) * scale), zero), hi_v);
+    const v_int32x4 fx = iu & frac, fy = iv & frac;
+    alignas(16) int col[4], row[4];
+    cv::v_store_aligned(col, iu >> 8);
+    cv::v_store_aligned(row, iv >> 8);
+    int p00[4], p01[4], p10[4], p11[4];
+    for (int k = 0; k < 4; ++k) {
+      const uint8_t* p = data + static_cast<size_t>(row[k]) * step + col[k];
+      p00[k] = p[0]; p01[k] = p[1]; p10[k] = p[stride]; p11[k] = p[stride + 1];
+    }
+    const v_int32x4 top = cv::v_load(p00) * (one - fx) + cv::v_load(p01) * fx;
+    const v_int32x4 bottom = cv::v_load(p10) * (one - fx) + cv::v_load(p11) * fx;
+    alignas(16) int value[4];
+    cv::v_store_aligned(value, (top * (one - fy) + bottom * fy + round) >> 16);
+    for (int k = 0; k < 4; ++k)
+      if (bits & (1u << k)) out[g + k] = static_cast<uint8_t>(value[k]);
+  }
+}
+
 // How far (raw pixels) the mapping moves across a block, or along a row
 // across a cell, with room to spare.
 struct Reach {
@@ -624,6 +663,10 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
         if (!mask) continue;
         uint8_t* pix = canvas_pixels.ptr<uint8_t>(y0 + j) + x0 * channels_;
         block_row(b, j, false, r);
+        if (channels_ == 1) {  // four at a time
+          SampleGray4(data, step, r.u0, r.du, r.v0, r.dv, max_iu, max_iv, mask, pix);
+          continue;
+        }
         for (; mask; mask &= mask - 1) {
           const int i = __builtin_ctzll(mask);
           const float fi = static_cast<float>(i);

@@ -581,23 +581,45 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
   // are sampled afterwards, once it is known which raw rows they need.
   const float* lut = feather_power_ != 1.0 ? weight_lut_.data() : nullptr;
   const ImageShape sh = shape;
-  auto block_row = [&](const Block& b, int j, bool with_rivals, BlockRow& r) {
+  // A block's left and right edges: u, v, then each rival's u and v at the
+  // top corners, and their change down the block.
+  struct Edges {
+    float left[2 + 2 * kMaxRivals], left_step[2 + 2 * kMaxRivals];
+    float right[2 + 2 * kMaxRivals], right_step[2 + 2 * kMaxRivals];
+    bool rival[kMaxRivals];
+  };
+  auto block_edges = [&](const Block& b, Edges& e) {
     const GridPoint& g00 = grid[static_cast<size_t>(b.by) * nx + b.bx];
     const GridPoint& g10 = (&g00)[1];
     const GridPoint& g01 = (&g00)[nx];
     const GridPoint& g11 = (&g00)[nx + 1];
-    const float fy = j * inv_cell;
-    auto line = [&](float c00, float c10, float c01, float c11, float& start, float& step) {
-      const float left = c00 + (c01 - c00) * fy, right = c10 + (c11 - c10) * fy;
-      start = left;
-      step = (right - left) * inv_cell;
+    auto set = [&](int q, float c00, float c10, float c01, float c11) {
+      e.left[q] = c00; e.left_step[q] = c01 - c00;
+      e.right[q] = c10; e.right_step[q] = c11 - c10;
     };
-    line(g00.u, g10.u, g01.u, g11.u, r.u0, r.du);
-    line(g00.v, g10.v, g01.v, g11.v, r.v0, r.dv);
-    for (int k = 0; with_rivals && k < n_rivals; ++k) {
-      r.rival[k] = g00.rival_valid[k] && g10.rival_valid[k] && g01.rival_valid[k] && g11.rival_valid[k];
-      line(g00.ru[k], g10.ru[k], g01.ru[k], g11.ru[k], r.ru0[k], r.rdu[k]);
-      line(g00.rv[k], g10.rv[k], g01.rv[k], g11.rv[k], r.rv0[k], r.rdv[k]);
+    set(0, g00.u, g10.u, g01.u, g11.u);
+    set(1, g00.v, g10.v, g01.v, g11.v);
+    for (int k = 0; k < kMaxRivals; ++k) {
+      e.rival[k] = k < n_rivals && g00.rival_valid[k] && g10.rival_valid[k] && g01.rival_valid[k] && g11.rival_valid[k];
+      set(2 + 2 * k, g00.ru[k], g10.ru[k], g01.ru[k], g11.ru[k]);
+      set(3 + 2 * k, g00.rv[k], g10.rv[k], g01.rv[k], g11.rv[k]);
+    }
+  };
+  // Row j of a block: each quantity linear along it (start + step * i).
+  auto block_row = [&](const Edges& e, int j, BlockRow& r) {
+    const float fy = j * inv_cell;
+    float start[2 + 2 * kMaxRivals], step[2 + 2 * kMaxRivals];
+    for (int q = 0; q < 2 + 2 * kMaxRivals; ++q) {
+      const float left = e.left[q] + e.left_step[q] * fy, right = e.right[q] + e.right_step[q] * fy;
+      start[q] = left;
+      step[q] = (right - left) * inv_cell;
+    }
+    r.u0 = start[0]; r.du = step[0];
+    r.v0 = start[1]; r.dv = step[1];
+    for (int k = 0; k < kMaxRivals; ++k) {
+      r.rival[k] = e.rival[k];
+      r.ru0[k] = start[2 + 2 * k]; r.rdu[k] = step[2 + 2 * k];
+      r.rv0[k] = start[3 + 2 * k]; r.rdv[k] = step[3 + 2 * k];
     }
   };
   // Which pixels of each block row are painted (bit i: pixel i), for the
@@ -607,6 +629,7 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
   float v_min = 1e30f, v_max = -1e30f;
   alignas(16) float w[kMaxCell + 4];
   BlockRow r;
+  Edges edges;
   const float row_length = static_cast<float>(cell);
   auto row_may_keep = [&](const BlockRow& r) {
     const float u1 = r.u0 + r.du * row_length, v1 = r.v0 + r.dv * row_length;
@@ -621,8 +644,9 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
     const Block& b = blocks[bi];
     const int x0 = b.bx * cell, y0 = b.by * cell;
     const int w_cols = std::min(cell, width - x0), h_rows = std::min(cell, height - y0);
+    block_edges(b, edges);
     for (int j = 0; j < h_rows; ++j) {
-      block_row(b, j, true, r);
+      block_row(edges, j, r);
       // The row's ends, for the same test as the block's: the handover
       // line crosses blocks, leaving some rows to the rivals.
       if (!row_may_keep(r)) continue;
@@ -658,11 +682,12 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
     for (size_t bi = 0; bi < blocks.size(); ++bi) {
       const Block& b = blocks[bi];
       const int x0 = b.bx * cell, y0 = b.by * cell;
+      block_edges(b, edges);
       for (int j = 0; j < cell; ++j) {
         uint64_t mask = painted_masks[bi * cell + j];
         if (!mask) continue;
         uint8_t* pix = canvas_pixels.ptr<uint8_t>(y0 + j) + x0 * channels_;
-        block_row(b, j, false, r);
+        block_row(edges, j, r);
         if (channels_ == 1) {  // four at a time
           SampleGray4(data, step, r.u0, r.du, r.v0, r.dv, max_iu, max_iv, mask, pix);
           continue;

@@ -603,6 +603,14 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
       e.rival[k] = k < n_rivals && g00.rival_valid[k] && g10.rival_valid[k] && g01.rival_valid[k] && g11.rival_valid[k];
       set(2 + 2 * k, g00.ru[k], g10.ru[k], g01.ru[k], g11.ru[k]);
       set(3 + 2 * k, g00.rv[k], g10.rv[k], g01.rv[k], g11.rv[k]);
+      // A rival that sees the whole block less centrally (its ramp is past
+      // 1 by a quarter at every corner) leaves every weight as it is.
+      if (e.rival[k]) {
+        bool behind = true;
+        for (const GridPoint* g : {&g00, &g10, &g01, &g11})
+          behind = behind && (shape.Centrality(g->ru[k], g->rv[k]) - shape.Centrality(g->u, g->v)) * inv_seam[k] + 1.0f >= 1.25f;
+        if (behind) e.rival[k] = false;
+      }
     }
   };
   // Row j of a block: each quantity linear along it (start + step * i).

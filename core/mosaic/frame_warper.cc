@@ -365,7 +365,7 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
   // Blocks between grid points worth visiting (see KeepTest).
   Reach block_reach, row_reach;
   {
-    const int cx = nx / 2, cy = ny / 2;
+    const int cx = std::min(nx / 2, nx - 2), cy = std::min(ny / 2, ny - 2);  // a box of one cell has nx = 2
     const GridPoint& g = grid[static_cast<size_t>(cy) * nx + cx];
     const GridPoint& gx1 = grid[static_cast<size_t>(cy) * nx + cx + 1];
     const GridPoint& gy1 = grid[static_cast<size_t>(cy + 1) * nx + cx];
@@ -441,7 +441,7 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
       set(3 + 2 * k, g00.rv[k], g10.rv[k], g01.rv[k], g11.rv[k]);
       // A rival that sees the whole block less centrally (its ramp is past
       // 1 by a quarter at every corner) leaves every weight as it is.
-      if (e.rival[k]) {
+      if (e.rival[k] && seam[k] >= 0.01f) {  // a vanishing seam is a step: no margin to trust
         bool behind = true;
         for (const GridPoint* g : {&g00, &g10, &g01, &g11})
           behind = behind && (shape.Centrality(g->ru[k], g->rv[k]) - shape.Centrality(g->u, g->v)) * inv_seam[k] + 1.0f >= 1.25f;

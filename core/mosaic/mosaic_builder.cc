@@ -123,7 +123,14 @@ void MosaicBuilder::Foresee(const std::vector<FrameSpec>& frames) {
   // Boxes on the pool (each is a few dozen projections), tiles in order.
   std::vector<std::future<std::optional<std::array<int64_t, 4>>>> boxes;
   boxes.reserve(frames.size());
-  for (const FrameSpec& f : frames) boxes.push_back(pool_->Submit([this, &f] { return warper_.MapBox(f.pose); }));
+  // Frames Load will refuse (too steep: their box can span thousands of
+  // tiles) are left out.
+  for (const FrameSpec& f : frames)
+    boxes.push_back(pool_->Submit([this, &f]() -> std::optional<std::array<int64_t, 4>> {
+      const auto corners = warper_.GroundCorners(f.pose);
+      if (!corners || TooSteep(f.pose, *corners)) return std::nullopt;
+      return warper_.MapBox(f.pose);
+    }));
   for (size_t i = 0; i < frames.size(); ++i) {
     const auto box = boxes[i].get();
     if (!box) continue;
@@ -156,11 +163,16 @@ void MosaicBuilder::Push(const FrameSpec& spec) {
   loading_.push_back(pool_->Submit([this, spec] { return Load(spec); }));
   // Keep the pool busy: take finished loads (starting their neighbours'
   // warps) and blend finished warps as they come; block only when the
-  // pipeline is full, on its oldest frame. Eight frames per pool thread:
-  // frames finish out of order and tile encodes come in bursts, and with
-  // two per thread plus four the cores sat idle for a fifth of a build. A
-  // queued frame holds its compressed image and warped band (under 1 MB).
-  const size_t depth = static_cast<size_t>(8 * pool_->size());
+  // pipeline is full, on its oldest frame. Up to eight frames per pool
+  // thread: frames finish out of order and tile encodes come in bursts, and
+  // with two per thread plus four the cores sat idle for a fifth of a build.
+  // A queued frame may hold its decoded image (not JPEG, or enhanced), so the
+  // depth also stays within a quarter of the memory cap (but not below the
+  // old two per thread plus four).
+  const size_t frame_bytes = static_cast<size_t>(camera_.width) * camera_.height * plan_.channels + 1;
+  const size_t by_memory = (static_cast<size_t>(config_.memory_cap_mb) << 20) / 4 / frame_bytes;
+  const size_t threads = static_cast<size_t>(pool_->size());
+  const size_t depth = std::clamp(by_memory, 2 * threads + 4, 8 * threads);
   while (true) {
     while (!loading_.empty() && IsReady(loading_.front())) TakeLoaded();
     ConsumeReady(false);
@@ -232,6 +244,24 @@ void MosaicBuilder::Reject(const Rejection& rejection) {
   stats_.rejections.push_back(rejection);
 }
 
+std::optional<std::string> MosaicBuilder::TooSteep(const VehiclePose& pose,
+                                                   const std::array<LocalXY, 4>& corners) const {
+  // Nearly horizontal views smear one frame over a huge area: refuse them.
+  const double nadir_area = (camera_.width * pose.altitude_m / camera_.fx) * (camera_.height * pose.altitude_m / camera_.fy);
+  double area = 0;  // shoelace formula over the corners in local metres
+  for (int i = 0; i < 4; ++i) {
+    const LocalXY& a = corners[i];
+    const LocalXY& b = corners[(i + 1) % 4];
+    area += a.east * b.north - b.east * a.north;
+  }
+  area = std::fabs(area) / 2;
+  if (area <= config_.max_footprint_ratio * nadir_area) return std::nullopt;
+  std::ostringstream s;
+  s << "footprint is " << std::lround(area / nadir_area) << "x the nadir footprint (limit "
+    << config_.max_footprint_ratio << "): attitude too steep";
+  return s.str();
+}
+
 MosaicBuilder::Prepared MosaicBuilder::Load(const FrameSpec& spec) const {
   Prepared p;
   p.spec = spec;
@@ -255,22 +285,7 @@ MosaicBuilder::Prepared MosaicBuilder::Load(const FrameSpec& spec) const {
     return reject("image", s.str());
   }
   if (!p.footprint) return reject("pitch_deg/roll_deg", "the camera does not see the seabed in this attitude");
-  // Nearly horizontal views smear one frame over a huge area: refuse them.
-  const double nadir_area = (camera_.width * spec.pose.altitude_m / camera_.fx) *
-                            (camera_.height * spec.pose.altitude_m / camera_.fy);
-  double area = 0;  // shoelace formula over the corners in local metres
-  for (int i = 0; i < 4; ++i) {
-    const LocalXY& a = (*corners)[i];
-    const LocalXY& b = (*corners)[(i + 1) % 4];
-    area += a.east * b.north - b.east * a.north;
-  }
-  area = std::fabs(area) / 2;
-  if (area > config_.max_footprint_ratio * nadir_area) {
-    std::ostringstream s;
-    s << "footprint is " << std::lround(area / nadir_area) << "x the nadir footprint (limit "
-      << config_.max_footprint_ratio << "): attitude too steep";
-    return reject("pitch_deg/roll_deg", s.str());
-  }
+  if (auto steep = TooSteep(spec.pose, *corners)) return reject("pitch_deg/roll_deg", *steep);
   if (!warper_.SeesSeabed(spec.pose))
     return reject("pitch_deg/roll_deg", "the camera does not see the seabed in this attitude");
   p.image = std::move(*image);

@@ -111,6 +111,9 @@ class MosaicBuilder {
   };
 
   Prepared Load(const FrameSpec& spec) const;
+  // Why a frame's attitude is too steep to map (footprint over
+  // max_footprint_ratio times the nadir one), or nullopt.
+  std::optional<std::string> TooSteep(const VehiclePose& pose, const std::array<LocalXY, 4>& corners) const;
   void TakeLoaded();  // oldest load -> queued_ (waits for it); starts the previous usable frame's warp
   void StartWarp(const std::shared_ptr<Queued>& q);
   // Blends queued frames, oldest first, while their warps are done; with

@@ -5,6 +5,7 @@
 #include <zlib.h>
 
 #include <algorithm>
+#include <memory>
 #include <stdexcept>
 
 #include <opencv2/imgcodecs.hpp>
@@ -150,9 +151,13 @@ std::vector<uint8_t> EncodePngFast(const cv::Mat& tile, int level) {
     up = raw;
   }
   // One compressor per thread and level: making one allocates its tables.
-  thread_local libdeflate_compressor* compressors[6] = {};
-  libdeflate_compressor*& compressor = compressors[std::clamp(level, 1, 5)];
-  if (!compressor) compressor = libdeflate_alloc_compressor(std::clamp(level, 1, 5));
+  struct FreeCompressor {
+    void operator()(libdeflate_compressor* c) const { libdeflate_free_compressor(c); }
+  };
+  thread_local std::unique_ptr<libdeflate_compressor, FreeCompressor> compressors[6];
+  auto& slot = compressors[std::clamp(level, 1, 5)];
+  if (!slot) slot.reset(libdeflate_alloc_compressor(std::clamp(level, 1, 5)));
+  libdeflate_compressor* compressor = slot.get();
   if (!compressor) throw std::runtime_error("libdeflate: out of memory");
   std::vector<uint8_t> out(8 + 25 + 12 + 12);
   const size_t bound = libdeflate_zlib_compress_bound(compressor, filtered.size());

@@ -9,16 +9,6 @@
 namespace seamap::warp {
 namespace {
 
-CameraModel Camera() {
-  CameraModel c;
-  c.width = 160;
-  c.height = 120;
-  c.fx = c.fy = 200;
-  c.cx = 79.5;
-  c.cy = 59.5;
-  return c;
-}
-
 // The scalar rule the SIMD kernel must follow: tent (shaped by the table),
 // times for each rival that sees the pixel by half a pixel the ramp clamped
 // to [0, 1].
@@ -39,7 +29,7 @@ float ReferenceWeight(const ImageShape& sh, const BlockRow& r, int rivals, const
 }
 
 TEST(WarpPixels, RowWeightsFollowTheScalarRule) {
-  const ImageShape sh(Camera());
+  const ImageShape sh(CameraFromFocalLength(8, 12.9, 160, 120));
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> pos(-20, 180), slope(-1.2f, 1.2f);
   std::vector<float> lut(kLut);

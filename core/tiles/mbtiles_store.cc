@@ -84,6 +84,7 @@ MBTilesStore::MBTilesStore(const std::string& path, Mode mode) : path_(path), mo
       if (rc == SQLITE_DONE) throw std::runtime_error("not an MBTiles file (no 'tiles' table)");
       if (rc != SQLITE_ROW) Fail("read");
     } else {
+      Exec("PRAGMA page_size=16384");  // a tile (tens of KB) in two pages, not a chain of eight
       Exec("PRAGMA journal_mode=WAL");
       Exec("PRAGMA synchronous=NORMAL");
       Exec(kSchema);

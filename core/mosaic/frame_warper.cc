@@ -53,6 +53,20 @@ std::array<int64_t, 4> BoxAround(const std::vector<cv::Point2d>& global) {
 
 }  // namespace
 
+bool PaintsAny(const WarpedFrame& frame, const cv::Rect& roi) {
+  if (roi.width <= 0 || roi.height <= 0) return false;
+  if (frame.run_offset.empty()) return cv::countNonZero(frame.weight(roi)) > 0;
+  for (int y = roi.y; y < roi.y + roi.height; ++y) {
+    const uint8_t* w = frame.weight.ptr<uint8_t>(y);
+    for (int k = frame.run_offset[y]; k < frame.run_offset[y + 1]; ++k) {
+      const int b = std::max(frame.runs[k][0], roi.x), e = std::min(frame.runs[k][1], roi.x + roi.width);
+      for (int x = b; x < e; ++x)
+        if (w[x]) return true;
+    }
+  }
+  return false;
+}
+
 FrameWarper::FrameWarper(const CameraModel& camera, const LocalFrame& frame, int zoom,
                          int tile_size, int channels, double feather_power, double seam_band)
     : camera_(camera),

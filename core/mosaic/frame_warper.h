@@ -49,6 +49,10 @@ struct WarpedFrame {
   std::vector<std::array<int, 2>> runs;
 };
 
+// Whether the frame paints any pixel of `roi` (in its pixels' coordinates):
+// only its runs are looked at.
+bool PaintsAny(const WarpedFrame& frame, const cv::Rect& roi);
+
 class FrameWarper {
  public:
   // channels: 1 (gray mosaic) or 3 (colour mosaic). seam_band in (0, 1]

@@ -379,7 +379,7 @@ void MosaicBuilder::Paint(const WarpedFrame& warped) {
       const int64_t y_end = std::min((ty + 1) * ts, warped.y0 + warped.pixels.rows);
       const cv::Rect roi(static_cast<int>(x_begin - warped.x0), static_cast<int>(y_begin - warped.y0),
                          static_cast<int>(x_end - x_begin), static_cast<int>(y_end - y_begin));
-      if (roi.width <= 0 || roi.height <= 0 || cv::countNonZero(warped.weight(roi)) == 0) continue;
+      if (!PaintsAny(warped, roi)) continue;
       TileId id{plan_.base_zoom, static_cast<int>(tx), static_cast<int>(ty)};
       auto it = buffer_.find(id);
       if (it == buffer_.end()) {

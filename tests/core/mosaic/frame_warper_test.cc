@@ -167,6 +167,16 @@ TEST(FrameWarper, RunsHoldEveryPaintedPixelAndSkipTheGaps) {
   }
   EXPECT_EQ(in_runs, cv::countNonZero(own->weight));
   EXPECT_GT(split_rows, 10);  // slivers apart from the band
+  // PaintsAny, reading runs only, agrees with counting the weights.
+  int empty = 0;
+  for (int y = 0; y < own->weight.rows; y += 7)
+    for (int x = 0; x < own->weight.cols; x += 9) {
+      const cv::Rect roi(x, y, std::min(13, own->weight.cols - x), std::min(11, own->weight.rows - y));
+      const bool any = cv::countNonZero(own->weight(roi)) > 0;
+      EXPECT_EQ(PaintsAny(*own, roi), any) << roi;
+      empty += !any;
+    }
+  EXPECT_GT(empty, 10);
 }
 
 TEST(FrameWarper, EveryPixelIsKeptByTheFrameThatSeesItBest) {

@@ -337,7 +337,7 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
   // frames are (the rival's centrality at this frame's centre), which scales
   // the seam so it spans the same share of the spacing at any overlap.
   std::vector<cv::Matx33d> rivals;
-  std::vector<float> seam;
+  float inv_seam[kMaxRivals] = {1, 1};
   if (seam_band_ > 0) {
     const cv::Point2d centre((*global)[4].x - out.x0, (*global)[4].y - out.y0);
     for (const VehiclePose& n : neighbours) {
@@ -347,13 +347,11 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
       const cv::Matx33d r = BoxToNormalised(*g, out.x0, out.y0);
       const Projection c = Project(r, centre.x, centre.y, camera_, max_r2_);
       const float spacing = c.valid ? shape.Centrality(c.u, c.v) : 1.0f;
+      inv_seam[rivals.size()] = 1.0f / std::max(1e-6f, static_cast<float>(seam_band_) * std::min(spacing, 1.0f));
       rivals.push_back(r);
-      seam.push_back(std::max(1e-6f, static_cast<float>(seam_band_) * std::min(spacing, 1.0f)));
     }
   }
   const int n_rivals = static_cast<int>(rivals.size());
-  float inv_seam[kMaxRivals] = {1, 1};
-  for (int k = 0; k < n_rivals; ++k) inv_seam[k] = 1.0f / seam[k];
 
   const int cell = grid_step_;
   const float inv_cell = 1.0f / cell;
@@ -455,7 +453,7 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
       set(3 + 2 * k, g00.rv[k], g10.rv[k], g01.rv[k], g11.rv[k]);
       // A rival that sees the whole block less centrally (its ramp is past
       // 1 by a quarter at every corner) leaves every weight as it is.
-      if (e.rival[k] && seam[k] >= 0.01f) {  // a vanishing seam is a step: no margin to trust
+      if (e.rival[k] && inv_seam[k] <= 100.0f) {  // a vanishing seam is a step: no margin to trust
         bool behind = true;
         for (const GridPoint* g : {&g00, &g10, &g01, &g11})
           behind = behind && (shape.Centrality(g->ru[k], g->rv[k]) - shape.Centrality(g->u, g->v)) * inv_seam[k] + 1.0f >= 1.25f;
@@ -480,14 +478,15 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
       r.rv0[k] = start[3 + 2 * k]; r.rdv[k] = step[3 + 2 * k];
     }
   };
-  // Which pixels of each block row are painted (bit i: pixel i), for the
-  // sampling pass.
+  // Each block's edges and which pixels of each block row are painted (bit
+  // i: pixel i), for the sampling pass.
+  thread_local std::vector<Edges> block_edge_values;
+  block_edge_values.resize(blocks.size());
   thread_local std::vector<uint64_t> painted_masks;
   painted_masks.assign(blocks.size() * cell, 0);
   float v_min = 1e30f, v_max = -1e30f;
   alignas(16) float w[kMaxCell + 4];
   BlockRow r;
-  Edges edges;
   const float row_length = static_cast<float>(cell);
   auto row_may_keep = [&](const BlockRow& r) {
     const float u1 = r.u0 + r.du * row_length, v1 = r.v0 + r.dv * row_length;
@@ -502,6 +501,7 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
     const Block& b = blocks[bi];
     const int x0 = b.bx * cell, y0 = b.by * cell;
     const int w_cols = std::min(cell, width - x0), h_rows = std::min(cell, height - y0);
+    Edges& edges = block_edge_values[bi];
     block_edges(b, edges);
     for (int j = 0; j < h_rows; ++j) {
       block_row(edges, j, r);
@@ -540,12 +540,11 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
     for (size_t bi = 0; bi < blocks.size(); ++bi) {
       const Block& b = blocks[bi];
       const int x0 = b.bx * cell, y0 = b.by * cell;
-      block_edges(b, edges);
       for (int j = 0; j < cell; ++j) {
         uint64_t mask = painted_masks[bi * cell + j];
         if (!mask) continue;
         uint8_t* pix = canvas_pixels.ptr<uint8_t>(y0 + j) + x0 * channels_;
-        block_row(edges, j, r);
+        block_row(block_edge_values[bi], j, r);
         if (channels_ == 1) {  // four at a time
           SampleGray4(data, step, r.u0, r.du, r.v0, r.dv, max_iu, max_iv, mask, pix);
           continue;
@@ -553,9 +552,7 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
         for (; mask; mask &= mask - 1) {
           const int i = __builtin_ctzll(mask);
           const float fi = static_cast<float>(i);
-          const float u = r.u0 + r.du * fi, v = r.v0 + r.dv * fi;
-          if (channels_ == 1) Sample<1>(data, step, u, v, max_iu, max_iv, pix + i);
-          else Sample<3>(data, step, u, v, max_iu, max_iv, pix + 3 * i);
+          Sample<3>(data, step, r.u0 + r.du * fi, r.v0 + r.dv * fi, max_iu, max_iv, pix + 3 * i);
         }
       }
     }

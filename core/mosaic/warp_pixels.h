@@ -21,10 +21,9 @@ constexpr int kMaxCell = 64;   // largest grid step (pixels per block row)
 
 // Image geometry for the per-pixel tests, in raw pixels.
 struct ImageShape {
-  float width, height, half_w, half_h, inv_half_w, inv_half_h, centre_u, centre_v;
+  float width, height, inv_half_w, inv_half_h, centre_u, centre_v;
   explicit ImageShape(const CameraModel& c)
       : width(static_cast<float>(c.width)), height(static_cast<float>(c.height)),
-        half_w(c.width / 2.0f), half_h(c.height / 2.0f),
         inv_half_w(2.0f / c.width), inv_half_h(2.0f / c.height),
         centre_u((c.width - 1) / 2.0f), centre_v((c.height - 1) / 2.0f) {}
   // The feather tent: 1 at the centre, 0 at the raw image edges, <= 0 outside.

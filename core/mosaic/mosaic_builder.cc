@@ -95,6 +95,15 @@ MosaicBuilder::MosaicBuilder(const BuildConfig& config, const CameraModel& camer
   // We parallelise across frames and tiles; OpenCV's own threads inside each
   // call would only compete with ours on a small on-board CPU.
   cv::setNumThreads(1);
+  // Up to eight frames in flight per pool thread: frames finish out of order
+  // and tile encodes come in bursts, and with two per thread plus four the
+  // cores sat idle for a fifth of a build. A queued frame may hold its
+  // decoded image (not JPEG, or enhanced), so the depth also stays within a
+  // quarter of the memory cap (but not below two per thread plus four).
+  const size_t frame_bytes = static_cast<size_t>(camera_.width) * camera_.height * plan_.channels + 1;
+  const size_t by_memory = (static_cast<size_t>(config_.memory_cap_mb) << 20) / 4 / frame_bytes;
+  const size_t threads = static_cast<size_t>(pool_->size());
+  pipeline_depth_ = std::clamp(by_memory, 2 * threads + 4, 8 * threads);
   writer_ = std::make_unique<TileWriter>(store, pool_.get(), config.encoding, hooks_.on_tile_written);
   const size_t cap = static_cast<size_t>(config.memory_cap_mb) << 20;
   pyramid_ = std::make_unique<OverviewPyramid>(writer_.get(), config.tile_size, plan.channels,
@@ -163,20 +172,11 @@ void MosaicBuilder::Push(const FrameSpec& spec) {
   loading_.push_back(pool_->Submit([this, spec] { return Load(spec); }));
   // Keep the pool busy: take finished loads (starting their neighbours'
   // warps) and blend finished warps as they come; block only when the
-  // pipeline is full, on its oldest frame. Up to eight frames per pool
-  // thread: frames finish out of order and tile encodes come in bursts, and
-  // with two per thread plus four the cores sat idle for a fifth of a build.
-  // A queued frame may hold its decoded image (not JPEG, or enhanced), so the
-  // depth also stays within a quarter of the memory cap (but not below the
-  // old two per thread plus four).
-  const size_t frame_bytes = static_cast<size_t>(camera_.width) * camera_.height * plan_.channels + 1;
-  const size_t by_memory = (static_cast<size_t>(config_.memory_cap_mb) << 20) / 4 / frame_bytes;
-  const size_t threads = static_cast<size_t>(pool_->size());
-  const size_t depth = std::clamp(by_memory, 2 * threads + 4, 8 * threads);
+  // pipeline is full (pipeline_depth_), on its oldest frame.
   while (true) {
     while (!loading_.empty() && IsReady(loading_.front())) TakeLoaded();
     ConsumeReady(false);
-    if (loading_.size() + queued_.size() <= depth) return;
+    if (loading_.size() + queued_.size() <= pipeline_depth_) return;
     if (!queued_.empty() && queued_.front()->warp.valid()) ConsumeReady(true);
     else if (!loading_.empty()) TakeLoaded();
     else return;  // only the last usable frame waits, for its next neighbour

@@ -138,6 +138,7 @@ class MosaicBuilder {
   BuildHooks hooks_;
   FrameWarper warper_;
   std::unique_ptr<ThreadPool> pool_;
+  size_t pipeline_depth_ = 0;  // frames loading or queued before Push waits
   std::unique_ptr<TileWriter> writer_;
   std::unique_ptr<OverviewPyramid> pyramid_;
   std::deque<std::future<Prepared>> loading_;

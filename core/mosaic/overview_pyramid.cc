@@ -19,6 +19,11 @@ cv::Mat ReduceTile2x(const cv::Mat& tile) {
                              r1 + (2 * x + 1) * ch};
       int alpha_sum = p[0][colour] + p[1][colour] + p[2][colour] + p[3][colour];
       if (alpha_sum == 0) continue;
+      if (alpha_sum == 4 * 255) {  // all four painted (most pixels): the weighted mean below, without a division
+        for (int c = 0; c < colour; ++c) d[c] = static_cast<uint8_t>((p[0][c] + p[1][c] + p[2][c] + p[3][c] + 2) >> 2);
+        d[colour] = 255;
+        continue;
+      }
       for (int c = 0; c < colour; ++c) {
         int s = p[0][c] * p[0][colour] + p[1][c] * p[1][colour] + p[2][c] * p[2][colour] +
                 p[3][c] * p[3][colour];

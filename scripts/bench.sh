@@ -43,7 +43,7 @@ build() {  # name, config json (inline), label
   done
   after="$(steal_ticks)"
   python3 - "$3" "$before" "$after" "${reports[@]}" <<'PY'
-import json, statistics, sys
+import json, sys
 label, before, after, paths = sys.argv[1], sys.argv[2].split(), sys.argv[3].split(), sys.argv[4:]
 runs = sorted((json.load(open(p)) for p in paths), key=lambda r: r['ms_per_frame'])
 r = runs[(len(runs) - 1) // 2]  # the median run (the lower one of an even count)

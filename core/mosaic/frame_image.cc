@@ -154,7 +154,7 @@ const cv::Mat& FrameImage::Rows(int first, int last) {
 }
 
 void FrameImage::DecodeJpegRows(int first, int last) {
-  if (jpeg_.empty()) throw std::logic_error("FrameImage: rows asked of a released frame");
+  if (jpeg_.empty()) throw std::logic_error("FrameImage " + path_ + ": rows asked of a released frame");
   pixels_.create(height_, width_, channels_ == 1 ? CV_8UC1 : CV_8UC3);
   JpegReader reader(jpeg_);
   jpeg_decompress_struct& c = reader.cinfo_;
@@ -167,7 +167,9 @@ void FrameImage::DecodeJpegRows(int first, int last) {
   if (first > 0) jpeg_skip_scanlines(&c, static_cast<JDIMENSION>(first));
   while (static_cast<int>(c.output_scanline) <= last) {
     JSAMPROW row = pixels_.ptr<unsigned char>(static_cast<int>(c.output_scanline));
-    if (jpeg_read_scanlines(&c, &row, 1) != 1) break;
+    if (jpeg_read_scanlines(&c, &row, 1) != 1)  // rows the map needs must not be left undecoded
+      throw InputError(path_, 0, "image",
+                       "unreadable image: JPEG data stops at row " + std::to_string(c.output_scanline));
   }
   jpeg_abort_decompress(&c);  // the rows below are not needed
   decoded_first_ = first;

@@ -263,9 +263,35 @@ class RowRuns {
   std::vector<std::array<int, 2>> runs_;
 };
 
+// Returns the painted runs of this thread's scratch canvas to zero when a
+// warp leaves, whether it returns or throws (a frame whose JPEG data breaks
+// off, no memory for the result): the thread's next frame starts clean.
+class CanvasCleaner {
+ public:
+  CanvasCleaner(cv::Mat& pixels, cv::Mat& weight, const RowRuns& runs, int height)
+      : pixels_(pixels), weight_(weight), runs_(runs), height_(height) {}
+  ~CanvasCleaner() {
+    const size_t px_size = pixels_.elemSize();
+    for (int y = 0; y < height_; ++y)
+      for (int k = 0; k < runs_.Count(y); ++k) {
+        const int b = runs_.Run(y, k)[0], n = runs_.Run(y, k)[1] - b + 1;
+        std::memset(pixels_.ptr<uint8_t>(y) + b * px_size, 0, n * px_size);
+        std::memset(weight_.ptr<uint8_t>(y) + b, 0, n);
+      }
+  }
+  CanvasCleaner(const CanvasCleaner&) = delete;
+  CanvasCleaner& operator=(const CanvasCleaner&) = delete;
+
+ private:
+  cv::Mat& pixels_;
+  cv::Mat& weight_;
+  const RowRuns& runs_;
+  int height_;
+};
+
 // The painted runs of a canvas, cut to their bounding box and copied into
-// `out` (pixels, weight, runs, spans, origin); the canvas is left zero again.
-void CopyPainted(cv::Mat& canvas_pixels, cv::Mat& canvas_weight, const RowRuns& runs, int height,
+// `out` (pixels, weight, runs, spans, origin).
+void CopyPainted(const cv::Mat& canvas_pixels, const cv::Mat& canvas_weight, const RowRuns& runs, int height,
                  WarpedFrame* out) {
   int px0 = std::numeric_limits<int>::max(), px1 = -1, py0 = height, py1 = -1;
   for (int y = 0; y < height; ++y) {
@@ -294,12 +320,8 @@ void CopyPainted(cv::Mat& canvas_pixels, cv::Mat& canvas_weight, const RowRuns& 
       const int b = runs.Run(y, k)[0], n = runs.Run(y, k)[1] - b + 1, at = b - px0;
       std::memset(out_pix + done * px_size, 0, (at - done) * px_size);
       std::memset(out_wgt + done, 0, at - done);
-      uint8_t* pix = canvas_pixels.ptr<uint8_t>(y) + b * px_size;
-      uint8_t* wgt = canvas_weight.ptr<uint8_t>(y) + b;
-      std::memcpy(out_pix + at * px_size, pix, n * px_size);
-      std::memcpy(out_wgt + at, wgt, n);
-      std::memset(pix, 0, n * px_size);
-      std::memset(wgt, 0, n);
+      std::memcpy(out_pix + at * px_size, canvas_pixels.ptr<uint8_t>(y) + b * px_size, n * px_size);
+      std::memcpy(out_wgt + at, canvas_weight.ptr<uint8_t>(y) + b, n);
       out->runs.push_back({at, at + n});
       done = at + n;
     }
@@ -423,6 +445,7 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
     scratch_weight = cv::Mat::zeros(std::max(height, scratch_weight.rows), std::max(width, scratch_weight.cols), CV_8U);
   thread_local RowRuns painted;
   painted.Reset(height);
+  const CanvasCleaner cleaner(canvas_pixels, scratch_weight, painted, height);
 
   // Per block row: positions linear along it (the grid interpolated
   // bilinearly), weights four pixels at a time, then to the canvas. Pixels
@@ -524,16 +547,7 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
   // Only now is it known which raw rows the kept pixels sample (bilinear:
   // one more below): a frame kept compressed decodes just those.
   if (v_max >= v_min) {
-    const cv::Mat* decoded = nullptr;
-    try {
-      decoded = &rows(static_cast<int>(std::floor(v_min)) - 1, static_cast<int>(std::ceil(v_max)) + 1);
-    } catch (...) {  // leave this thread's canvas zero for its next frame
-      for (int y = 0; y < height; ++y)
-        for (int k = 0; k < painted.Count(y); ++k)
-          std::memset(scratch_weight.ptr<uint8_t>(y) + painted.Run(y, k)[0], 0,
-                      painted.Run(y, k)[1] - painted.Run(y, k)[0] + 1);
-      throw;
-    }
+    const cv::Mat* decoded = &rows(static_cast<int>(std::floor(v_min)) - 1, static_cast<int>(std::ceil(v_max)) + 1);
     const uint8_t* data = decoded->ptr<uint8_t>();
     const size_t step = decoded->step[0];
     const int max_iu = (camera_.width - 1) * 256 - 1, max_iv = (camera_.height - 1) * 256 - 1;

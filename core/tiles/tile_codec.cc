@@ -75,9 +75,22 @@ int PngColorTypeOf(int channels) {
                        : PNG_COLOR_TYPE_GRAY;
 }
 
+// The tile in PNG's channel order: gray, gray+alpha, RGB or RGBA (alpha
+// dropped when every pixel is opaque), converted in one pass.
+cv::Mat InPngOrder(const cv::Mat& tile, bool opaque) {
+  cv::Mat out;
+  if (tile.channels() == 2) {
+    if (!opaque) return tile;
+    cv::extractChannel(tile, out, 0);
+  } else {
+    cv::cvtColor(tile, out, opaque ? cv::COLOR_BGRA2RGB : cv::COLOR_BGRA2RGBA);
+  }
+  return out;
+}
+
 // PNG levels 0 and 6-9 through libpng directly: OpenCV cannot write
 // 2-channel (gray+alpha) PNGs, and its adaptive filter choice costs 3x the
-// time. The fast levels are EncodePngFast's.
+// time. The fast levels are EncodePngFast's. Both take the tile InPngOrder.
 std::vector<uint8_t> EncodePng(const cv::Mat& tile, int level) {
   const int color_type = PngColorTypeOf(tile.channels());
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
@@ -105,7 +118,7 @@ std::vector<uint8_t> EncodePng(const cv::Mat& tile, int level) {
   png_set_IHDR(png, info, rows.cols, rows.rows, 8, color_type, PNG_INTERLACE_NONE,
                PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
   png_set_rows(png, info, row_ptrs.data());
-  png_write_png(png, info, tile.channels() >= 3 ? PNG_TRANSFORM_BGR : PNG_TRANSFORM_IDENTITY, nullptr);
+  png_write_png(png, info, PNG_TRANSFORM_IDENTITY, nullptr);
   png_destroy_write_struct(&png, &info);
   return out;
 }
@@ -113,30 +126,18 @@ std::vector<uint8_t> EncodePng(const cv::Mat& tile, int level) {
 // The fast PNG levels (1-5): the Average filter (on seabed tiles nearly as
 // small as Paeth and a quarter faster), compressed in one call by libdeflate
 // (5.6x faster than zlib level 6 for 5 % more bytes; libpng can only use
-// zlib, so the few PNG chunks are written here). BGR(A) tiles are stored as
-// RGB(A).
+// zlib, so the few PNG chunks are written here).
 std::vector<uint8_t> EncodePngFast(const cv::Mat& tile, int level) {
   const int channels = tile.channels(), width = tile.cols, height = tile.rows;
   const int color_type = PngColorTypeOf(channels);
   const size_t row_bytes = static_cast<size_t>(width) * channels;
   // Filtered scanlines: a filter-type byte (3, Average) then the differences.
-  thread_local std::vector<uint8_t> filtered, rgb_rows[2], zero_row;
+  thread_local std::vector<uint8_t> filtered, zero_row;
   filtered.resize((row_bytes + 1) * height);
   zero_row.assign(row_bytes, 0);
-  for (auto& r : rgb_rows) r.resize(row_bytes);
   const uint8_t* up = nullptr;
   for (int y = 0; y < height; ++y) {
     const uint8_t* raw = tile.ptr<uint8_t>(y);
-    if (channels >= 3) {  // BGR(A) -> RGB(A)
-      uint8_t* swapped = rgb_rows[y & 1].data();
-      for (int x = 0; x < width; ++x) {
-        const uint8_t* p = raw + x * channels;
-        uint8_t* q = swapped + x * channels;
-        q[0] = p[2]; q[1] = p[1]; q[2] = p[0];
-        if (channels == 4) q[3] = p[3];
-      }
-      raw = swapped;
-    }
     uint8_t* __restrict out = &filtered[(row_bytes + 1) * y];
     out[0] = 3;
     ++out;
@@ -152,14 +153,15 @@ std::vector<uint8_t> EncodePngFast(const cv::Mat& tile, int level) {
   struct FreeCompressor {
     void operator()(libdeflate_compressor* c) const { libdeflate_free_compressor(c); }
   };
-  thread_local std::unique_ptr<libdeflate_compressor, FreeCompressor> compressors[6];
-  auto& slot = compressors[std::clamp(level, 1, 5)];
-  if (!slot) slot.reset(libdeflate_alloc_compressor(std::clamp(level, 1, 5)));
+  thread_local std::unique_ptr<libdeflate_compressor, FreeCompressor> compressors[5];
+  level = std::clamp(level, 1, 5);
+  auto& slot = compressors[level - 1];
+  if (!slot) slot.reset(libdeflate_alloc_compressor(level));
   libdeflate_compressor* compressor = slot.get();
   if (!compressor) throw std::runtime_error("libdeflate: out of memory");
-  std::vector<uint8_t> out(8 + 25 + 12 + 12);
+  // Signature, IHDR chunk, IDAT's length and type, its data, its CRC, IEND.
   const size_t bound = libdeflate_zlib_compress_bound(compressor, filtered.size());
-  out.resize(8 + 25 + 8 + bound + 4 + 12);
+  std::vector<uint8_t> out(8 + 25 + 8 + bound + 4 + 12);
   const size_t idat = libdeflate_zlib_compress(compressor, filtered.data(), filtered.size(), &out[8 + 25 + 8], bound);
   if (idat == 0) throw std::runtime_error("libdeflate: cannot compress tile");
   auto put32 = [](uint8_t* p, uint32_t v) {
@@ -255,7 +257,7 @@ std::vector<uint8_t> EncodeTile(const cv::Mat& tile, const TileEncoding& enc) {
       return Encode(".webp", img, {cv::IMWRITE_WEBP_QUALITY, enc.webp_quality});
     }
     default: {
-      const cv::Mat img = opaque ? WithoutAlpha(tile) : tile;
+      const cv::Mat img = InPngOrder(tile, opaque);
       return enc.png_level >= 1 && enc.png_level <= 5 ? EncodePngFast(img, enc.png_level) : EncodePng(img, enc.png_level);
     }
   }

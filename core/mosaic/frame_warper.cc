@@ -290,7 +290,7 @@ class CanvasCleaner {
 };
 
 // The painted runs of a canvas, cut to their bounding box and copied into
-// `out` (pixels, weight, runs, spans, origin).
+// `out` (pixels, weight, runs, origin).
 void CopyPainted(const cv::Mat& canvas_pixels, const cv::Mat& canvas_weight, const RowRuns& runs, int height,
                  WarpedFrame* out) {
   int px0 = std::numeric_limits<int>::max(), px1 = -1, py0 = height, py1 = -1;
@@ -307,8 +307,6 @@ void CopyPainted(const cv::Mat& canvas_pixels, const cv::Mat& canvas_weight, con
   // Not zero-filled first: each row's runs are copied and the gaps cleared.
   out->pixels.create(out_h, out_w, canvas_pixels.type());
   out->weight.create(out_h, out_w, CV_8U);
-  out->span_begin.assign(out_h, 0);
-  out->span_end.assign(out_h, 0);
   out->run_offset.assign(out_h + 1, 0);
   out->runs.clear();
   const size_t px_size = canvas_pixels.elemSize();
@@ -328,10 +326,6 @@ void CopyPainted(const cv::Mat& canvas_pixels, const cv::Mat& canvas_weight, con
     std::memset(out_pix + done * px_size, 0, (out_w - done) * px_size);
     std::memset(out_wgt + done, 0, out_w - done);
     out->run_offset[y - py0 + 1] = static_cast<int>(out->runs.size());
-    if (runs.Count(y) > 0) {
-      out->span_begin[y - py0] = runs.Run(y, 0)[0] - px0;
-      out->span_end[y - py0] = runs.Run(y, runs.Count(y) - 1)[1] - px0 + 1;
-    }
   }
 }
 
@@ -428,8 +422,6 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
   if (blocks.empty()) {  // nothing to paint
     out.pixels = cv::Mat::zeros(1, 1, channels_ == 1 ? CV_8UC1 : CV_8UC3);
     out.weight = cv::Mat::zeros(1, 1, CV_8U);
-    out.span_begin.assign(1, 0);
-    out.span_end.assign(1, 0);
     out.run_offset.assign(2, 0);
     return out;
   }

@@ -40,8 +40,6 @@ struct WarpedFrame {
   int64_t x0 = 0, y0 = 0;           // global pixel of pixels(0,0) at the base zoom
   cv::Mat pixels;                   // CV_8UC1 (gray) or CV_8UC3 (BGR)
   cv::Mat weight;                   // CV_8UC1, 0 where the frame paints nothing, 1..255 elsewhere
-  // Per row, the columns [begin, end) outside which weight is 0 (begin == end: none).
-  std::vector<int> span_begin, span_end;
   // Per row y, runs[run_offset[y] .. run_offset[y + 1]) are column ranges
   // [begin, end), in order, outside which weight is 0 (a band and the
   // slivers along the frame's sides leave most of a span empty).
@@ -105,8 +103,8 @@ class FrameWarper {
   double feather_power_, seam_band_;
   std::vector<cv::Point2d> border_;  // raw image border samples, undistorted: 4 corners, the
                                      // principal point, then points along the edges
-  double max_r2_ = 0;
-  int grid_step_ = 16;                // beyond this normalised radius² a point is outside the image
+  double max_r2_ = 0;                // beyond this normalised radius² a point is outside the image
+  int grid_step_ = 16;
   std::vector<float> weight_lut_;    // tent^power, indexed by tent * (kLut - 1)
 };
 

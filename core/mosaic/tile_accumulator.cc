@@ -46,11 +46,10 @@ bool TileAccumulator::Blend(const WarpedFrame& frame) {
   if (x_begin >= x_end || y_begin >= y_end) return false;
   constexpr float kScale = 1.0f / 255.0f;
   const bool has_runs = !frame.run_offset.empty();
-  const bool spans = !frame.span_begin.empty();
+  const std::array<int, 2> whole{0, frame.pixels.cols};  // a frame without runs: every pixel
   for (int64_t gy = y_begin; gy < y_end; ++gy) {
     const int fy = static_cast<int>(gy - frame.y0);
     // Only the row's painted runs (the rest has weight 0).
-    const std::array<int, 2> whole{spans ? frame.span_begin[fy] : 0, spans ? frame.span_end[fy] : frame.pixels.cols};
     const std::array<int, 2>* run = has_runs ? frame.runs.data() + frame.run_offset[fy] : &whole;
     const std::array<int, 2>* run_end = has_runs ? frame.runs.data() + frame.run_offset[fy + 1] : &whole + 1;
     for (; run != run_end; ++run) {

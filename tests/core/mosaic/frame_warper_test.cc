@@ -123,16 +123,17 @@ TEST(FrameWarper, HandsOverToCloserNeighboursWithAFeatheredSeam) {
     if (own->weight.at<uint8_t>(y, col) > 0) first = y;
   ASSERT_GE(first, 0);
   EXPECT_LT(own->weight.at<uint8_t>(first, col), 60);
-  // Spans bound the painted pixels exactly.
+  // A row's runs start and end on painted pixels; a row without any has none.
   for (int y = 0; y < own->weight.rows; ++y) {
     const cv::Mat row = own->weight.row(y);
-    const int n = cv::countNonZero(row);
-    if (n == 0) {
-      EXPECT_EQ(own->span_begin[y], own->span_end[y]);
+    const int first_run = own->run_offset[y], end_run = own->run_offset[y + 1];
+    if (cv::countNonZero(row) == 0) {
+      EXPECT_EQ(first_run, end_run);
       continue;
     }
-    EXPECT_GT(row.at<uint8_t>(own->span_begin[y]), 0);
-    EXPECT_GT(row.at<uint8_t>(own->span_end[y] - 1), 0);
+    ASSERT_LT(first_run, end_run);
+    EXPECT_GT(row.at<uint8_t>(own->runs[first_run][0]), 0);
+    EXPECT_GT(row.at<uint8_t>(own->runs[end_run - 1][1] - 1), 0);
   }
 }
 

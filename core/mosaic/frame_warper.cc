@@ -224,7 +224,17 @@ class KeepTest {
   }
   // Rival k, at (ru, rv), clearly sees the pixel this frame sees at (u, v), and more centrally.
   bool TakenBy(float ru, float rv, float u, float v, int k, const Reach& r) const {
-    return InsideBy(ru, rv, r) && (shape_.Centrality(ru, rv) - shape_.Centrality(u, v)) * inv_seam_[k] + 1.0f < -0.25f;
+    return InsideBy(ru, rv, r) && shape_.Ramp(ru, rv, u, v, inv_seam_[k]) < -0.25f;
+  }
+  // The same test for the ends of a block row `length` pixels long.
+  bool MayKeepRow(const BlockRow& row, float length, const Reach& r) const {
+    const float u1 = row.u0 + row.du * length, v1 = row.v0 + row.dv * length;
+    if (Outside(row.u0, row.v0, r) && Outside(u1, v1, r)) return false;
+    for (int k = 0; k < rivals_; ++k)
+      if (row.rival[k] && TakenBy(row.ru0[k], row.rv0[k], row.u0, row.v0, k, r) &&
+          TakenBy(row.ru0[k] + row.rdu[k] * length, row.rv0[k] + row.rdv[k] * length, u1, v1, k, r))
+        return false;
+    return true;
   }
 
  private:
@@ -471,7 +481,7 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
       if (e.rival[k] && inv_seam[k] <= 100.0f) {  // a vanishing seam is a step: no margin to trust
         bool behind = true;
         for (const GridPoint* g : {&g00, &g10, &g01, &g11})
-          behind = behind && (shape.Centrality(g->ru[k], g->rv[k]) - shape.Centrality(g->u, g->v)) * inv_seam[k] + 1.0f >= 1.25f;
+          behind = behind && shape.Ramp(g->ru[k], g->rv[k], g->u, g->v, inv_seam[k]) >= 1.25f;
         if (behind) e.rival[k] = false;
       }
     }
@@ -503,15 +513,6 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
   alignas(16) float w[kMaxCell + 4];
   BlockRow r;
   const float row_length = static_cast<float>(cell);
-  auto row_may_keep = [&](const BlockRow& r) {
-    const float u1 = r.u0 + r.du * row_length, v1 = r.v0 + r.dv * row_length;
-    if (keep.Outside(r.u0, r.v0, row_reach) && keep.Outside(u1, v1, row_reach)) return false;
-    for (int k = 0; k < n_rivals; ++k)
-      if (r.rival[k] && keep.TakenBy(r.ru0[k], r.rv0[k], r.u0, r.v0, k, row_reach) &&
-          keep.TakenBy(r.ru0[k] + r.rdu[k] * row_length, r.rv0[k] + r.rdv[k] * row_length, u1, v1, k, row_reach))
-        return false;
-    return true;
-  };
   for (size_t bi = 0; bi < blocks.size(); ++bi) {
     const Block& b = blocks[bi];
     const int x0 = b.bx * cell, y0 = b.by * cell;
@@ -522,7 +523,7 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
       block_row(edges, j, r);
       // The row's ends, for the same test as the block's: the handover
       // line crosses blocks, leaving some rows to the rivals.
-      if (!row_may_keep(r)) continue;
+      if (!keep.MayKeepRow(r, row_length, row_reach)) continue;
       RowWeights(sh, r, n_rivals, inv_seam, lut, w_cols, w);
       const uint64_t kept = ToCanvasWeights(w, w_cols, scratch_weight.ptr<uint8_t>(y0 + j) + x0);
       if (!kept) continue;

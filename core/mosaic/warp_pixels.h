@@ -41,6 +41,12 @@ struct ImageShape {
     const float a = (u - centre_u) * inv_half_w, b = (v - centre_v) * inv_half_h;
     return a * a + b * b;
   }
+  // The handover ramp, before it is clamped to [0, 1]: this frame's share of
+  // a pixel it sees at (u, v) and a rival at (ru, rv). 1 where both see it
+  // equally centrally, below 0 once the rival sees it better by a seam.
+  float Ramp(float ru, float rv, float u, float v, float inv_seam) const {
+    return (Centrality(ru, rv) - Centrality(u, v)) * inv_seam + 1.0f;
+  }
 };
 
 // Bilinear sample at fixed-point (8-bit fraction) position, clamped so all

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <opencv2/core/hal/intrin.hpp>
+
 namespace seamap {
 
 TileAccumulator::TileAccumulator(int tile_size, int channels, int64_t origin_x, int64_t origin_y)
@@ -85,27 +87,48 @@ bool TileAccumulator::Blend(const WarpedFrame& frame) {
 }
 
 cv::Mat TileAccumulator::Finalize() const {
+  // Sixteen pixels at a time (tiles are 256 or 512 wide): a gray value is
+  // sum / weight + 0.5, a colour one sum * (1 / weight) + 0.5 (one division
+  // for three channels), capped at 255 and truncated; alpha is 255 where any
+  // weight arrived, and uncovered pixels come out 0 with alpha 0.
+  CV_Assert(tile_size_ % 16 == 0);
   cv::Mat out(tile_size_, tile_size_, CV_8UC(channels_ + 1));
+  const cv::v_float32x4 zero = cv::v_setzero_f32(), one = cv::v_setall_f32(1.0f), half = cv::v_setall_f32(0.5f),
+                        top = cv::v_setall_f32(255.0f);
+  // Sixteen pixels of one channel to 8 bits: value = sum / weight, or sum * weight when given inverses.
+  auto to_u8 = [&](const cv::v_float32x4 (&sum)[4], const cv::v_float32x4 (&weight)[4], bool inverse) {
+    cv::v_int32x4 q[4];
+    for (int g = 0; g < 4; ++g) {
+      const cv::v_float32x4 ratio = inverse ? sum[g] * weight[g] : sum[g] / weight[g];
+      q[g] = cv::v_trunc(cv::v_select(weight[g] > zero, cv::v_min(ratio + half, top), zero));
+    }
+    return cv::v_pack_u(cv::v_pack(q[0], q[1]), cv::v_pack(q[2], q[3]));
+  };
   for (int y = 0; y < tile_size_; ++y) {
     const float* s = sum_.ptr<float>(y);
     const float* w = weight_.ptr<float>(y);
     uint8_t* d = out.ptr<uint8_t>(y);
-    // Branch-free, so the loops vectorise: uncovered pixels come out 0 with alpha 0.
-    if (channels_ == 1) {
-      for (int x = 0; x < tile_size_; ++x) {
-        const bool covered = w[x] > 0;
-        const float value = covered ? s[x] / w[x] + 0.5f : 0.0f;
-        d[2 * x] = static_cast<uint8_t>(std::min(255.0f, value));
-        d[2 * x + 1] = covered ? 255 : 0;
+    for (int x = 0; x < tile_size_; x += 16) {
+      cv::v_float32x4 weight[4];
+      cv::v_int32x4 covered[4];
+      for (int g = 0; g < 4; ++g) {
+        weight[g] = cv::v_load(w + x + 4 * g);
+        covered[g] = cv::v_reinterpret_as_s32(weight[g] > zero);  // all ones: -1
       }
-      continue;
-    }
-    for (int x = 0; x < tile_size_; ++x, s += channels_, d += channels_ + 1) {
-      const bool covered = w[x] > 0;
-      const float inv = covered ? 1.0f / w[x] : 0.0f;
-      for (int c = 0; c < channels_; ++c)
-        d[c] = static_cast<uint8_t>(std::min(255.0f, covered ? s[c] * inv + 0.5f : 0.0f));
-      d[channels_] = covered ? 255 : 0;
+      const cv::v_uint8x16 alpha = cv::v_reinterpret_as_u8(
+          cv::v_pack(cv::v_pack(covered[0], covered[1]), cv::v_pack(covered[2], covered[3])));
+      if (channels_ == 1) {
+        cv::v_float32x4 gray[4];
+        for (int g = 0; g < 4; ++g) gray[g] = cv::v_load(s + x + 4 * g);
+        cv::v_store_interleave(d + 2 * x, to_u8(gray, weight, false), alpha);
+        continue;
+      }
+      cv::v_float32x4 blue[4], green[4], red[4], inv[4];
+      for (int g = 0; g < 4; ++g) {
+        cv::v_load_deinterleave(s + 3 * (x + 4 * g), blue[g], green[g], red[g]);
+        inv[g] = cv::v_select(weight[g] > zero, one / weight[g], zero);  // > 0 exactly where covered
+      }
+      cv::v_store_interleave(d + 4 * x, to_u8(blue, inv, true), to_u8(green, inv, true), to_u8(red, inv, true), alpha);
     }
   }
   return out;

@@ -82,5 +82,51 @@ TEST(TileAccumulator, Colour) {
   EXPECT_EQ(t.at<cv::Vec4b>(1, 1), cv::Vec4b(10, 20, 30, 255));
 }
 
+// Finalize, sixteen pixels at a time, gives every pixel the scalar rule:
+// gray sum / weight + 0.5, colour sum * (1 / weight) + 0.5, capped at 255
+// and truncated; alpha 255 where a weight arrived, else 0 with colour 0.
+TEST(TileAccumulator, FinalizeFollowsTheScalarRuleAtEveryPixel) {
+  cv::RNG rng(11);
+  for (int channels : {1, 3}) {
+    const int size = 256;
+    TileAccumulator acc(size, channels, 0, 0);
+    cv::Mat sum(size, size, CV_32FC(channels), cv::Scalar::all(0)), weight(size, size, CV_32F, cv::Scalar(0));
+    for (int frame = 0; frame < 3; ++frame) {
+      WarpedFrame f;
+      f.pixels = cv::Mat(size, size, CV_8UC(channels));
+      f.weight = cv::Mat(size, size, CV_8U);
+      rng.fill(f.pixels, cv::RNG::UNIFORM, 0, 256);
+      rng.fill(f.weight, cv::RNG::UNIFORM, 0, 256);
+      f.weight(cv::Rect(0, 40 * frame, size, 60)) = 0;  // rows some frames miss
+      f.weight.col(17) = 255;                           // and some full weights
+      f.weight(cv::Rect(0, 200, size, 10)) = 0;         // rows no frame reaches
+      ASSERT_TRUE(acc.Blend(f));
+      for (int y = 0; y < size; ++y)  // the same sums, in the same order, as Blend
+        for (int x = 0; x < size; ++x) {
+          const float k = f.weight.at<uint8_t>(y, x) * (1.0f / 255.0f);
+          for (int c = 0; c < channels; ++c)
+            sum.ptr<float>(y)[x * channels + c] += k * f.pixels.ptr<uint8_t>(y)[x * channels + c];
+          weight.at<float>(y, x) += k;
+        }
+    }
+    const cv::Mat out = acc.Finalize();
+    int covered = 0;
+    for (int y = 0; y < size; ++y)
+      for (int x = 0; x < size; ++x) {
+        const float w = weight.at<float>(y, x);
+        const uint8_t* d = out.ptr<uint8_t>(y) + x * (channels + 1);
+        ASSERT_EQ(d[channels], w > 0 ? 255 : 0) << x << "," << y;
+        covered += w > 0;
+        for (int c = 0; c < channels; ++c) {
+          const float s = sum.ptr<float>(y)[x * channels + c];
+          const float value = w <= 0 ? 0.0f : channels == 1 ? s / w + 0.5f : s * (1.0f / w) + 0.5f;
+          ASSERT_EQ(d[c], static_cast<uint8_t>(std::min(255.0f, value))) << x << "," << y << " channel " << c;
+        }
+      }
+    EXPECT_GT(covered, size * size / 2);
+    EXPECT_LT(covered, size * size);
+  }
+}
+
 }  // namespace
 }  // namespace seamap

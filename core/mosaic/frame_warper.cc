@@ -453,7 +453,6 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
   // bilinearly), weights four pixels at a time, then to the canvas. Pixels
   // are sampled afterwards, once it is known which raw rows they need.
   const float* lut = feather_power_ != 1.0 ? weight_lut_.data() : nullptr;
-  const ImageShape sh = shape;
   // A block's left and right edges: u, v, then each rival's u and v at the
   // top corners, and their change down the block.
   struct Edges {
@@ -524,7 +523,7 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
       // The row's ends, for the same test as the block's: the handover
       // line crosses blocks, leaving some rows to the rivals.
       if (!keep.MayKeepRow(r, row_length, row_reach)) continue;
-      RowWeights(sh, r, n_rivals, inv_seam, lut, w_cols, w);
+      RowWeights(shape, r, n_rivals, inv_seam, lut, w_cols, w);
       const uint64_t kept = ToCanvasWeights(w, w_cols, scratch_weight.ptr<uint8_t>(y0 + j) + x0);
       if (!kept) continue;
       const int i0 = __builtin_ctzll(kept), i1 = 63 - __builtin_clzll(kept);

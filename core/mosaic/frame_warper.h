@@ -42,7 +42,9 @@ struct WarpedFrame {
   cv::Mat weight;                   // CV_8UC1, 0 where the frame paints nothing, 1..255 elsewhere
   // Per row y, runs[run_offset[y] .. run_offset[y + 1]) are column ranges
   // [begin, end), in order, outside which weight is 0 (a band and the
-  // slivers along the frame's sides leave most of a span empty).
+  // slivers along the frame's sides leave most of a span empty). Warp always
+  // fills them; a frame made by hand may leave run_offset empty, and then
+  // every pixel counts, by its weight.
   std::vector<int> run_offset;
   std::vector<std::array<int, 2>> runs;
 };

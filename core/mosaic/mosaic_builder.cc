@@ -187,8 +187,7 @@ void MosaicBuilder::TakeLoaded() {
   auto q = std::make_shared<Queued>();
   q->prepared = loading_.front().get();
   loading_.pop_front();
-  q->usable = !q->prepared.image.empty();
-  if (q->usable) {
+  if (q->Usable()) {
     if (awaiting_next_) {
       awaiting_next_->neighbours.push_back(q->prepared.spec.pose);
       q->neighbours.push_back(awaiting_next_->prepared.spec.pose);
@@ -216,7 +215,7 @@ void MosaicBuilder::StartWarp(const std::shared_ptr<Queued>& q) {
 void MosaicBuilder::ConsumeReady(bool wait_for_one) {
   while (!queued_.empty()) {
     Queued& q = *queued_.front();
-    const bool usable = q.usable;
+    const bool usable = q.Usable();
     if (usable && !q.warp.valid()) return;  // waits for its next neighbour
     if (usable && !wait_for_one && !IsReady(q.warp)) return;
     wait_for_one = false;

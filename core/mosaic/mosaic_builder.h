@@ -100,10 +100,12 @@ class MosaicBuilder {
   // starts once the next usable frame is known (its neighbour for seams).
   struct Queued {
     Prepared prepared;
-    bool usable = false;  // loaded and checked: it will be warped
     std::vector<VehiclePose> neighbours;
     std::string problem;  // set by the warp job when the image cannot be decoded
     std::future<std::optional<WarpedFrame>> warp;
+    // Loaded and checked, so it will be warped. (The warp job decodes rows
+    // of the image meanwhile; its size, read here, does not change.)
+    bool Usable() const { return !prepared.image.empty(); }
   };
   struct Slot {
     std::unique_ptr<TileAccumulator> accumulator;

@@ -36,13 +36,6 @@ cv::Mat WithoutAlpha(const cv::Mat& tile) {
   return out;
 }
 
-cv::Mat GrayAlphaToBgra(const cv::Mat& tile) {
-  cv::Mat out(tile.size(), CV_8UC4);
-  const int from_to[] = {0, 0, 0, 1, 0, 2, 1, 3};
-  cv::mixChannels(&tile, 1, &out, 1, from_to, 4);
-  return out;
-}
-
 // Paints the tile over `background`: JPEG cannot store transparency.
 cv::Mat CompositeOver(const cv::Mat& tile, const cv::Scalar& background) {
   const int colours = tile.channels() - 1;
@@ -244,20 +237,18 @@ std::string TileMimeType(TileFormat f) {
 std::vector<uint8_t> EncodeTile(const cv::Mat& tile, const TileEncoding& enc) {
   if (tile.depth() != CV_8U || (tile.channels() != 2 && tile.channels() != 4))
     throw std::invalid_argument("EncodeTile expects CV_8UC2 or CV_8UC4");
-  const bool opaque = FullyOpaque(tile);
   switch (enc.format) {
     case TileFormat::kJpeg:
       return Encode(".jpg", CompositeOver(tile, enc.background),
                     {cv::IMWRITE_JPEG_QUALITY, enc.jpeg_quality});
     case TileFormat::kWebp: {
       // Opaque tiles drop alpha: smaller, and WebP decodes them as opaque.
-      cv::Mat img = opaque ? WithoutAlpha(tile)
-                           : (tile.channels() == 2 ? GrayAlphaToBgra(tile) : tile);
+      cv::Mat img = FullyOpaque(tile) ? WithoutAlpha(tile) : WithColourChannels(tile, 3);
       if (img.channels() == 1) cv::cvtColor(img, img, cv::COLOR_GRAY2BGR);
       return Encode(".webp", img, {cv::IMWRITE_WEBP_QUALITY, enc.webp_quality});
     }
     default: {
-      const cv::Mat img = InPngOrder(tile, opaque);
+      const cv::Mat img = InPngOrder(tile, FullyOpaque(tile));
       return enc.png_level >= 1 && enc.png_level <= 5 ? EncodePngFast(img, enc.png_level) : EncodePng(img, enc.png_level);
     }
   }

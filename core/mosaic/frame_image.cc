@@ -176,6 +176,13 @@ void FrameImage::DecodeJpegRows(int first, int last) {
   decoded_last_ = last;
 }
 
+void FrameImage::ReleasePixels() {
+  if (jpeg_.empty()) return;
+  pixels_.release();
+  decoded_first_ = 0;
+  decoded_last_ = -1;
+}
+
 void FrameImage::Release() {
   pixels_.release();
   std::vector<unsigned char>().swap(jpeg_);

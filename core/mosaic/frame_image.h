@@ -34,6 +34,14 @@ class FrameImage {
   const cv::Mat& Rows(int first, int last);
   const cv::Mat& Full() { return Rows(0, height_ - 1); }
 
+  // Whether rows are decoded on demand (a JPEG kept compressed).
+  bool DecodesByRows() const { return !jpeg_.empty(); }
+  // Bytes held: the compressed frame and the decoded pixels.
+  size_t Bytes() const { return jpeg_.size() + pixels_.total() * pixels_.elemSize(); }
+
+  // Releases the decoded pixels of a frame decoded by rows; Rows decodes
+  // again from the compressed data. Other frames keep theirs.
+  void ReleasePixels();
   // Releases the pixels and the compressed data.
   void Release();
 

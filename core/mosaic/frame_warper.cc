@@ -130,6 +130,27 @@ std::optional<std::array<int64_t, 4>> FrameWarper::MapBox(const VehiclePose& pos
   return BoxAround(*global);
 }
 
+std::optional<std::array<cv::Point2d, 4>> FrameWarper::MapCorners(const VehiclePose& pose) const {
+  auto global = MapBorder(pose, 4);
+  if (!global) return std::nullopt;
+  return std::array<cv::Point2d, 4>{(*global)[0], (*global)[1], (*global)[2], (*global)[3]};
+}
+
+std::optional<std::array<std::vector<cv::Point2d>, 2>> FrameWarper::MapLowerSides(const VehiclePose& pose) const {
+  auto global = MapBorder(pose);
+  if (!global) return std::nullopt;
+  // border_: the corners (left-top, right-top, right-bottom, left-bottom),
+  // the centre, then per step down the edges: top, right, bottom, left.
+  std::array<std::vector<cv::Point2d>, 2> sides;
+  for (int i = kBorderSamples / 2; i < kBorderSamples; ++i) {
+    sides[0].push_back((*global)[5 + 4 * (i - 1) + 3]);
+    sides[1].push_back((*global)[5 + 4 * (i - 1) + 1]);
+  }
+  sides[0].push_back((*global)[3]);
+  sides[1].push_back((*global)[2]);
+  return sides;
+}
+
 bool FrameWarper::SeesSeabed(const Eigen::Matrix3d& image_to_ground) const {
   for (const auto& b : border_)
     if ((image_to_ground * Eigen::Vector3d(b.x, b.y, 1.0)).z() <= 0) return false;
@@ -347,7 +368,8 @@ std::optional<WarpedFrame> FrameWarper::Warp(const cv::Mat& image, const Vehicle
 }
 
 std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const VehiclePose& pose,
-                                             const std::vector<VehiclePose>& neighbours) const {
+                                             const std::vector<VehiclePose>& neighbours,
+                                             std::vector<TailPixel>* tail, unsigned tail_sides) const {
   auto global = MapBorder(pose);
   if (!global) return std::nullopt;
   WarpedFrame out;
@@ -509,6 +531,10 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
   thread_local std::vector<uint64_t> painted_masks;
   painted_masks.assign(blocks.size() * cell, 0);
   float v_min = 1e30f, v_max = -1e30f;
+  // With a tail: the lowest raw row sampled by pixels away from the side edges.
+  const float edge_lo = tail_sides & kTailLeft ? kTailEdge : -1e30f;
+  const float edge_hi = tail_sides & kTailRight ? static_cast<float>(camera_.width - 1) - kTailEdge : 1e30f;
+  float core_v_max = -1e30f;
   alignas(16) float w[kMaxCell + 4];
   BlockRow r;
   const float row_length = static_cast<float>(cell);
@@ -533,9 +559,58 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
       v_min = std::min(v_min, std::min(va, vb));
       v_max = std::max(v_max, std::max(va, vb));
       painted_masks[bi * cell + j] = kept;
+      if (tail) {
+        const float ua = r.u0 + r.du * static_cast<float>(i0), ub = r.u0 + r.du * static_cast<float>(i1);
+        if (std::min(ua, ub) >= edge_lo && std::max(ua, ub) <= edge_hi) {  // u is linear: no edge pixel
+          core_v_max = std::max(core_v_max, std::max(va, vb));
+        } else {
+          for (uint64_t m = kept; m; m &= m - 1) {
+            const float fi = static_cast<float>(__builtin_ctzll(m));
+            const float u = r.u0 + r.du * fi;
+            if (u >= edge_lo && u <= edge_hi) core_v_max = std::max(core_v_max, r.v0 + r.dv * fi);
+          }
+        }
+      }
     }
   }
 
+  if (tail && core_v_max > -1e29f) {
+    // Side-edge pixels that need rows below the last one the rest samples
+    // become the tail; the rows then decoded are what the others need.
+    const int last_row = static_cast<int>(std::floor(core_v_max)) + 1;
+    v_max = -1e30f;
+    for (size_t bi = 0; bi < blocks.size(); ++bi) {
+      const Block& b = blocks[bi];
+      const int x0 = b.bx * cell, y0 = b.by * cell;
+      for (int j = 0; j < cell; ++j) {
+        uint64_t& mask = painted_masks[bi * cell + j];
+        if (!mask) continue;
+        block_row(block_edge_values[bi], j, r);
+        uint8_t* weights = scratch_weight.ptr<uint8_t>(y0 + j) + x0;
+        // u and v are linear along the row: its ends tell whether any pixel can be a tail.
+        const float fa = static_cast<float>(__builtin_ctzll(mask)), fb = static_cast<float>(63 - __builtin_clzll(mask));
+        const float ua = r.u0 + r.du * fa, ub = r.u0 + r.du * fb;
+        const float va = r.v0 + r.dv * fa, vb = r.v0 + r.dv * fb;
+        if ((std::min(ua, ub) >= edge_lo && std::max(ua, ub) <= edge_hi) ||
+            static_cast<int>(std::floor(std::max(va, vb))) + 1 <= last_row) {
+          v_max = std::max(v_max, std::max(va, vb));
+          continue;
+        }
+        for (uint64_t m = mask; m; m &= m - 1) {
+          const int i = __builtin_ctzll(m);
+          const float fi = static_cast<float>(i);
+          const float u = r.u0 + r.du * fi, v = r.v0 + r.dv * fi;
+          if ((u < edge_lo || u > edge_hi) && static_cast<int>(std::floor(v)) + 1 > last_row) {
+            tail->push_back({out.x0 + x0 + i, out.y0 + y0 + j, u, v, weights[i]});
+            weights[i] = 0;
+            mask &= ~(uint64_t{1} << i);
+          } else {
+            v_max = std::max(v_max, v);
+          }
+        }
+      }
+    }
+  }
   // Only now is it known which raw rows the kept pixels sample (bilinear:
   // one more below): a frame kept compressed decodes just those.
   if (v_max >= v_min) {

@@ -53,6 +53,14 @@ struct WarpedFrame {
 // only its runs are looked at.
 bool PaintsAny(const WarpedFrame& frame, const cv::Rect& roi);
 
+// A pixel a warp leaves out, unsampled (see FrameWarper::Warp's `tail`):
+// where it is on the map, its weight, and where it samples the raw frame.
+struct TailPixel {
+  int64_t x = 0, y = 0;  // global pixel at the base zoom
+  float u = 0, v = 0;    // raw image position
+  uint8_t weight = 0;    // 1..255, as in WarpedFrame::weight
+};
+
 class FrameWarper {
  public:
   // channels: 1 (gray mosaic) or 3 (colour mosaic). seam_band in (0, 1]
@@ -76,6 +84,12 @@ class FrameWarper {
   // width, height}: WarpedFrame's box_*, known before warping. nullopt when
   // the frame does not see the seabed.
   std::optional<std::array<int64_t, 4>> MapBox(const VehiclePose& pose) const;
+  // Where the raw image corners land on the map (global pixel-index
+  // coordinates, in border order), or nullopt as for MapBox.
+  std::optional<std::array<cv::Point2d, 4>> MapCorners(const VehiclePose& pose) const;
+  // The same for points along the raw image's left ([0]) and right ([1])
+  // edges, from its middle row to its bottom corner: where tails lie.
+  std::optional<std::array<std::vector<cv::Point2d>, 2>> MapLowerSides(const VehiclePose& pose) const;
 
   // image: CV_8UC1 / CV_8UC3 matching `channels`, of the camera's size.
   // neighbours: poses of the previous and/or next painted frames (see above; at most two).
@@ -85,9 +99,22 @@ class FrameWarper {
   // The same with the frame supplied by rows: rows(first, last) returns the
   // image with at least those rows (clamped to the image) filled in, so a
   // frame kept compressed decodes only what the warp samples.
+  //
+  // With `tail`, pixels within kTailEdge raw pixels of the image's left and
+  // right edges that sample rows below every other painted pixel's are left
+  // out and returned there instead, unsampled, so the rows below are not
+  // decoded. Along a survey line these are slivers of swath edge that the
+  // neighbours miss when the footprint drifts sideways: almost every frame
+  // has one on its leading side, and decoding it costs a third of the frame's
+  // JPEG. Usually another survey line covers them (see MosaicBuilder).
   using RowSource = std::function<const cv::Mat&(int first, int last)>;
+  // `tail_sides` chooses the edges: kTailLeft, kTailRight or both.
   std::optional<WarpedFrame> Warp(const RowSource& rows, const VehiclePose& pose,
-                                  const std::vector<VehiclePose>& neighbours = {}) const;
+                                  const std::vector<VehiclePose>& neighbours = {},
+                                  std::vector<TailPixel>* tail = nullptr,
+                                  unsigned tail_sides = kTailLeft | kTailRight) const;
+  static constexpr float kTailEdge = 8.0f;
+  static constexpr unsigned kTailLeft = 1, kTailRight = 2;
 
  private:
   // The first `count` image border samples (corners, centre, edges) on the

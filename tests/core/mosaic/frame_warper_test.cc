@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/geo/web_mercator.h"
+#include "core/mosaic/frame_tail.h"
 
 namespace seamap {
 namespace {
@@ -269,6 +270,88 @@ TEST(FrameWarper, InterpolatedMappingMatchesTheExactOne) {
   EXPECT_LT(cv::mean(diff, both)[0], 0.3);
   // Coverage agrees but for the edge pixels.
   EXPECT_NEAR(cv::countNonZero(a->weight), cv::countNonZero(b->weight), 0.01 * cv::countNonZero(b->weight));
+}
+
+}  // namespace
+}  // namespace seamap
+
+namespace seamap {
+namespace {
+
+TEST(FrameWarper, TailIsTheSideSliverBelowTheRestAndIsSampledLater) {
+  // The frame of RunsHoldEveryPaintedPixelAndSkipTheGaps, whose own side
+  // edges run its whole length. With a tail, its side-edge pixels that need
+  // rows below the others' are left out unsampled: fewer rows are asked
+  // for, and the tail sampled from the whole image puts back exactly the
+  // pixels the frame paints without one.
+  CameraModel cam = CameraFromFocalLength(8, 12.9, 160, 120);
+  LocalFrame frame({43.1, 131.9});
+  FrameWarper banded(cam, frame, 25, 256, 1, 1.0, 0.5);
+  VehiclePose pose;
+  pose.altitude_m = 2.0;
+  VehiclePose ahead = pose, behind = pose;
+  const double footprint_h = cam.height * pose.altitude_m / cam.fy;
+  ahead.north_m += footprint_h / 10;
+  behind.north_m -= footprint_h / 10;
+  pose.altitude_m = 2.1;
+  cv::Mat image(cam.height, cam.width, CV_8U);
+  cv::randu(image, 0, 256);
+  int last_asked = -1;
+  const FrameWarper::RowSource rows = [&](int, int last) -> const cv::Mat& {
+    last_asked = std::max(last_asked, last);
+    return image;
+  };
+  const auto whole = banded.Warp(rows, pose, {behind, ahead});
+  const int whole_last = last_asked;
+  last_asked = -1;
+  std::vector<TailPixel> tail;
+  const auto cut = banded.Warp(rows, pose, {behind, ahead}, &tail);
+  ASSERT_TRUE(whole && cut);
+  ASSERT_GT(tail.size(), 20u);
+  EXPECT_LT(last_asked, whole_last - cam.height / 4) << "rows below the band are still decoded";
+
+  auto at = [](const WarpedFrame& f, int64_t gx, int64_t gy, uint8_t* value) -> uint8_t {
+    const int64_t x = gx - f.x0, y = gy - f.y0;
+    if (x < 0 || y < 0 || x >= f.weight.cols || y >= f.weight.rows) return 0;
+    if (value) *value = f.pixels.at<uint8_t>(static_cast<int>(y), static_cast<int>(x));
+    return f.weight.at<uint8_t>(static_cast<int>(y), static_cast<int>(x));
+  };
+  // What the cut frame paints, the whole one paints alike.
+  int64_t cut_painted = 0;
+  for (int y = 0; y < cut->weight.rows; ++y)
+    for (int x = 0; x < cut->weight.cols; ++x) {
+      const uint8_t w = cut->weight.at<uint8_t>(y, x);
+      if (!w) continue;
+      ++cut_painted;
+      uint8_t mine = 0, theirs = 0;
+      EXPECT_EQ(at(*whole, cut->x0 + x, cut->y0 + y, &theirs), w);
+      at(*cut, cut->x0 + x, cut->y0 + y, &mine);
+      EXPECT_EQ(mine, theirs);
+    }
+  // The tail is the rest: side-edge pixels, painted and sampled as the whole frame does.
+  const WarpedFrame back = SampleTail(tail, image);
+  for (const TailPixel& p : tail) {
+    EXPECT_TRUE(p.u < FrameWarper::kTailEdge || p.u > cam.width - 1 - FrameWarper::kTailEdge) << p.u;
+    EXPECT_EQ(at(*cut, p.x, p.y, nullptr), 0);
+    uint8_t sampled = 0, theirs = 0;
+    EXPECT_EQ(at(back, p.x, p.y, &sampled), p.weight);
+    EXPECT_EQ(at(*whole, p.x, p.y, &theirs), p.weight);
+    EXPECT_EQ(sampled, theirs);
+  }
+  EXPECT_EQ(cut_painted + static_cast<int64_t>(tail.size()), cv::countNonZero(whole->weight));
+  EXPECT_EQ(cv::countNonZero(back.weight), static_cast<int>(tail.size()));  // one pixel each, in the runs
+  for (int y = 0; y < back.weight.rows; ++y)
+    for (int k = back.run_offset[y]; k < back.run_offset[y + 1]; ++k)
+      EXPECT_EQ(cv::countNonZero(back.weight.row(y).colRange(back.runs[k][0], back.runs[k][1])),
+                back.runs[k][1] - back.runs[k][0]);
+
+  // One side only: the right sliver is painted now, so the rows down to the
+  // bottom are decoded, and then the left one needs no rows beyond them.
+  std::vector<TailPixel> left;
+  last_asked = -1;
+  ASSERT_TRUE(banded.Warp(rows, pose, {behind, ahead}, &left, FrameWarper::kTailLeft));
+  EXPECT_EQ(last_asked, whole_last);
+  EXPECT_TRUE(left.empty());
 }
 
 }  // namespace

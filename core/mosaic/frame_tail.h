@@ -1,0 +1,23 @@
+#pragma once
+// Painting a frame's tail later: the side-edge pixels FrameWarper::Warp left
+// out unsampled, so that the JPEG rows they need were not decoded (see Warp
+// and MosaicBuilder).
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "core/mosaic/frame_image.h"
+#include "core/mosaic/frame_warper.h"
+
+namespace seamap {
+
+// Tail pixels sampled (bilinearly, as Warp samples) from `image`, which has
+// the rows they need decoded, as a frame to blend. No pixels: an empty frame.
+WarpedFrame SampleTail(const std::vector<TailPixel>& pixels, const cv::Mat& image);
+
+// Decodes the rows the pixels need from `image`, samples them and releases
+// the decoded rows again. One image is used by one job at a time. A JPEG
+// whose data breaks off there gives an empty frame (see the .cc).
+WarpedFrame DecodeTail(FrameImage& image, const std::vector<TailPixel>& pixels);
+
+}  // namespace seamap

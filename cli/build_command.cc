@@ -83,6 +83,8 @@ void WriteReport(const std::string& path, const BuildStats& s, const MosaicPlan&
                       {"tile_writes", s.tiles_written},
                       {"tile_bytes", s.tile_bytes},
                       {"readbacks", s.readbacks},
+                      {"tail_frames", s.tail_frames},
+                      {"tail_decodes", s.tail_decodes},
                       {"tiles_per_zoom", per_zoom},
                       {"base_zoom", plan.base_zoom},
                       {"min_zoom", plan.min_zoom},

@@ -102,6 +102,7 @@ void ApplyBuildConfig(const json& s, const std::string& source, BuildConfig* c) 
     } else if (key == "blend_all_overlaps") c->blend_all_overlaps = Get<bool>(v, source, key);
     else if (key == "linger_frames") c->linger_frames = GetInt(v, source, key, 1, 100000);
     else if (key == "lookahead_frames") c->lookahead_frames = GetInt(v, source, key, 0, 1000000);
+    else if (key == "defer_edge_tails") c->defer_edge_tails = Get<bool>(v, source, key);
     else if (key == "memory_cap_mb") c->memory_cap_mb = GetInt(v, source, key, 16, 1 << 20);
     else if (key == "batch_frames") c->batch_frames = GetInt(v, source, key, 1, 100000);
     else if (key == "batch_seconds") {

@@ -38,6 +38,10 @@ struct BuildConfig {
   // next this many will be over again stays in the buffer instead of being
   // written and read back (0: off; live builds never look ahead).
   int lookahead_frames = 300;
+  // With look-ahead, a JPEG frame's side-edge tail (FrameWarper::Warp) waits
+  // until its tile is finished and is painted only where no other frame has
+  // painted by then; its rows are decoded only if it is painted.
+  bool defer_edge_tails = true;
   int memory_cap_mb = 512;            // base buffer + overview cache
   int batch_frames = 25;              // overviews and a transaction are flushed this often,
   double batch_seconds = 1.0;         // but not more often than this (fast offline builds)

@@ -129,20 +129,31 @@ MosaicBuilder::~MosaicBuilder() {
 void MosaicBuilder::Foresee(const std::vector<FrameSpec>& frames) {
   foreseen_.clear();
   if (config_.lookahead_frames <= 0) return;
-  // Boxes on the pool (each is a few dozen projections), tiles in order.
-  std::vector<std::future<std::optional<std::array<int64_t, 4>>>> boxes;
+  // Tiles then stay open until the next survey line has painted them, so
+  // side-edge tails can wait to see whether it covers them.
+  defer_tails_ = config_.defer_edge_tails;
+  // Boxes and corners on the pool (each is a few dozen projections), tiles in order.
+  using Seen = std::optional<std::pair<std::array<int64_t, 4>, std::array<cv::Point2d, 4>>>;
+  std::vector<std::future<Seen>> boxes;
   boxes.reserve(frames.size());
   // Frames Load will refuse (too steep: their box can span thousands of
   // tiles) are left out.
   for (const FrameSpec& f : frames)
-    boxes.push_back(pool_->Submit([this, &f]() -> std::optional<std::array<int64_t, 4>> {
+    boxes.push_back(pool_->Submit([this, &f]() -> Seen {
       const auto corners = warper_.GroundCorners(f.pose);
       if (!corners || TooSteep(f.pose, *corners)) return std::nullopt;
-      return warper_.MapBox(f.pose);
+      const auto box = warper_.MapBox(f.pose);
+      const auto map_corners = warper_.MapCorners(f.pose);
+      if (!box || !map_corners) return std::nullopt;
+      return std::make_pair(*box, *map_corners);
     }));
+  foreseen_corners_.clear();
   for (size_t i = 0; i < frames.size(); ++i) {
-    const auto box = boxes[i].get();
-    if (!box) continue;
+    const Seen seen = boxes[i].get();
+    if (!seen) continue;
+    const auto* box = &seen->first;
+    if (frames[i].index >= static_cast<int>(foreseen_corners_.size())) foreseen_corners_.resize(frames[i].index + 1);
+    foreseen_corners_[frames[i].index] = seen->second;
     const auto t = TilesUnder((*box)[0], (*box)[1], (*box)[2], (*box)[3]);
     for (int64_t ty = t[1]; ty <= t[3]; ++ty)
       for (int64_t tx = t[0]; tx <= t[2]; ++tx)
@@ -202,9 +213,10 @@ void MosaicBuilder::StartWarp(const std::shared_ptr<Queued>& q) {
   // The job owns q until it is done; nothing else touches q's frame meanwhile.
   q->warp = pool_->Submit([this, q]() -> std::optional<WarpedFrame> {
     FrameImage& image = q->prepared.image;
+    const unsigned tail_sides = defer_tails_ && image.DecodesByRows() ? TailSides(q->prepared.spec) : 0;
     try {
       return warper_.Warp([&image](int first, int last) -> const cv::Mat& { return image.Rows(first, last); },
-                          q->prepared.spec.pose, q->neighbours);
+                          q->prepared.spec.pose, q->neighbours, tail_sides ? &q->tail : nullptr, tail_sides);
     } catch (const InputError& e) {  // JPEG data broken past its header: this frame is rejected
       q->problem = e.detail();
       return std::nullopt;
@@ -224,7 +236,12 @@ void MosaicBuilder::ConsumeReady(bool wait_for_one) {
     Prepared p = std::move(q.prepared);
     if (usable) {
       p.warped = std::move(warped);
-      p.image.Release();
+      if (p.warped && !q.tail.empty()) {
+        p.tail = std::move(q.tail);
+        p.image.ReleasePixels();  // the compressed frame stays for its tail
+      } else {
+        p.image.Release();
+      }
       if (!p.warped && !q.problem.empty()) {
         p.reject_field = "image";
         p.reject_reason = q.problem;
@@ -318,6 +335,10 @@ void MosaicBuilder::Consume(Prepared p) {
 
   if (p.warped) {
     Paint(*p.warped);
+    if (!p.tail.empty()) {
+      tails_.Add(consumed_, std::move(p.image), std::move(p.tail));
+      ++stats_.tail_frames;
+    }
     ++stats_.frames_used;
     record.status = "used";
     LatLonBounds fb{180, 90, -180, -90};
@@ -347,6 +368,7 @@ void MosaicBuilder::Consume(Prepared p) {
   store_->PutTrackPoint(point);
   if (hooks_.on_frame) hooks_.on_frame(record, point);
 
+  SettleDueTails();
   FinishTiles(false);
   const auto now = std::chrono::steady_clock::now();
   if (consumed_ - last_flush_frame_ >= config_.batch_frames &&
@@ -443,7 +465,106 @@ void MosaicBuilder::FinishTiles(bool all) {
     }
   }
   std::sort(done.begin(), done.end());
+  // Tails waiting over these tiles go in first (pixels in them only: no tile is added).
+  const int64_t ts = config_.tile_size;
+  std::vector<PendingTails::Taken> tails;
+  for (const TileId& id : done)
+    for (PendingTails::Taken& t : tails_.TakeIn(id.x * ts, id.y * ts, (id.x + 1) * ts, (id.y + 1) * ts))
+      tails.push_back(std::move(t));
+  if (!tails.empty()) SettleTails(std::move(tails));
   for (const TileId& id : done) FinishTile(id);
+}
+
+std::vector<TailPixel> MosaicBuilder::Unpainted(const std::vector<TailPixel>& pixels) const {
+  const int64_t ts = config_.tile_size;
+  std::vector<TailPixel> open;
+  for (const TailPixel& p : pixels) {
+    const TileId id{plan_.base_zoom, static_cast<int>(p.x / ts), static_cast<int>(p.y / ts)};
+    bool covered = false;
+    if (auto it = buffer_.find(id); it != buffer_.end()) {
+      covered = it->second.accumulator->Covers(p.x, p.y);
+    } else if (auto kept = finished_weights_.find(id); kept != finished_weights_.end()) {
+      covered = kept->second.weights.at<uint16_t>(static_cast<int>(p.y - id.y * ts), static_cast<int>(p.x - id.x * ts)) > 0;
+    }  // else not known: painted (a written tile is read back)
+    if (!covered) open.push_back(p);
+  }
+  return open;
+}
+
+void MosaicBuilder::SettleTails(std::vector<PendingTails::Taken> taken) {
+  // Which pixels are unpainted is decided first, in order, so the map does
+  // not depend on timing; then one decoding job per frame, painted in order.
+  std::vector<std::shared_ptr<FrameImage>> images;
+  std::vector<std::vector<TailPixel>> open;
+  for (PendingTails::Taken& t : taken) {
+    std::vector<TailPixel> pixels = Unpainted(t.pixels);
+    if (pixels.empty()) continue;
+    const auto at = std::find(images.begin(), images.end(), t.image);
+    if (at == images.end()) {
+      images.push_back(t.image);
+      open.push_back(std::move(pixels));
+    } else {
+      std::vector<TailPixel>& more = open[static_cast<size_t>(at - images.begin())];
+      more.insert(more.end(), pixels.begin(), pixels.end());
+    }
+  }
+  // A frame decoded now paints its tail's other unpainted pixels too,
+  // rather than decoding again when their tiles are finished.
+  for (size_t i = 0; i < images.size(); ++i) {
+    const std::vector<TailPixel> rest = Unpainted(tails_.TakeFrame(images[i]));
+    open[i].insert(open[i].end(), rest.begin(), rest.end());
+  }
+  std::vector<std::future<WarpedFrame>> jobs;
+  for (size_t i = 0; i < images.size(); ++i)
+    jobs.push_back(pool_->Submit([image = images[i], pixels = std::move(open[i])] { return DecodeTail(*image, pixels); }));
+  stats_.tail_decodes += static_cast<int>(jobs.size());
+  for (auto& job : jobs) Paint(job.get());
+}
+
+unsigned MosaicBuilder::TailSides(const FrameSpec& spec) const {
+  const auto sides = warper_.MapLowerSides(spec.pose);
+  if (!sides) return 0;
+  const int64_t ts = config_.tile_size;
+  constexpr double kMargin = 2;  // map pixels inside the other frame's corners
+  // Whether another frame's footprint (its corners' quadrilateral) holds p,
+  // of a frame close enough in time that the tile is still being painted
+  // when it comes (the look-ahead keeps it).
+  auto covered = [&](const cv::Point2d& p) {
+    const TileId tile{plan_.base_zoom, static_cast<int>(std::floor(p.x / ts)), static_cast<int>(std::floor(p.y / ts))};
+    const auto over = foreseen_.find(tile);
+    if (over == foreseen_.end()) return false;
+    for (int j : over->second) {
+      if (j == spec.index || std::abs(j - spec.index) > config_.lookahead_frames ||
+          j >= static_cast<int>(foreseen_corners_.size()) || !foreseen_corners_[j])
+        continue;
+      const auto& q = *foreseen_corners_[j];
+      double area = 0;  // orientation of the corners
+      for (int k = 0; k < 4; ++k) area += q[k].x * q[(k + 1) % 4].y - q[(k + 1) % 4].x * q[k].y;
+      bool inside = true;
+      for (int k = 0; k < 4 && inside; ++k) {
+        const cv::Point2d a = q[k], b = q[(k + 1) % 4];
+        const double cross = (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x);
+        inside = (area > 0 ? cross : -cross) >= kMargin * std::hypot(b.x - a.x, b.y - a.y);
+      }
+      if (inside) return true;
+    }
+    return false;
+  };
+  unsigned out = 0;
+  for (int side = 0; side < 2; ++side)
+    if (std::all_of((*sides)[side].begin(), (*sides)[side].end(), covered))
+      out |= side == 0 ? FrameWarper::kTailLeft : FrameWarper::kTailRight;
+  return out;
+}
+
+void MosaicBuilder::SettleDueTails() {
+  // Those that waited the look-ahead (a tile that no frame paints is never
+  // finished), and the oldest while they hold more than their memory share.
+  std::vector<PendingTails::Taken> taken = tails_.TakeUpTo(consumed_ - config_.lookahead_frames);
+  const size_t cap = (static_cast<size_t>(config_.memory_cap_mb) << 20) / 16;
+  while (tails_.bytes() > cap)
+    for (PendingTails::Taken& t : tails_.TakeOldest()) taken.push_back(std::move(t));
+  if (!taken.empty()) SettleTails(std::move(taken));
 }
 
 void MosaicBuilder::FinishTile(const TileId& id) {
@@ -495,6 +616,7 @@ void MosaicBuilder::Finish() {
     awaiting_next_.reset();
   }
   while (!queued_.empty()) ConsumeReady(true);
+  SettleTails(tails_.TakeAll());  // the tails still waiting
   FinishTiles(true);
   pyramid_->Flush();
   writer_->Flush();

@@ -7,7 +7,10 @@
 // missed it (the seed paper's rule for linger 1) or when the buffer reaches
 // its memory cap; finished tiles are encoded and written in the background and
 // feed the overview pyramid. A tile that is touched again after it was
-// written is read back and blended, never overwritten.
+// written is read back and blended, never overwritten. In a foreseen survey,
+// JPEG frames' side-edge tails (FrameWarper::Warp) wait in PendingTails and
+// are decoded only for the pixels no other frame has painted by the time
+// their tile is finished.
 #include <chrono>
 #include <cstdint>
 #include <deque>
@@ -25,8 +28,10 @@
 #include "core/geo/web_mercator.h"
 #include "core/mosaic/build_config.h"
 #include "core/mosaic/frame_image.h"
+#include "core/mosaic/frame_tail.h"
 #include "core/mosaic/frame_warper.h"
 #include "core/mosaic/overview_pyramid.h"
+#include "core/mosaic/pending_tails.h"
 #include "core/mosaic/tile_accumulator.h"
 #include "core/mosaic/tile_writer.h"
 #include "core/nav/frame_list.h"
@@ -55,6 +60,8 @@ struct BuildStats {
   int64_t tile_bytes = 0;
   std::map<int, int64_t> tiles_per_zoom;  // distinct tiles
   int64_t readbacks = 0;              // tiles read back to continue painting
+  int tail_frames = 0;                // frames whose side-edge tail waited (BuildConfig::defer_edge_tails)
+  int tail_decodes = 0;               // times a waiting tail had pixels left to paint (rows decoded)
   double seconds = 0;
   double cpu_seconds = 0;             // process CPU time (all threads) over the same span
   std::optional<LatLonBounds> bounds;
@@ -93,6 +100,7 @@ class MosaicBuilder {
     FrameSpec spec;
     FrameImage image;  // the frame, until it is warped; empty when rejected
     std::optional<WarpedFrame> warped;
+    std::vector<TailPixel> tail;  // left out of `warped`; `image` stays for it
     std::optional<std::array<LatLon, 4>> footprint;
     std::string reject_field, reject_reason;
   };
@@ -102,6 +110,7 @@ class MosaicBuilder {
     Prepared prepared;
     std::vector<VehiclePose> neighbours;
     std::string problem;  // set by the warp job when the image cannot be decoded
+    std::vector<TailPixel> tail;  // set by the warp job
     std::future<std::optional<WarpedFrame>> warp;
     // Loaded and checked, so it will be warped. (The warp job decodes rows
     // of the image meanwhile; its size, read here, does not change.)
@@ -131,6 +140,17 @@ class MosaicBuilder {
   void FlushBatch();
   void WriteMetadata(bool complete);
   cv::Mat ReadBack(const TileId& id);
+  // Waiting tails: the pixels no frame has painted yet (in a tile still
+  // being painted, or finished with its weights kept) are decoded, on the
+  // pool, and painted; the others are dropped.
+  void SettleTails(std::vector<PendingTails::Taken> taken);
+  std::vector<TailPixel> Unpainted(const std::vector<TailPixel>& pixels) const;
+  void SettleDueTails();  // those that waited lookahead_frames, and the oldest over the memory share
+  // The sides (FrameWarper::kTailLeft/kTailRight) where the frame's tail is
+  // worth deferring: other foreseen frames cover the lower half of that
+  // image edge, so its tail will most likely be painted over. (Elsewhere it
+  // would be decoded later anyway, after the rows above were decoded once.)
+  unsigned TailSides(const FrameSpec& spec) const;
 
   BuildConfig config_;
   CameraModel camera_;
@@ -147,6 +167,8 @@ class MosaicBuilder {
   std::deque<std::shared_ptr<Queued>> queued_;  // loaded, in acquisition order
   std::shared_ptr<Queued> awaiting_next_;       // last usable frame, warp not started yet
   std::unordered_map<TileId, Slot, TileIdHash> buffer_;
+  PendingTails tails_;
+  bool defer_tails_ = false;  // set by Foresee (BuildConfig::defer_edge_tails)
   size_t buffer_bytes_ = 0;
   // Weights of finished base tiles (TileAccumulator::Weights), oldest
   // dropped first past a share of the memory cap.
@@ -161,6 +183,7 @@ class MosaicBuilder {
   // Foresee: for each base tile, the indices (FrameSpec::index, ascending)
   // of the frames whose box is over it; and the last index consumed.
   std::unordered_map<TileId, std::vector<int>, TileIdHash> foreseen_;
+  std::vector<std::optional<std::array<cv::Point2d, 4>>> foreseen_corners_;  // by index, on the map
   int last_index_ = -1;
   int consumed_ = 0;
   int track_seq_ = 0;

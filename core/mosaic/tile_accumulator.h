@@ -28,6 +28,11 @@ class TileAccumulator {
   // Adds the part of `frame` that overlaps this tile. Returns true if it overlapped.
   bool Blend(const WarpedFrame& frame);
 
+  // Whether any frame has painted global pixel (x, y) of this tile.
+  bool Covers(int64_t x, int64_t y) const {
+    return weight_.at<float>(static_cast<int>(y - origin_y_), static_cast<int>(x - origin_x_)) > 0;
+  }
+
   // CV_8UC2 (gray, alpha) or CV_8UC4 (BGRA).
   cv::Mat Finalize() const;
 

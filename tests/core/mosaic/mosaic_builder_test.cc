@@ -135,13 +135,14 @@ TEST_F(MosaicBuilderTest, LiveTilesAreWrittenEarlyButTheMapEndsTheSame) {
 
 // Two overlapping survey lines (there and back) of textured frames at 10x
 // overlap, with navigation jitter.
-std::vector<FrameSpec> TwoLines(const CameraModel& camera_, const std::filesystem::path& dir_) {
+std::vector<FrameSpec> TwoLines(const CameraModel& camera_, const std::filesystem::path& dir_,
+                                const std::string& extension = ".png") {
   std::vector<FrameSpec> frames;
   cv::RNG rng(7);
   const double step = camera_.height * 2.0 / camera_.fy / 10, spacing = camera_.width * 2.0 / camera_.fx * 0.6;
   for (int i = 0; i < 80; ++i) {
     const bool back = i >= 40;
-    const std::string path = (dir_ / ("t" + std::to_string(i) + ".png")).string();
+    const std::string path = (dir_ / ("t" + std::to_string(i) + extension)).string();
     cv::Mat texture(camera_.height, camera_.width, CV_8U);
     rng.fill(texture, cv::RNG::UNIFORM, 40, 220);
     cv::imwrite(path, texture);
@@ -247,6 +248,45 @@ TEST_F(MosaicBuilderTest, ForeseenSurveyWritesEachTileOnceAndTheSameMap) {
   const int64_t short_readbacks = BuildMap(short_look, frames, "short.mbtiles", true).second.readbacks;
   EXPECT_GT(short_readbacks, 0);
   EXPECT_LT(short_readbacks, read_back_stats.readbacks);
+}
+
+TEST_F(MosaicBuilderTest, DeferredTailsCoverWhatPaintingThemAtOnceCovers) {
+  // JPEG frames on two lines, the survey told to the builder: the first
+  // line's tails on the side the second line covers wait for it, and most
+  // are never decoded. When the second line's images turn out missing, the
+  // waiting tails are painted after all. Either way the map covers what it
+  // covers with every tail painted at once.
+  const std::vector<FrameSpec> frames = TwoLines(camera_, dir_.path(), ".jpg");
+  BuildConfig at_once = config_;
+  at_once.defer_edge_tails = false;
+  auto compare = [&](const std::string& name) -> BuildStats {
+    auto [now, now_stats] = BuildMap(at_once, frames, name + "_now.mbtiles", true);
+    auto [later, later_stats] = BuildMap(config_, frames, name + "_later.mbtiles", true);
+    EXPECT_EQ(now_stats.tail_frames, 0);
+    EXPECT_GT(later_stats.tail_frames, 5) << name;
+    int64_t covered = 0;
+    for (const TileId& id : now->TileIds()) {
+      if (id.z != 25) continue;
+      auto mine = later->GetTile(id);
+      if (!mine) {
+        ADD_FAILURE() << name << " tile " << id.x << "/" << id.y << " missing";
+        continue;
+      }
+      std::vector<cv::Mat> a, b;
+      cv::split(DecodeTile(*now->GetTile(id)), a);
+      cv::split(DecodeTile(*mine), b);
+      covered += cv::countNonZero(a[1]);
+      EXPECT_EQ(cv::countNonZero(a[1] != b[1]), 0) << name << " coverage differs in tile " << id.x << "/" << id.y;
+    }
+    EXPECT_GT(covered, 10000);
+    return later_stats;
+  };
+  const BuildStats both_lines = compare("both");
+  EXPECT_LT(both_lines.tail_decodes * 2, both_lines.tail_frames);
+  for (int i = 40; i < 80; ++i) std::filesystem::remove(frames[i].image_path);
+  const BuildStats first_line = compare("first");
+  EXPECT_EQ(first_line.rejections.size(), 40u);
+  EXPECT_GT(first_line.tail_decodes, 0);
 }
 
 TEST_F(MosaicBuilderTest, MissingImageIsRejectedAndRecorded) {

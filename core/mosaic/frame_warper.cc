@@ -136,21 +136,6 @@ std::optional<std::array<cv::Point2d, 4>> FrameWarper::MapCorners(const VehicleP
   return std::array<cv::Point2d, 4>{(*global)[0], (*global)[1], (*global)[2], (*global)[3]};
 }
 
-std::optional<std::array<std::vector<cv::Point2d>, 2>> FrameWarper::MapLowerSides(const VehiclePose& pose) const {
-  auto global = MapBorder(pose);
-  if (!global) return std::nullopt;
-  // border_: the corners (left-top, right-top, right-bottom, left-bottom),
-  // the centre, then per step down the edges: top, right, bottom, left.
-  std::array<std::vector<cv::Point2d>, 2> sides;
-  for (int i = kBorderSamples / 2; i < kBorderSamples; ++i) {
-    sides[0].push_back((*global)[5 + 4 * (i - 1) + 3]);
-    sides[1].push_back((*global)[5 + 4 * (i - 1) + 1]);
-  }
-  sides[0].push_back((*global)[3]);
-  sides[1].push_back((*global)[2]);
-  return sides;
-}
-
 bool FrameWarper::SeesSeabed(const Eigen::Matrix3d& image_to_ground) const {
   for (const auto& b : border_)
     if ((image_to_ground * Eigen::Vector3d(b.x, b.y, 1.0)).z() <= 0) return false;

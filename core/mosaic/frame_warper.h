@@ -87,9 +87,6 @@ class FrameWarper {
   // Where the raw image corners land on the map (global pixel-index
   // coordinates, in border order), or nullopt as for MapBox.
   std::optional<std::array<cv::Point2d, 4>> MapCorners(const VehiclePose& pose) const;
-  // The same for points along the raw image's left ([0]) and right ([1])
-  // edges, from its middle row to its bottom corner: where tails lie.
-  std::optional<std::array<std::vector<cv::Point2d>, 2>> MapLowerSides(const VehiclePose& pose) const;
 
   // image: CV_8UC1 / CV_8UC3 matching `channels`, of the camera's size.
   // neighbours: poses of the previous and/or next painted frames (see above; at most two).

@@ -522,8 +522,8 @@ void MosaicBuilder::SettleTails(std::vector<PendingTails::Taken> taken) {
 }
 
 unsigned MosaicBuilder::TailSides(const FrameSpec& spec) const {
-  const auto sides = warper_.MapLowerSides(spec.pose);
-  if (!sides) return 0;
+  if (spec.index >= static_cast<int>(foreseen_corners_.size()) || !foreseen_corners_[spec.index]) return 0;
+  const auto& own = *foreseen_corners_[spec.index];  // left-top, right-top, right-bottom, left-bottom
   const int64_t ts = config_.tile_size;
   constexpr double kMargin = 2;  // map pixels inside the other frame's corners
   // Whether another frame's footprint (its corners' quadrilateral) holds p,
@@ -542,18 +542,23 @@ unsigned MosaicBuilder::TailSides(const FrameSpec& spec) const {
       for (int k = 0; k < 4; ++k) area += q[k].x * q[(k + 1) % 4].y - q[(k + 1) % 4].x * q[k].y;
       bool inside = true;
       for (int k = 0; k < 4 && inside; ++k) {
-        const cv::Point2d a = q[k], b = q[(k + 1) % 4];
-        const double cross = (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x);
-        inside = (area > 0 ? cross : -cross) >= kMargin * std::hypot(b.x - a.x, b.y - a.y);
+        const cv::Point2d a = q[k], e = q[(k + 1) % 4] - q[k];
+        const double cross = (area > 0 ? 1 : -1) * (e.x * (p.y - a.y) - e.y * (p.x - a.x));
+        inside = cross > 0 && cross * cross >= kMargin * kMargin * e.dot(e);  // kMargin from the edge
       }
       if (inside) return true;
     }
     return false;
   };
+  // The lower half of each side edge (straight between the corners: a
+  // prediction, so the lens's slight bow does not matter).
   unsigned out = 0;
-  for (int side = 0; side < 2; ++side)
-    if (std::all_of((*sides)[side].begin(), (*sides)[side].end(), covered))
-      out |= side == 0 ? FrameWarper::kTailLeft : FrameWarper::kTailRight;
+  for (int side = 0; side < 2; ++side) {
+    const cv::Point2d top = own[side == 0 ? 0 : 1], bottom = own[side == 0 ? 3 : 2];
+    bool all = true;
+    for (int i = 0; i <= 8 && all; ++i) all = covered(top + (bottom - top) * (0.5 + i / 16.0));
+    if (all) out |= side == 0 ? FrameWarper::kTailLeft : FrameWarper::kTailRight;
+  }
   return out;
 }
 

@@ -138,21 +138,32 @@ TEST(FrameWarper, HandsOverToCloserNeighboursWithAFeatheredSeam) {
   }
 }
 
-TEST(FrameWarper, RunsHoldEveryPaintedPixelAndSkipTheGaps) {
-  // A rolled frame between level neighbours paints a band plus the slivers
-  // along its sides that they do not see: each row's runs cover every
-  // painted pixel, are ordered, and leave the empty middle out.
+// A frame between neighbours a tenth of a footprint ahead and behind,
+// flying higher: wider than both, so the slivers along its sides, its whole
+// length, are its own to paint.
+struct WiderThanItsNeighbours {
   CameraModel cam = CameraFromFocalLength(8, 12.9, 160, 120);
+  VehiclePose pose, behind, ahead;
+  WiderThanItsNeighbours() {
+    pose.altitude_m = 2.0;
+    ahead = behind = pose;
+    const double footprint_h = cam.height * pose.altitude_m / cam.fy;
+    ahead.north_m += footprint_h / 10;
+    behind.north_m -= footprint_h / 10;
+    pose.altitude_m = 2.1;
+  }
+};
+
+TEST(FrameWarper, RunsHoldEveryPaintedPixelAndSkipTheGaps) {
+  // The frame paints a band plus the slivers along its sides that its
+  // neighbours do not see: each row's runs cover every painted pixel, are
+  // ordered, and leave the empty middle out.
+  const WiderThanItsNeighbours wider;
+  const CameraModel& cam = wider.cam;
   LocalFrame frame({43.1, 131.9});
   FrameWarper banded(cam, frame, 25, 256, 1, 1.0, 0.5);
-  VehiclePose pose;
-  pose.altitude_m = 2.0;
-  VehiclePose ahead = pose, behind = pose;
-  const double footprint_h = cam.height * pose.altitude_m / cam.fy;
-  ahead.north_m += footprint_h / 10;
-  behind.north_m -= footprint_h / 10;
-  pose.altitude_m = 2.1;  // wider than both neighbours: its side edges are its own
-  auto own = banded.Warp(cv::Mat(cam.height, cam.width, CV_8U, cv::Scalar(80)), pose, {behind, ahead});
+  auto own = banded.Warp(cv::Mat(cam.height, cam.width, CV_8U, cv::Scalar(80)), wider.pose,
+                         {wider.behind, wider.ahead});
   ASSERT_TRUE(own);
   ASSERT_EQ(own->run_offset.size(), static_cast<size_t>(own->weight.rows) + 1);
   int64_t in_runs = 0, split_rows = 0;
@@ -279,21 +290,16 @@ namespace seamap {
 namespace {
 
 TEST(FrameWarper, TailIsTheSideSliverBelowTheRestAndIsSampledLater) {
-  // The frame of RunsHoldEveryPaintedPixelAndSkipTheGaps, whose own side
-  // edges run its whole length. With a tail, its side-edge pixels that need
-  // rows below the others' are left out unsampled: fewer rows are asked
-  // for, and the tail sampled from the whole image puts back exactly the
-  // pixels the frame paints without one.
-  CameraModel cam = CameraFromFocalLength(8, 12.9, 160, 120);
+  // A frame wider than its neighbours, whose own side slivers run its whole
+  // length. With a tail, its side-edge pixels that need rows below the
+  // others' are left out unsampled: fewer rows are asked for, and the tail
+  // sampled from the whole image puts back exactly the pixels the frame
+  // paints without one.
+  const WiderThanItsNeighbours wider;
+  const CameraModel& cam = wider.cam;
+  const VehiclePose &pose = wider.pose, &behind = wider.behind, &ahead = wider.ahead;
   LocalFrame frame({43.1, 131.9});
   FrameWarper banded(cam, frame, 25, 256, 1, 1.0, 0.5);
-  VehiclePose pose;
-  pose.altitude_m = 2.0;
-  VehiclePose ahead = pose, behind = pose;
-  const double footprint_h = cam.height * pose.altitude_m / cam.fy;
-  ahead.north_m += footprint_h / 10;
-  behind.north_m -= footprint_h / 10;
-  pose.altitude_m = 2.1;
   cv::Mat image(cam.height, cam.width, CV_8U);
   cv::randu(image, 0, 256);
   int last_asked = -1;

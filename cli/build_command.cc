@@ -85,6 +85,7 @@ void WriteReport(const std::string& path, const BuildStats& s, const MosaicPlan&
                       {"readbacks", s.readbacks},
                       {"tail_frames", s.tail_frames},
                       {"tail_decodes", s.tail_decodes},
+                      {"tail_failures", s.tail_failures},
                       {"tiles_per_zoom", per_zoom},
                       {"base_zoom", plan.base_zoom},
                       {"min_zoom", plan.min_zoom},

@@ -42,7 +42,9 @@ struct BuildConfig {
   // until its tile is finished and is painted only where no other frame has
   // painted by then; its rows are decoded only if it is painted.
   bool defer_edge_tails = true;
-  int memory_cap_mb = 512;            // base buffer + overview cache
+  // Base buffer (3/4) and overview cache (1/4); besides, up to a sixteenth
+  // each for the weights of finished tiles and for frames whose tails wait.
+  int memory_cap_mb = 512;
   int batch_frames = 25;              // overviews and a transaction are flushed this often,
   double batch_seconds = 1.0;         // but not more often than this (fast offline builds)
   // Also write the tiles still being painted at every batch, so a live view

@@ -4,7 +4,6 @@
 #include <cmath>
 
 #include "core/mosaic/warp_pixels.h"
-#include "core/util/error.h"
 
 namespace seamap {
 
@@ -62,17 +61,12 @@ WarpedFrame DecodeTail(FrameImage& image, const std::vector<TailPixel>& pixels) 
     v_min = std::min(v_min, p.v);
     v_max = std::max(v_max, p.v);
   }
-  WarpedFrame out;
-  try {
-    out = SampleTail(pixels, image.Rows(static_cast<int>(std::floor(v_min)) - 1, static_cast<int>(std::ceil(v_max)) + 1));
-  } catch (const InputError&) {
-    // Not reached with libjpeg's memory source: past a good header, broken
-    // data only warns. Were it reached, the frame's other pixels are
-    // painted and the map is not harmed; the tail alone goes.
-    out = SampleTail({}, cv::Mat());
-  }
-  image.ReleasePixels();
-  return out;
+  // Released again however the decoding ends.
+  struct Release {
+    FrameImage& image;
+    ~Release() { image.ReleasePixels(); }
+  } release{image};
+  return SampleTail(pixels, image.Rows(static_cast<int>(std::floor(v_min)) - 1, static_cast<int>(std::ceil(v_max)) + 1));
 }
 
 }  // namespace seamap

@@ -16,8 +16,8 @@ namespace seamap {
 WarpedFrame SampleTail(const std::vector<TailPixel>& pixels, const cv::Mat& image);
 
 // Decodes the rows the pixels need from `image`, samples them and releases
-// the decoded rows again. One image is used by one job at a time. A JPEG
-// whose data breaks off there gives an empty frame (see the .cc).
+// the decoded rows again. One image is used by one job at a time. Throws
+// InputError, naming the file, if the JPEG data breaks off before them.
 WarpedFrame DecodeTail(FrameImage& image, const std::vector<TailPixel>& pixels);
 
 }  // namespace seamap

@@ -516,9 +516,13 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
   thread_local std::vector<uint64_t> painted_masks;
   painted_masks.assign(blocks.size() * cell, 0);
   float v_min = 1e30f, v_max = -1e30f;
-  // With a tail: the lowest raw row sampled by pixels away from the side edges.
+  // With a tail: the lowest raw row sampled by pixels away from the side
+  // edges asked for. u is linear along a row, so its ends tell whether a
+  // run of pixels has any at those edges.
   const float edge_lo = tail_sides & kTailLeft ? kTailEdge : -1e30f;
   const float edge_hi = tail_sides & kTailRight ? static_cast<float>(camera_.width - 1) - kTailEdge : 1e30f;
+  auto at_edge = [&](float u) { return u < edge_lo || u > edge_hi; };
+  auto none_at_edge = [&](float ua, float ub) { return std::min(ua, ub) >= edge_lo && std::max(ua, ub) <= edge_hi; };
   float core_v_max = -1e30f;
   alignas(16) float w[kMaxCell + 4];
   BlockRow r;
@@ -546,13 +550,12 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
       painted_masks[bi * cell + j] = kept;
       if (tail) {
         const float ua = r.u0 + r.du * static_cast<float>(i0), ub = r.u0 + r.du * static_cast<float>(i1);
-        if (std::min(ua, ub) >= edge_lo && std::max(ua, ub) <= edge_hi) {  // u is linear: no edge pixel
+        if (none_at_edge(ua, ub)) {
           core_v_max = std::max(core_v_max, std::max(va, vb));
         } else {
           for (uint64_t m = kept; m; m &= m - 1) {
             const float fi = static_cast<float>(__builtin_ctzll(m));
-            const float u = r.u0 + r.du * fi;
-            if (u >= edge_lo && u <= edge_hi) core_v_max = std::max(core_v_max, r.v0 + r.dv * fi);
+            if (!at_edge(r.u0 + r.du * fi)) core_v_max = std::max(core_v_max, r.v0 + r.dv * fi);
           }
         }
       }
@@ -572,11 +575,10 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
         if (!mask) continue;
         block_row(block_edge_values[bi], j, r);
         uint8_t* weights = scratch_weight.ptr<uint8_t>(y0 + j) + x0;
-        // u and v are linear along the row: its ends tell whether any pixel can be a tail.
+        // The row's ends tell whether any pixel can be a tail.
         const float fa = static_cast<float>(__builtin_ctzll(mask)), fb = static_cast<float>(63 - __builtin_clzll(mask));
-        const float ua = r.u0 + r.du * fa, ub = r.u0 + r.du * fb;
         const float va = r.v0 + r.dv * fa, vb = r.v0 + r.dv * fb;
-        if ((std::min(ua, ub) >= edge_lo && std::max(ua, ub) <= edge_hi) ||
+        if (none_at_edge(r.u0 + r.du * fa, r.u0 + r.du * fb) ||
             static_cast<int>(std::floor(std::max(va, vb))) + 1 <= last_row) {
           v_max = std::max(v_max, std::max(va, vb));
           continue;
@@ -585,7 +587,7 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
           const int i = __builtin_ctzll(m);
           const float fi = static_cast<float>(i);
           const float u = r.u0 + r.du * fi, v = r.v0 + r.dv * fi;
-          if ((u < edge_lo || u > edge_hi) && static_cast<int>(std::floor(v)) + 1 > last_row) {
+          if (at_edge(u) && static_cast<int>(std::floor(v)) + 1 > last_row) {
             tail->push_back({out.x0 + x0 + i, out.y0 + y0 + j, u, v, weights[i]});
             weights[i] = 0;
             mask &= ~(uint64_t{1} << i);

@@ -10,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/camera/frame_projector.h"
+#include "core/mosaic/frame_tail.h"
 #include "core/util/error.h"
 
 namespace seamap {
@@ -147,13 +148,17 @@ void MosaicBuilder::Foresee(const std::vector<FrameSpec>& frames) {
       if (!box || !map_corners) return std::nullopt;
       return std::make_pair(*box, *map_corners);
     }));
-  foreseen_corners_.clear();
+  std::vector<Seen> seen(frames.size());
+  for (size_t i = 0; i < frames.size(); ++i) seen[i] = boxes[i].get();
+  foreseen_footprints_.clear();
   for (size_t i = 0; i < frames.size(); ++i) {
-    const Seen seen = boxes[i].get();
-    if (!seen) continue;
-    const auto* box = &seen->first;
-    if (frames[i].index >= static_cast<int>(foreseen_corners_.size())) foreseen_corners_.resize(frames[i].index + 1);
-    foreseen_corners_[frames[i].index] = seen->second;
+    if (!seen[i]) continue;
+    if (frames[i].index >= static_cast<int>(foreseen_footprints_.size())) foreseen_footprints_.resize(frames[i].index + 1);
+    foreseen_footprints_[frames[i].index].emplace(seen[i]->second);
+  }
+  for (size_t i = 0; i < frames.size(); ++i) {
+    if (!seen[i]) continue;
+    const auto* box = &seen[i]->first;
     const auto t = TilesUnder((*box)[0], (*box)[1], (*box)[2], (*box)[3]);
     for (int64_t ty = t[1]; ty <= t[3]; ++ty)
       for (int64_t tx = t[0]; tx <= t[2]; ++tx)
@@ -475,11 +480,18 @@ void MosaicBuilder::FinishTiles(bool all) {
   for (const TileId& id : done) FinishTile(id);
 }
 
-std::vector<TailPixel> MosaicBuilder::Unpainted(const std::vector<TailPixel>& pixels) const {
+TileId MosaicBuilder::BaseTileOf(int64_t x, int64_t y) const {
   const int64_t ts = config_.tile_size;
+  auto floor_div = [ts](int64_t v) { return v >= 0 ? v / ts : -((-v + ts - 1) / ts); };
+  return {plan_.base_zoom, static_cast<int>(floor_div(x)), static_cast<int>(floor_div(y))};
+}
+
+std::vector<TailPixel> MosaicBuilder::Unpainted(const std::vector<TailPixel>& pixels) const {
+  const int64_t ts = config_.tile_size, world = (int64_t{1} << plan_.base_zoom) * ts;
   std::vector<TailPixel> open;
   for (const TailPixel& p : pixels) {
-    const TileId id{plan_.base_zoom, static_cast<int>(p.x / ts), static_cast<int>(p.y / ts)};
+    if (p.x < 0 || p.y < 0 || p.x >= world || p.y >= world) continue;  // off the map: not painted either way
+    const TileId id = BaseTileOf(p.x, p.y);
     bool covered = false;
     if (auto it = buffer_.find(id); it != buffer_.end()) {
       covered = it->second.accumulator->Covers(p.x, p.y);
@@ -508,58 +520,60 @@ void MosaicBuilder::SettleTails(std::vector<PendingTails::Taken> taken) {
       more.insert(more.end(), pixels.begin(), pixels.end());
     }
   }
-  // A frame decoded now paints its tail's other unpainted pixels too,
-  // rather than decoding again when their tiles are finished.
+  // A frame decoded now paints its tail's other unpainted pixels too (judged
+  // now, before their own tiles are finished) rather than decoding again.
   for (size_t i = 0; i < images.size(); ++i) {
     const std::vector<TailPixel> rest = Unpainted(tails_.TakeFrame(images[i]));
     open[i].insert(open[i].end(), rest.begin(), rest.end());
   }
-  std::vector<std::future<WarpedFrame>> jobs;
-  for (size_t i = 0; i < images.size(); ++i)
+  // A few jobs in flight at a time: each holds a decoded frame.
+  const size_t in_flight = 2 * static_cast<size_t>(pool_->size());
+  std::deque<std::future<WarpedFrame>> jobs;
+  auto submit = [&](size_t i) {
     jobs.push_back(pool_->Submit([image = images[i], pixels = std::move(open[i])] { return DecodeTail(*image, pixels); }));
-  stats_.tail_decodes += static_cast<int>(jobs.size());
-  for (auto& job : jobs) Paint(job.get());
+  };
+  size_t next = 0;
+  for (; next < images.size() && next < in_flight; ++next) submit(next);
+  for (size_t done = 0; done < images.size(); ++done) {
+    ++stats_.tail_decodes;
+    try {
+      Paint(jobs.front().get());
+    } catch (const InputError&) {
+      // JPEG data broken below the rows the warp decoded (libjpeg's memory
+      // source only warns about most breakage): the frame's other pixels
+      // are painted; its tail is not, and is counted.
+      ++stats_.tail_failures;
+    }
+    jobs.pop_front();
+    if (next < images.size()) submit(next++);
+  }
 }
 
 unsigned MosaicBuilder::TailSides(const FrameSpec& spec) const {
-  if (spec.index >= static_cast<int>(foreseen_corners_.size()) || !foreseen_corners_[spec.index]) return 0;
-  const auto& own = *foreseen_corners_[spec.index];  // left-top, right-top, right-bottom, left-bottom
-  const int64_t ts = config_.tile_size;
-  constexpr double kMargin = 2;  // map pixels inside the other frame's corners
-  // Whether another frame's footprint (its corners' quadrilateral) holds p,
-  // of a frame close enough in time that the tile is still being painted
-  // when it comes (the look-ahead keeps it).
-  auto covered = [&](const cv::Point2d& p) {
-    const TileId tile{plan_.base_zoom, static_cast<int>(std::floor(p.x / ts)), static_cast<int>(std::floor(p.y / ts))};
-    const auto over = foreseen_.find(tile);
-    if (over == foreseen_.end()) return false;
-    for (int j : over->second) {
-      if (j == spec.index || std::abs(j - spec.index) > config_.lookahead_frames ||
-          j >= static_cast<int>(foreseen_corners_.size()) || !foreseen_corners_[j])
-        continue;
-      const auto& q = *foreseen_corners_[j];
-      double area = 0;  // orientation of the corners
-      for (int k = 0; k < 4; ++k) area += q[k].x * q[(k + 1) % 4].y - q[(k + 1) % 4].x * q[k].y;
-      bool inside = true;
-      for (int k = 0; k < 4 && inside; ++k) {
-        const cv::Point2d a = q[k], e = q[(k + 1) % 4] - q[k];
-        const double cross = (area > 0 ? 1 : -1) * (e.x * (p.y - a.y) - e.y * (p.x - a.x));
-        inside = cross > 0 && cross * cross >= kMargin * kMargin * e.dot(e);  // kMargin from the edge
-      }
-      if (inside) return true;
-    }
-    return false;
-  };
-  // The lower half of each side edge (straight between the corners: a
-  // prediction, so the lens's slight bow does not matter).
-  unsigned out = 0;
-  for (int side = 0; side < 2; ++side) {
-    const cv::Point2d top = own[side == 0 ? 0 : 1], bottom = own[side == 0 ? 3 : 2];
-    bool all = true;
-    for (int i = 0; i <= 8 && all; ++i) all = covered(top + (bottom - top) * (0.5 + i / 16.0));
-    if (all) out |= side == 0 ? FrameWarper::kTailLeft : FrameWarper::kTailRight;
+  if (spec.index >= static_cast<int>(foreseen_footprints_.size()) || !foreseen_footprints_[spec.index]) return 0;
+  const MapFootprint& own = *foreseen_footprints_[spec.index];
+  // The other frames over the tiles under it, close enough in time that the
+  // tiles are still being painted when they come (the look-ahead keeps them).
+  double x0 = own.corners[0].x, x1 = x0, y0 = own.corners[0].y, y1 = y0;
+  for (const cv::Point2d& c : own.corners) {
+    x0 = std::min(x0, c.x); x1 = std::max(x1, c.x);
+    y0 = std::min(y0, c.y); y1 = std::max(y1, c.y);
   }
-  return out;
+  const TileId first = BaseTileOf(static_cast<int64_t>(std::floor(x0)), static_cast<int64_t>(std::floor(y0)));
+  const TileId last = BaseTileOf(static_cast<int64_t>(std::floor(x1)), static_cast<int64_t>(std::floor(y1)));
+  std::vector<int> near;
+  for (int ty = first.y; ty <= last.y; ++ty)
+    for (int tx = first.x; tx <= last.x; ++tx)
+      if (const auto over = foreseen_.find(TileId{plan_.base_zoom, tx, ty}); over != foreseen_.end())
+        for (int j : over->second)
+          if (j != spec.index && std::abs(j - spec.index) <= config_.lookahead_frames &&
+              j < static_cast<int>(foreseen_footprints_.size()) && foreseen_footprints_[j])
+            near.push_back(j);
+  std::sort(near.begin(), near.end());
+  near.erase(std::unique(near.begin(), near.end()), near.end());
+  std::vector<const MapFootprint*> others;
+  for (int j : near) others.push_back(&*foreseen_footprints_[j]);
+  return CoveredSides(own, others);
 }
 
 void MosaicBuilder::SettleDueTails() {

@@ -28,10 +28,10 @@
 #include "core/geo/web_mercator.h"
 #include "core/mosaic/build_config.h"
 #include "core/mosaic/frame_image.h"
-#include "core/mosaic/frame_tail.h"
 #include "core/mosaic/frame_warper.h"
 #include "core/mosaic/overview_pyramid.h"
 #include "core/mosaic/pending_tails.h"
+#include "core/mosaic/tail_cover.h"
 #include "core/mosaic/tile_accumulator.h"
 #include "core/mosaic/tile_writer.h"
 #include "core/nav/frame_list.h"
@@ -62,6 +62,7 @@ struct BuildStats {
   int64_t readbacks = 0;              // tiles read back to continue painting
   int tail_frames = 0;                // frames whose side-edge tail waited (BuildConfig::defer_edge_tails)
   int tail_decodes = 0;               // times a waiting tail had pixels left to paint (rows decoded)
+  int tail_failures = 0;              // of those, JPEG data broken below the rows decoded first: tail not painted
   double seconds = 0;
   double cpu_seconds = 0;             // process CPU time (all threads) over the same span
   std::optional<LatLonBounds> bounds;
@@ -145,11 +146,12 @@ class MosaicBuilder {
   // pool, and painted; the others are dropped.
   void SettleTails(std::vector<PendingTails::Taken> taken);
   std::vector<TailPixel> Unpainted(const std::vector<TailPixel>& pixels) const;
+  TileId BaseTileOf(int64_t x, int64_t y) const;  // of a global pixel at the base zoom
   void SettleDueTails();  // those that waited lookahead_frames, and the oldest over the memory share
   // The sides (FrameWarper::kTailLeft/kTailRight) where the frame's tail is
-  // worth deferring: other foreseen frames cover the lower half of that
-  // image edge, so its tail will most likely be painted over. (Elsewhere it
-  // would be decoded later anyway, after the rows above were decoded once.)
+  // worth deferring (CoveredSides by the foreseen frames within the
+  // look-ahead): elsewhere it would be decoded later anyway, after the rows
+  // above were decoded once.
   unsigned TailSides(const FrameSpec& spec) const;
 
   BuildConfig config_;
@@ -183,7 +185,7 @@ class MosaicBuilder {
   // Foresee: for each base tile, the indices (FrameSpec::index, ascending)
   // of the frames whose box is over it; and the last index consumed.
   std::unordered_map<TileId, std::vector<int>, TileIdHash> foreseen_;
-  std::vector<std::optional<std::array<cv::Point2d, 4>>> foreseen_corners_;  // by index, on the map
+  std::vector<std::optional<MapFootprint>> foreseen_footprints_;  // by frame index
   int last_index_ = -1;
   int consumed_ = 0;
   int track_seq_ = 0;

@@ -22,6 +22,9 @@ double Median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
+// Rounds towards minus infinity (global pixels may lie left of or above the map).
+int64_t FloorDiv(int64_t v, int64_t d) { return v >= 0 ? v / d : -((-v + d - 1) / d); }
+
 }  // namespace
 
 namespace {
@@ -179,9 +182,8 @@ std::array<int64_t, 4> MosaicBuilder::TilesUnder(int64_t x0, int64_t y0, int64_t
   // Tiles that exist at this zoom (frames may reach past the antimeridian or
   // the Mercator limits; those parts are not mapped).
   const int64_t last = (int64_t{1} << plan_.base_zoom) - 1;
-  auto floor_div = [ts](int64_t v) { return v >= 0 ? v / ts : -((-v + ts - 1) / ts); };
-  return {std::max<int64_t>(0, floor_div(x0)), std::max<int64_t>(0, floor_div(y0)),
-          std::min(last, floor_div(x0 + width - 1)), std::min(last, floor_div(y0 + height - 1))};
+  return {std::max<int64_t>(0, FloorDiv(x0, ts)), std::max<int64_t>(0, FloorDiv(y0, ts)),
+          std::min(last, FloorDiv(x0 + width - 1, ts)), std::min(last, FloorDiv(y0 + height - 1, ts))};
 }
 
 void MosaicBuilder::Push(const FrameSpec& spec) {
@@ -482,8 +484,7 @@ void MosaicBuilder::FinishTiles(bool all) {
 
 TileId MosaicBuilder::BaseTileOf(int64_t x, int64_t y) const {
   const int64_t ts = config_.tile_size;
-  auto floor_div = [ts](int64_t v) { return v >= 0 ? v / ts : -((-v + ts - 1) / ts); };
-  return {plan_.base_zoom, static_cast<int>(floor_div(x)), static_cast<int>(floor_div(y))};
+  return {plan_.base_zoom, static_cast<int>(FloorDiv(x, ts)), static_cast<int>(FloorDiv(y, ts))};
 }
 
 std::vector<TailPixel> MosaicBuilder::Unpainted(const std::vector<TailPixel>& pixels) const {

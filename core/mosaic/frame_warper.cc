@@ -124,16 +124,10 @@ std::optional<std::vector<cv::Point2d>> FrameWarper::MapBorder(const VehiclePose
   return global;
 }
 
-std::optional<std::array<int64_t, 4>> FrameWarper::MapBox(const VehiclePose& pose) const {
+std::optional<FrameWarper::MapOutline> FrameWarper::Outline(const VehiclePose& pose) const {
   auto global = MapBorder(pose);
   if (!global) return std::nullopt;
-  return BoxAround(*global);
-}
-
-std::optional<std::array<cv::Point2d, 4>> FrameWarper::MapCorners(const VehiclePose& pose) const {
-  auto global = MapBorder(pose, 4);
-  if (!global) return std::nullopt;
-  return std::array<cv::Point2d, 4>{(*global)[0], (*global)[1], (*global)[2], (*global)[3]};
+  return MapOutline{BoxAround(*global), {(*global)[0], (*global)[1], (*global)[2], (*global)[3]}};
 }
 
 bool FrameWarper::SeesSeabed(const Eigen::Matrix3d& image_to_ground) const {

@@ -80,13 +80,16 @@ class FrameWarper {
   std::optional<std::array<LocalXY, 4>> GroundCorners(const VehiclePose& pose) const;
   // Whether the whole image border lands on the seabed (what Warp needs).
   bool SeesSeabed(const VehiclePose& pose) const;
-  // The frame's bounding box at the base zoom in global pixels, {x0, y0,
-  // width, height}: WarpedFrame's box_*, known before warping. nullopt when
-  // the frame does not see the seabed.
-  std::optional<std::array<int64_t, 4>> MapBox(const VehiclePose& pose) const;
-  // Where the raw image corners land on the map (global pixel-index
-  // coordinates, in border order), or nullopt as for MapBox.
-  std::optional<std::array<cv::Point2d, 4>> MapCorners(const VehiclePose& pose) const;
+  // Where the frame lands at the base zoom, known before warping: its
+  // bounding box in global pixels {x0, y0, width, height} (WarpedFrame's
+  // box_*) and where the raw image corners land (global pixel-index
+  // coordinates: left-top, right-top, right-bottom, left-bottom). nullopt
+  // when the frame does not see the seabed.
+  struct MapOutline {
+    std::array<int64_t, 4> box;
+    std::array<cv::Point2d, 4> corners;
+  };
+  std::optional<MapOutline> Outline(const VehiclePose& pose) const;
 
   // image: CV_8UC1 / CV_8UC3 matching `channels`, of the camera's size.
   // neighbours: poses of the previous and/or next painted frames (see above; at most two).

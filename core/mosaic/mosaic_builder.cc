@@ -136,36 +136,30 @@ void MosaicBuilder::Foresee(const std::vector<FrameSpec>& frames) {
   // Tiles then stay open until the next survey line has painted them, so
   // side-edge tails can wait to see whether it covers them.
   defer_tails_ = config_.defer_edge_tails;
-  // Boxes and corners on the pool (each is a few dozen projections), tiles in order.
-  using Seen = std::optional<std::pair<std::array<int64_t, 4>, std::array<cv::Point2d, 4>>>;
-  std::vector<std::future<Seen>> boxes;
-  boxes.reserve(frames.size());
+  // Outlines on the pool (each is a few dozen projections), tiles in order.
+  using Seen = std::optional<FrameWarper::MapOutline>;
+  std::vector<std::future<Seen>> outlines;
+  outlines.reserve(frames.size());
   // Frames Load will refuse (too steep: their box can span thousands of
   // tiles) are left out.
   for (const FrameSpec& f : frames)
-    boxes.push_back(pool_->Submit([this, &f]() -> Seen {
+    outlines.push_back(pool_->Submit([this, &f]() -> Seen {
       const auto corners = warper_.GroundCorners(f.pose);
       if (!corners || TooSteep(f.pose, *corners)) return std::nullopt;
-      const auto box = warper_.MapBox(f.pose);
-      const auto map_corners = warper_.MapCorners(f.pose);
-      if (!box || !map_corners) return std::nullopt;
-      return std::make_pair(*box, *map_corners);
+      return warper_.Outline(f.pose);
     }));
-  std::vector<Seen> seen(frames.size());
-  for (size_t i = 0; i < frames.size(); ++i) seen[i] = boxes[i].get();
-  foreseen_footprints_.clear();
+  foreseen_frames_.clear();
   for (size_t i = 0; i < frames.size(); ++i) {
-    if (!seen[i]) continue;
-    if (frames[i].index >= static_cast<int>(foreseen_footprints_.size())) foreseen_footprints_.resize(frames[i].index + 1);
-    foreseen_footprints_[frames[i].index].emplace(seen[i]->second);
-  }
-  for (size_t i = 0; i < frames.size(); ++i) {
-    if (!seen[i]) continue;
-    const auto* box = &seen[i]->first;
-    const auto t = TilesUnder((*box)[0], (*box)[1], (*box)[2], (*box)[3]);
+    const Seen outline = outlines[i].get();
+    if (!outline) continue;
+    const int index = frames[i].index;
+    if (index >= static_cast<int>(foreseen_frames_.size())) foreseen_frames_.resize(index + 1);
+    const auto& b = outline->box;
+    foreseen_frames_[index].emplace(ForeseenFrame{MapFootprint(outline->corners), TilesUnder(b[0], b[1], b[2], b[3])});
+    const auto& t = foreseen_frames_[index]->tiles;
     for (int64_t ty = t[1]; ty <= t[3]; ++ty)
       for (int64_t tx = t[0]; tx <= t[2]; ++tx)
-        foreseen_[TileId{plan_.base_zoom, static_cast<int>(tx), static_cast<int>(ty)}].push_back(frames[i].index);
+        foreseen_[TileId{plan_.base_zoom, static_cast<int>(tx), static_cast<int>(ty)}].push_back(index);
   }
   for (auto& [id, indices] : foreseen_) std::sort(indices.begin(), indices.end());
 }
@@ -551,30 +545,20 @@ void MosaicBuilder::SettleTails(std::vector<PendingTails::Taken> taken) {
 }
 
 unsigned MosaicBuilder::TailSides(const FrameSpec& spec) const {
-  if (spec.index >= static_cast<int>(foreseen_footprints_.size()) || !foreseen_footprints_[spec.index]) return 0;
-  const MapFootprint& own = *foreseen_footprints_[spec.index];
-  // The other frames over the tiles under it, close enough in time that the
-  // tiles are still being painted when they come (the look-ahead keeps them).
-  double x0 = own.corners[0].x, x1 = x0, y0 = own.corners[0].y, y1 = y0;
-  for (const cv::Point2d& c : own.corners) {
-    x0 = std::min(x0, c.x); x1 = std::max(x1, c.x);
-    y0 = std::min(y0, c.y); y1 = std::max(y1, c.y);
-  }
-  const TileId first = BaseTileOf(static_cast<int64_t>(std::floor(x0)), static_cast<int64_t>(std::floor(y0)));
-  const TileId last = BaseTileOf(static_cast<int64_t>(std::floor(x1)), static_cast<int64_t>(std::floor(y1)));
+  if (spec.index >= static_cast<int>(foreseen_frames_.size()) || !foreseen_frames_[spec.index]) return 0;
+  const ForeseenFrame& own = *foreseen_frames_[spec.index];
+  // The other frames over its tiles, close enough in time that the tiles are
+  // still being painted when they come (the look-ahead keeps them).
   std::vector<int> near;
-  for (int ty = first.y; ty <= last.y; ++ty)
-    for (int tx = first.x; tx <= last.x; ++tx)
-      if (const auto over = foreseen_.find(TileId{plan_.base_zoom, tx, ty}); over != foreseen_.end())
-        for (int j : over->second)
-          if (j != spec.index && std::abs(j - spec.index) <= config_.lookahead_frames &&
-              j < static_cast<int>(foreseen_footprints_.size()) && foreseen_footprints_[j])
-            near.push_back(j);
+  for (int64_t ty = own.tiles[1]; ty <= own.tiles[3]; ++ty)
+    for (int64_t tx = own.tiles[0]; tx <= own.tiles[2]; ++tx)
+      for (int j : foreseen_.at(TileId{plan_.base_zoom, static_cast<int>(tx), static_cast<int>(ty)}))
+        if (j != spec.index && std::abs(j - spec.index) <= config_.lookahead_frames) near.push_back(j);
   std::sort(near.begin(), near.end());
   near.erase(std::unique(near.begin(), near.end()), near.end());
   std::vector<const MapFootprint*> others;
-  for (int j : near) others.push_back(&*foreseen_footprints_[j]);
-  return CoveredSides(own, others);
+  for (int j : near) others.push_back(&foreseen_frames_[j]->footprint);
+  return CoveredSides(own.footprint, others);
 }
 
 void MosaicBuilder::SettleDueTails() {

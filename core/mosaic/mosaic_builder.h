@@ -185,7 +185,11 @@ class MosaicBuilder {
   // Foresee: for each base tile, the indices (FrameSpec::index, ascending)
   // of the frames whose box is over it; and the last index consumed.
   std::unordered_map<TileId, std::vector<int>, TileIdHash> foreseen_;
-  std::vector<std::optional<MapFootprint>> foreseen_footprints_;  // by frame index
+  struct ForeseenFrame {
+    MapFootprint footprint;
+    std::array<int64_t, 4> tiles;  // TilesUnder its box
+  };
+  std::vector<std::optional<ForeseenFrame>> foreseen_frames_;  // by frame index
   int last_index_ = -1;
   int consumed_ = 0;
   int track_seq_ = 0;

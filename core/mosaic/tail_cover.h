@@ -10,7 +10,7 @@
 namespace seamap {
 
 // A frame's footprint on the map: its raw image corners (left-top, right-top,
-// right-bottom, left-bottom, as FrameWarper::MapCorners gives them).
+// right-bottom, left-bottom, as FrameWarper::Outline gives them).
 struct MapFootprint {
   std::array<cv::Point2d, 4> corners;
   explicit MapFootprint(const std::array<cv::Point2d, 4>& c);

@@ -149,13 +149,35 @@ const cv::Mat& FrameImage::Rows(int first, int last) {
     first = std::min(first, decoded_first_);
     last = std::max(last, decoded_last_);
   }
-  DecodeJpegRows(first, last);
+  DecodeJpegRows({{first, last}});
+  decoded_first_ = first;
+  decoded_last_ = last;
   return pixels_;
 }
 
-void FrameImage::DecodeJpegRows(int first, int last) {
+const cv::Mat& FrameImage::RowRanges(const std::vector<std::array<int, 2>>& ranges) {
+  if (jpeg_.empty()) {  // decoded in full when read
+    if (decoded_last_ < decoded_first_) throw std::logic_error("FrameImage " + path_ + ": rows asked of a released frame");
+    return pixels_;
+  }
+  std::vector<std::array<int, 2>> sorted = ranges, clamped;
+  std::sort(sorted.begin(), sorted.end());
+  for (const auto& [first, last] : sorted) {
+    const int a = std::max(first, 0), b = std::min(last, height_ - 1);
+    if (a > b) continue;
+    if (!clamped.empty() && a <= clamped.back()[1] + 1) clamped.back()[1] = std::max(clamped.back()[1], b);
+    else clamped.push_back({a, b});
+  }
+  DecodeJpegRows(clamped);
+  decoded_first_ = 0;  // what was decoded is not one range: Rows decodes again
+  decoded_last_ = -1;
+  return pixels_;
+}
+
+void FrameImage::DecodeJpegRows(const std::vector<std::array<int, 2>>& ranges) {
   if (jpeg_.empty()) throw std::logic_error("FrameImage " + path_ + ": rows asked of a released frame");
   pixels_.create(height_, width_, channels_ == 1 ? CV_8UC1 : CV_8UC3);
+  if (ranges.empty()) return;
   JpegReader reader(jpeg_);
   jpeg_decompress_struct& c = reader.cinfo_;
   if (setjmp(reader.errors_.jump)) throw InputError(path_, 0, "image", std::string("unreadable image: ") + reader.errors_.message);
@@ -164,16 +186,17 @@ void FrameImage::DecodeJpegRows(int first, int last) {
   // frame for a gray map, BGR (OpenCV's order) for a colour one.
   c.out_color_space = channels_ == 1 ? JCS_GRAYSCALE : JCS_EXT_BGR;
   jpeg_start_decompress(&c);
-  if (first > 0) jpeg_skip_scanlines(&c, static_cast<JDIMENSION>(first));
-  while (static_cast<int>(c.output_scanline) <= last) {
-    JSAMPROW row = pixels_.ptr<unsigned char>(static_cast<int>(c.output_scanline));
-    if (jpeg_read_scanlines(&c, &row, 1) != 1)  // rows the map needs must not be left undecoded
-      throw InputError(path_, 0, "image",
-                       "unreadable image: JPEG data stops at row " + std::to_string(c.output_scanline));
+  for (const auto& [first, last] : ranges) {
+    if (first > static_cast<int>(c.output_scanline))
+      jpeg_skip_scanlines(&c, static_cast<JDIMENSION>(first - static_cast<int>(c.output_scanline)));
+    while (static_cast<int>(c.output_scanline) <= last) {
+      JSAMPROW row = pixels_.ptr<unsigned char>(static_cast<int>(c.output_scanline));
+      if (jpeg_read_scanlines(&c, &row, 1) != 1)  // rows the map needs must not be left undecoded
+        throw InputError(path_, 0, "image",
+                         "unreadable image: JPEG data stops at row " + std::to_string(c.output_scanline));
+    }
   }
   jpeg_abort_decompress(&c);  // the rows below are not needed
-  decoded_first_ = first;
-  decoded_last_ = last;
 }
 
 void FrameImage::ReleasePixels() {

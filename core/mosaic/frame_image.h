@@ -6,6 +6,7 @@
 // neighbours samples a band of rows, so this saves most of the decoding.
 // Other formats (and JPEGs libjpeg cannot decode by rows) are decoded in
 // full by OpenCV when read.
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
@@ -25,6 +26,7 @@ class FrameImage {
   static FrameImage FromMat(const cv::Mat& image, int channels, int sixteen_bit_white);
 
   int width() const { return width_; }
+  int channels() const { return channels_; }
   int height() const { return height_; }
   bool empty() const { return width_ == 0; }
 
@@ -33,6 +35,10 @@ class FrameImage {
   // Not thread-safe: one job at a time.
   const cv::Mat& Rows(int first, int last);
   const cv::Mat& Full() { return Rows(0, height_ - 1); }
+  // The frame with at least the rows of each range {first, last} decoded,
+  // in one pass: a JPEG's rows between the ranges are skipped without the
+  // inverse DCT. A later Rows decodes afresh.
+  const cv::Mat& RowRanges(const std::vector<std::array<int, 2>>& ranges);
 
   // Whether rows are decoded on demand (a JPEG kept compressed).
   bool DecodesByRows() const { return !jpeg_.empty(); }
@@ -46,7 +52,7 @@ class FrameImage {
   void Release();
 
  private:
-  void DecodeJpegRows(int first, int last);
+  void DecodeJpegRows(const std::vector<std::array<int, 2>>& ranges);
 
   std::string path_;
   std::vector<unsigned char> jpeg_;  // compressed frame, when decoding by rows

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <climits>
 #include <limits>
 
 #include <opencv2/imgproc.hpp>
@@ -510,14 +511,21 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
   thread_local std::vector<uint64_t> painted_masks;
   painted_masks.assign(blocks.size() * cell, 0);
   float v_min = 1e30f, v_max = -1e30f;
-  // With a tail: the lowest raw row sampled by pixels away from the side
-  // edges asked for. u is linear along a row, so its ends tell whether a
-  // run of pixels has any at those edges.
-  const float edge_lo = tail_sides & kTailLeft ? kTailEdge : -1e30f;
-  const float edge_hi = tail_sides & kTailRight ? static_cast<float>(camera_.width - 1) - kTailEdge : 1e30f;
-  auto at_edge = [&](float u) { return u < edge_lo || u > edge_hi; };
-  auto none_at_edge = [&](float ua, float ub) { return std::min(ua, ub) >= edge_lo && std::max(ua, ub) <= edge_hi; };
-  float core_v_max = -1e30f;
+  // With a tail: the lowest and highest raw rows sampled by pixels that
+  // cannot be in the lower, resp. upper, tail. u is linear along a row, so
+  // its ends tell whether a run of pixels has any at the side edges asked for.
+  const auto side_edges = [&](unsigned left, unsigned right) {
+    return std::array<float, 2>{tail_sides & left ? kTailEdge : -1e30f,
+                                tail_sides & right ? static_cast<float>(camera_.width - 1) - kTailEdge : 1e30f};
+  };
+  const std::array<float, 2> lower_edges = side_edges(kTailLowerLeft, kTailLowerRight);
+  const std::array<float, 2> upper_edges = side_edges(kTailUpperLeft, kTailUpperRight);
+  auto at_edge = [](const std::array<float, 2>& e, float u) { return u < e[0] || u > e[1]; };
+  auto none_at_edge = [&](float ua, float ub) {
+    return std::min(ua, ub) >= std::max(lower_edges[0], upper_edges[0]) &&
+           std::max(ua, ub) <= std::min(lower_edges[1], upper_edges[1]);
+  };
+  float core_v_max = -1e30f, core_v_min = 1e30f;
   alignas(16) float w[kMaxCell + 4];
   BlockRow r;
   const float row_length = static_cast<float>(cell);
@@ -546,20 +554,31 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
         const float ua = r.u0 + r.du * static_cast<float>(i0), ub = r.u0 + r.du * static_cast<float>(i1);
         if (none_at_edge(ua, ub)) {
           core_v_max = std::max(core_v_max, std::max(va, vb));
+          core_v_min = std::min(core_v_min, std::min(va, vb));
         } else {
           for (uint64_t m = kept; m; m &= m - 1) {
             const float fi = static_cast<float>(__builtin_ctzll(m));
-            if (!at_edge(r.u0 + r.du * fi)) core_v_max = std::max(core_v_max, r.v0 + r.dv * fi);
+            const float u = r.u0 + r.du * fi, v = r.v0 + r.dv * fi;
+            if (!at_edge(lower_edges, u)) core_v_max = std::max(core_v_max, v);
+            if (!at_edge(upper_edges, u)) core_v_min = std::min(core_v_min, v);
           }
         }
       }
     }
   }
 
-  if (tail && core_v_max > -1e29f) {
-    // Side-edge pixels that need rows below the last one the rest samples
-    // become the tail; the rows then decoded are what the others need.
-    const int last_row = static_cast<int>(std::floor(core_v_max)) + 1;
+  if (tail && (core_v_max > -1e29f || core_v_min < 1e29f)) {
+    // Side-edge pixels that need rows below the last one, or above the
+    // first one, the others sample become the tail; the rows then decoded
+    // are what the others need. (Bilinear: a pixel at v samples rows
+    // floor(v) and floor(v) + 1.)
+    const int last_row = core_v_max > -1e29f ? static_cast<int>(std::floor(core_v_max)) + 1 : INT_MAX;
+    const int first_row = core_v_min < 1e29f ? static_cast<int>(std::floor(core_v_min)) : INT_MIN;
+    auto in_tail = [&](float u, float v) {
+      const int row = static_cast<int>(std::floor(v));
+      return (row + 1 > last_row && at_edge(lower_edges, u)) || (row < first_row && at_edge(upper_edges, u));
+    };
+    v_min = 1e30f;
     v_max = -1e30f;
     for (size_t bi = 0; bi < blocks.size(); ++bi) {
       const Block& b = blocks[bi];
@@ -573,7 +592,9 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
         const float fa = static_cast<float>(__builtin_ctzll(mask)), fb = static_cast<float>(63 - __builtin_clzll(mask));
         const float va = r.v0 + r.dv * fa, vb = r.v0 + r.dv * fb;
         if (none_at_edge(r.u0 + r.du * fa, r.u0 + r.du * fb) ||
-            static_cast<int>(std::floor(std::max(va, vb))) + 1 <= last_row) {
+            (static_cast<int>(std::floor(std::max(va, vb))) + 1 <= last_row &&
+             static_cast<int>(std::floor(std::min(va, vb))) >= first_row)) {
+          v_min = std::min(v_min, std::min(va, vb));
           v_max = std::max(v_max, std::max(va, vb));
           continue;
         }
@@ -581,11 +602,12 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
           const int i = __builtin_ctzll(m);
           const float fi = static_cast<float>(i);
           const float u = r.u0 + r.du * fi, v = r.v0 + r.dv * fi;
-          if (at_edge(u) && static_cast<int>(std::floor(v)) + 1 > last_row) {
+          if (in_tail(u, v)) {
             tail->push_back({out.x0 + x0 + i, out.y0 + y0 + j, u, v, weights[i]});
             weights[i] = 0;
             mask &= ~(uint64_t{1} << i);
           } else {
+            v_min = std::min(v_min, v);
             v_max = std::max(v_max, v);
           }
         }

@@ -101,20 +101,23 @@ class FrameWarper {
   // frame kept compressed decodes only what the warp samples.
   //
   // With `tail`, pixels within kTailEdge raw pixels of the image's left and
-  // right edges that sample rows below every other painted pixel's are left
-  // out and returned there instead, unsampled, so the rows below are not
-  // decoded. Along a survey line these are slivers of swath edge that the
-  // neighbours miss when the footprint drifts sideways: almost every frame
-  // has one on its leading side, and decoding it costs a third of the frame's
-  // JPEG. Usually another survey line covers them (see MosaicBuilder).
+  // right edges that sample rows below (lower tail) or above (upper tail)
+  // every other painted pixel's are left out and returned there instead,
+  // unsampled, so those rows are not decoded. Along a survey line these are
+  // slivers of swath edge that the neighbours miss when the footprint drifts
+  // sideways: the upper half of one side, the lower half of the other.
+  // Rows below the others' are never decoded, which saves a third of the
+  // frame's JPEG; rows above are skipped without the inverse DCT, which
+  // saves a quarter. Usually another survey line covers them (see MosaicBuilder).
   using RowSource = std::function<const cv::Mat&(int first, int last)>;
-  // `tail_sides` chooses the edges: kTailLeft, kTailRight or both.
+  // `tail_sides` chooses the edges and halves: any of kTailLowerLeft,
+  // kTailLowerRight, kTailUpperLeft and kTailUpperRight.
+  static constexpr unsigned kTailLowerLeft = 1, kTailLowerRight = 2, kTailUpperLeft = 4, kTailUpperRight = 8;
+  static constexpr unsigned kTailAll = 15;
   std::optional<WarpedFrame> Warp(const RowSource& rows, const VehiclePose& pose,
                                   const std::vector<VehiclePose>& neighbours = {},
-                                  std::vector<TailPixel>* tail = nullptr,
-                                  unsigned tail_sides = kTailLeft | kTailRight) const;
+                                  std::vector<TailPixel>* tail = nullptr, unsigned tail_sides = kTailAll) const;
   static constexpr float kTailEdge = 8.0f;
-  static constexpr unsigned kTailLeft = 1, kTailRight = 2;
 
  private:
   // The first `count` image border samples (corners, centre, edges) on the

@@ -534,7 +534,7 @@ void MosaicBuilder::SettleTails(std::vector<PendingTails::Taken> taken) {
     try {
       Paint(jobs.front().get());
     } catch (const InputError&) {
-      // JPEG data broken below the rows the warp decoded (libjpeg's memory
+      // JPEG data broken beyond the rows the warp decoded (libjpeg's memory
       // source only warns about most breakage): the frame's other pixels
       // are painted; its tail is not, and is counted.
       ++stats_.tail_failures;
@@ -558,7 +558,11 @@ unsigned MosaicBuilder::TailSides(const FrameSpec& spec) const {
   near.erase(std::unique(near.begin(), near.end()), near.end());
   std::vector<const MapFootprint*> others;
   for (int j : near) others.push_back(&foreseen_frames_[j]->footprint);
-  return CoveredSides(own.footprint, others);
+  // Inside the others by more than their side-edge strips (kTailEdge raw
+  // pixels, at this frame's scale) and two map pixels.
+  const auto& c = own.footprint.corners;
+  const double map_per_raw = std::hypot(c[1].x - c[0].x, c[1].y - c[0].y) / camera_.width;
+  return CoveredSides(own.footprint, others, 2 + FrameWarper::kTailEdge * map_per_raw);
 }
 
 void MosaicBuilder::SettleDueTails() {

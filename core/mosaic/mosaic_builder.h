@@ -62,7 +62,7 @@ struct BuildStats {
   int64_t readbacks = 0;              // tiles read back to continue painting
   int tail_frames = 0;                // frames whose side-edge tail waited (BuildConfig::defer_edge_tails)
   int tail_decodes = 0;               // times a waiting tail had pixels left to paint (rows decoded)
-  int tail_failures = 0;              // of those, JPEG data broken below the rows decoded first: tail not painted
+  int tail_failures = 0;              // of those, JPEG data broken beyond the rows decoded first: tail not painted
   double seconds = 0;
   double cpu_seconds = 0;             // process CPU time (all threads) over the same span
   std::optional<LatLonBounds> bounds;
@@ -148,10 +148,10 @@ class MosaicBuilder {
   std::vector<TailPixel> Unpainted(const std::vector<TailPixel>& pixels) const;
   TileId BaseTileOf(int64_t x, int64_t y) const;  // of a global pixel at the base zoom
   void SettleDueTails();  // those that waited lookahead_frames, and the oldest over the memory share
-  // The sides (FrameWarper::kTailLeft/kTailRight) where the frame's tail is
-  // worth deferring (CoveredSides by the foreseen frames within the
-  // look-ahead): elsewhere it would be decoded later anyway, after the rows
-  // above were decoded once.
+  // The side-edge halves (FrameWarper::kTail* bits) where the frame's tail
+  // is worth deferring (CoveredSides by the foreseen frames within the
+  // look-ahead): elsewhere it would be decoded later anyway, after its rows
+  // were read once.
   unsigned TailSides(const FrameSpec& spec) const;
 
   BuildConfig config_;

@@ -19,20 +19,23 @@ bool MapFootprint::HoldsInside(const cv::Point2d& p, double margin) const {
   return true;
 }
 
-unsigned CoveredSides(const MapFootprint& own, const std::vector<const MapFootprint*>& others) {
-  constexpr double kMargin = 2;
+unsigned CoveredSides(const MapFootprint& own, const std::vector<const MapFootprint*>& others, double margin) {
+  constexpr unsigned kBits[2][2] = {{FrameWarper::kTailUpperLeft, FrameWarper::kTailLowerLeft},
+                                    {FrameWarper::kTailUpperRight, FrameWarper::kTailLowerRight}};
   unsigned out = 0;
   for (int side = 0; side < 2; ++side) {
     // Straight between the corners: a prediction, so the lens's slight bow does not matter.
     const cv::Point2d top = own.corners[side == 0 ? 0 : 1], bottom = own.corners[side == 0 ? 3 : 2];
-    bool all = true;
-    for (int i = 0; i <= 8 && all; ++i) {
-      const cv::Point2d p = top + (bottom - top) * (0.5 + i / 16.0);
-      bool held = false;
-      for (const MapFootprint* o : others) held = held || o->HoldsInside(p, kMargin);
-      all = held;
+    for (int half = 0; half < 2; ++half) {
+      bool all = true;
+      for (int i = 0; i <= 8 && all; ++i) {
+        const cv::Point2d p = top + (bottom - top) * (0.5 * half + i / 16.0);
+        bool held = false;
+        for (const MapFootprint* o : others) held = held || o->HoldsInside(p, margin);
+        all = held;
+      }
+      if (all) out |= kBits[side][half];
     }
-    if (all) out |= side == 0 ? FrameWarper::kTailLeft : FrameWarper::kTailRight;
   }
   return out;
 }

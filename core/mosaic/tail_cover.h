@@ -21,9 +21,12 @@ struct MapFootprint {
   double turn_ = 1;  // the sign of (b - a) x (p - a) for p inside, along each edge a -> b
 };
 
-// FrameWarper::kTailLeft / kTailRight for the sides whose lower half (the
-// middle row down to the bottom corner, where tails lie) `others` hold
-// 2 map pixels inside.
-unsigned CoveredSides(const MapFootprint& own, const std::vector<const MapFootprint*>& others);
+// The FrameWarper::kTail* bits of the side-edge halves (the top corner down
+// to the middle row, the middle row down to the bottom corner: where tails
+// lie) that `others` hold `margin` map pixels inside. A margin wider than
+// the others' own side-edge strips keeps out frames that would leave the
+// same place to a tail of theirs: neighbours of the same line wobbling
+// sideways would otherwise count, and their tails wait for each other.
+unsigned CoveredSides(const MapFootprint& own, const std::vector<const MapFootprint*>& others, double margin);
 
 }  // namespace seamap

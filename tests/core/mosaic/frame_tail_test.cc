@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <opencv2/imgcodecs.hpp>
 
 #include "tests/testing/temp_dir.h"
@@ -37,6 +39,11 @@ TEST(FrameTail, DecodedLaterTheTailIsSampledAsFromTheWholeFrame) {
     ASSERT_TRUE(warper.Warp([&](int a, int b) -> const cv::Mat& { return image->Rows(a, b); }, pose,
                             {behind, ahead}, &tail));
     ASSERT_FALSE(tail.empty());
+    // Upper and lower tails, so decoding skips the rows between them.
+    const auto [lowest, highest] = std::minmax_element(
+        tail.begin(), tail.end(), [](const TailPixel& a, const TailPixel& b) { return a.v < b.v; });
+    ASSERT_LT(lowest->v, cam.height / 3);
+    ASSERT_GT(highest->v, 2 * cam.height / 3);
     image->ReleasePixels();
     EXPECT_EQ(image->Bytes(), compressed);
 

@@ -1,5 +1,7 @@
 #include "core/mosaic/frame_warper.h"
 
+#include <climits>
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -289,11 +291,11 @@ TEST(FrameWarper, InterpolatedMappingMatchesTheExactOne) {
 namespace seamap {
 namespace {
 
-TEST(FrameWarper, TailIsTheSideSliverBelowTheRestAndIsSampledLater) {
+TEST(FrameWarper, TailIsTheSideSliverAboveAndBelowTheRestAndIsSampledLater) {
   // A frame wider than its neighbours, whose own side slivers run its whole
-  // length. With a tail, its side-edge pixels that need rows below the
-  // others' are left out unsampled: fewer rows are asked for, and the tail
-  // sampled from the whole image puts back exactly the pixels the frame
+  // length. With a tail, its side-edge pixels that need rows below or above
+  // the others' are left out unsampled: fewer rows are asked for, and the
+  // tail sampled from the whole image puts back exactly the pixels the frame
   // paints without one.
   const WiderThanItsNeighbours wider;
   const CameraModel& cam = wider.cam;
@@ -302,19 +304,28 @@ TEST(FrameWarper, TailIsTheSideSliverBelowTheRestAndIsSampledLater) {
   FrameWarper banded(cam, frame, 25, 256, 1, 1.0, 0.5);
   cv::Mat image(cam.height, cam.width, CV_8U);
   cv::randu(image, 0, 256);
-  int last_asked = -1;
-  const FrameWarper::RowSource rows = [&](int, int last) -> const cv::Mat& {
+  int first_asked = INT_MAX, last_asked = -1;
+  const FrameWarper::RowSource rows = [&](int first, int last) -> const cv::Mat& {
+    first_asked = std::min(first_asked, first);
     last_asked = std::max(last_asked, last);
     return image;
   };
   const auto whole = banded.Warp(rows, pose, {behind, ahead});
-  const int whole_last = last_asked;
+  const int whole_first = first_asked, whole_last = last_asked;
+  first_asked = INT_MAX;
   last_asked = -1;
   std::vector<TailPixel> tail;
   const auto cut = banded.Warp(rows, pose, {behind, ahead}, &tail);
   ASSERT_TRUE(whole && cut);
   ASSERT_GT(tail.size(), 20u);
   EXPECT_LT(last_asked, whole_last - cam.height / 4) << "rows below the band are still decoded";
+  EXPECT_GT(first_asked, whole_first + cam.height / 4) << "rows above the band are still decoded";
+  const auto [lowest, highest] = std::minmax_element(tail.begin(), tail.end(),
+                                                     [](const TailPixel& a, const TailPixel& b) { return a.v < b.v; });
+  // An upper tail and a lower one, each needing rows the rest does not
+  // (rows are asked for with one to spare).
+  EXPECT_LT(std::floor(lowest->v), first_asked + 1);
+  EXPECT_GT(std::floor(highest->v) + 1, last_asked - 1);
 
   auto at = [](const WarpedFrame& f, int64_t gx, int64_t gy, uint8_t* value) -> uint8_t {
     const int64_t x = gx - f.x0, y = gy - f.y0;
@@ -351,13 +362,26 @@ TEST(FrameWarper, TailIsTheSideSliverBelowTheRestAndIsSampledLater) {
       EXPECT_EQ(cv::countNonZero(back.weight.row(y).colRange(back.runs[k][0], back.runs[k][1])),
                 back.runs[k][1] - back.runs[k][0]);
 
-  // One side only: the right sliver is painted now, so the rows down to the
-  // bottom are decoded, and then the left one needs no rows beyond them.
+  // One side's lower half only: the right sliver is painted now, so the
+  // rows down to the bottom are decoded, and then the left one needs no
+  // rows beyond them; the rows from the top are decoded too.
   std::vector<TailPixel> left;
+  first_asked = INT_MAX;
   last_asked = -1;
-  ASSERT_TRUE(banded.Warp(rows, pose, {behind, ahead}, &left, FrameWarper::kTailLeft));
+  ASSERT_TRUE(banded.Warp(rows, pose, {behind, ahead}, &left, FrameWarper::kTailLowerLeft));
   EXPECT_EQ(last_asked, whole_last);
+  EXPECT_EQ(first_asked, whole_first);
   EXPECT_TRUE(left.empty());
+  // Upper halves only: the rows above the band are left out, those below decoded.
+  std::vector<TailPixel> upper;
+  first_asked = INT_MAX;
+  last_asked = -1;
+  ASSERT_TRUE(banded.Warp(rows, pose, {behind, ahead}, &upper,
+                          FrameWarper::kTailUpperLeft | FrameWarper::kTailUpperRight));
+  EXPECT_EQ(last_asked, whole_last);
+  EXPECT_GT(first_asked, whole_first + cam.height / 4);
+  ASSERT_FALSE(upper.empty());
+  for (const TailPixel& p : upper) EXPECT_LT(std::floor(p.v), first_asked + 1);
 }
 
 }  // namespace

@@ -12,24 +12,35 @@ MapFootprint Frame(double x, double y) {
   return MapFootprint({cv::Point2d(x, y), cv::Point2d(x + 100, y), cv::Point2d(x + 100, y + 80), cv::Point2d(x, y + 80)});
 }
 
-TEST(TailCover, SidesAreCoveredWhereOtherFramesHoldTheirLowerHalf) {
+TEST(TailCover, SideHalvesAreCoveredWhereOtherFramesHoldThem) {
+  constexpr unsigned kLowerLeft = FrameWarper::kTailLowerLeft, kLowerRight = FrameWarper::kTailLowerRight;
+  constexpr unsigned kUpperLeft = FrameWarper::kTailUpperLeft, kUpperRight = FrameWarper::kTailUpperRight;
   const MapFootprint own = Frame(0, 0);
   const MapFootprint right_line = Frame(60, 10), left_line = Frame(-60, 10), ahead = Frame(0, 30);
-  const MapFootprint short_right = Frame(60, -50);  // holds the right edge's upper half only
+  const MapFootprint short_right = Frame(60, -50);  // holds the right edge down to a third of it
   const MapFootprint touching = Frame(99, 0);       // the right edge 1 px inside: not by the margin
-  EXPECT_EQ(CoveredSides(own, {}), 0u);
-  EXPECT_EQ(CoveredSides(own, {&right_line}), FrameWarper::kTailRight);
-  EXPECT_EQ(CoveredSides(own, {&left_line}), FrameWarper::kTailLeft);
-  EXPECT_EQ(CoveredSides(own, {&left_line, &right_line}), FrameWarper::kTailLeft | FrameWarper::kTailRight);
-  EXPECT_EQ(CoveredSides(own, {&short_right}), 0u);
-  EXPECT_EQ(CoveredSides(own, {&touching}), 0u);
+  EXPECT_EQ(CoveredSides(own, {}, 2), 0u);
+  // The lines start 10 px lower: the edges' lower halves only.
+  EXPECT_EQ(CoveredSides(own, {&right_line}, 2), kLowerRight);
+  EXPECT_EQ(CoveredSides(own, {&left_line}, 2), kLowerLeft);
+  EXPECT_EQ(CoveredSides(own, {&left_line, &right_line}, 2), kLowerLeft | kLowerRight);
+  EXPECT_EQ(CoveredSides(own, {&short_right}, 2), 0u);
+  EXPECT_EQ(CoveredSides(own, {&touching}, 2), 0u);
   // A frame of the same line ahead covers neither side: its edges are the same lines.
-  EXPECT_EQ(CoveredSides(own, {&ahead}), 0u);
-  // Two frames sharing the lower half between them cover it; neither alone does.
+  EXPECT_EQ(CoveredSides(own, {&ahead}, 2), 0u);
+  // Frames sharing an edge between them cover it; the upper one alone holds the upper half.
   const MapFootprint upper = Frame(60, -15), lower = Frame(60, 60);
-  EXPECT_EQ(CoveredSides(own, {&upper}), 0u);
-  EXPECT_EQ(CoveredSides(own, {&lower}), 0u);
-  EXPECT_EQ(CoveredSides(own, {&upper, &lower}), FrameWarper::kTailRight);
+  EXPECT_EQ(CoveredSides(own, {&upper}, 2), kUpperRight);
+  EXPECT_EQ(CoveredSides(own, {&lower}, 2), 0u);
+  EXPECT_EQ(CoveredSides(own, {&upper, &lower}, 2), kUpperRight | kLowerRight);
+  const MapFootprint upper_left = Frame(-60, -15);
+  EXPECT_EQ(CoveredSides(own, {&upper_left, &left_line, &upper, &lower}, 2),
+            kUpperLeft | kLowerLeft | kUpperRight | kLowerRight);
+  // A neighbour of the same line reaching 5 px further left holds the left
+  // edge by 5 px: enough for a margin of 2, not for one past a side strip of 7.
+  const MapFootprint wobble = Frame(-5, -20);
+  EXPECT_EQ(CoveredSides(own, {&wobble}, 2), kUpperLeft);
+  EXPECT_EQ(CoveredSides(own, {&wobble}, 9), 0u);
 }
 
 TEST(TailCover, InsideDoesNotDependOnTheCornersTurn) {

@@ -87,6 +87,22 @@ TEST(TileCodec, OpaqueTilesDropAlphaAndDecodeOpaque) {
   EXPECT_TRUE(SameMat(DecodeTile(rgb_png), bgra));
 }
 
+TEST(TileCodec, OneTranslucentPixelKeepsAlpha) {
+  // White colour bytes must not pass for alpha, and the last pixel of a row
+  // of a tile cut from a larger image counts like any other.
+  cv::Mat big_gray(300, 300, CV_8UC2, cv::Scalar(255, 255)), big_bgra(300, 300, CV_8UC4, cv::Scalar(255, 128, 255, 255));
+  cv::Mat gray = big_gray(cv::Rect(20, 20, 256, 256)), bgra = big_bgra(cv::Rect(20, 20, 256, 256));
+  gray.at<cv::Vec2b>(100, 255) = {255, 254};
+  bgra.at<cv::Vec4b>(255, 0) = {255, 128, 255, 0};
+  EXPECT_EQ(PngColorType(EncodeTile(gray, {})), 4);  // gray+alpha
+  EXPECT_EQ(PngColorType(EncodeTile(bgra, {})), 6);  // RGBA
+  EXPECT_TRUE(SameMat(DecodeTile(EncodeTile(gray, {})), gray));
+  EXPECT_TRUE(SameMat(DecodeTile(EncodeTile(bgra, {})), bgra));
+  gray.at<cv::Vec2b>(100, 255) = {0, 255};
+  EXPECT_EQ(PngColorType(EncodeTile(gray, {})), 0);  // opaque again: plain gray
+  EXPECT_TRUE(SameMat(DecodeTile(EncodeTile(gray, {})), gray));
+}
+
 TEST(TileCodec, EveryPngLevelIsLosslessForEveryLayout) {
   cv::Mat opaque_gray(256, 256, CV_8UC2, cv::Scalar(0, 255)), opaque_bgr(256, 256, CV_8UC4, cv::Scalar(0, 0, 0, 255));
   cv::randu(opaque_gray.reshape(1), 0, 255);

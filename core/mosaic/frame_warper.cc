@@ -504,12 +504,14 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
       r.rv0[k] = start[3 + 2 * k]; r.rdv[k] = step[3 + 2 * k];
     }
   };
-  // Each block's edges and which pixels of each block row are painted (bit
-  // i: pixel i), for the sampling pass.
-  thread_local std::vector<Edges> block_edge_values;
-  block_edge_values.resize(blocks.size());
-  thread_local std::vector<uint64_t> painted_masks;
-  painted_masks.assign(blocks.size() * cell, 0);
+  // Which pixels of each block row are painted (bit i: pixel i) and where
+  // the row lies in the raw image, for the tail and sampling passes.
+  struct KeptRow {
+    uint64_t mask;
+    float u0, du, v0, dv;
+  };
+  thread_local std::vector<KeptRow> kept_rows;
+  kept_rows.assign(blocks.size() * cell, KeptRow{0, 0, 0, 0, 0});
   float v_min = 1e30f, v_max = -1e30f;
   // With a tail: the lowest and highest raw rows sampled by pixels that
   // cannot be in the lower, resp. upper, tail. u is linear along a row, so
@@ -527,14 +529,14 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
   };
   float core_v_max = -1e30f, core_v_min = 1e30f;
   alignas(16) float w[kMaxCell + 4];
-  BlockRow r;
   const float row_length = static_cast<float>(cell);
   for (size_t bi = 0; bi < blocks.size(); ++bi) {
     const Block& b = blocks[bi];
     const int x0 = b.bx * cell, y0 = b.by * cell;
     const int w_cols = std::min(cell, width - x0), h_rows = std::min(cell, height - y0);
-    Edges& edges = block_edge_values[bi];
+    Edges edges;
     block_edges(b, edges);
+    BlockRow r;
     for (int j = 0; j < h_rows; ++j) {
       block_row(edges, j, r);
       // The row's ends, for the same test as the block's: the handover
@@ -549,7 +551,7 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
       const float va = r.v0 + r.dv * static_cast<float>(i0), vb = r.v0 + r.dv * static_cast<float>(i1);
       v_min = std::min(v_min, std::min(va, vb));
       v_max = std::max(v_max, std::max(va, vb));
-      painted_masks[bi * cell + j] = kept;
+      kept_rows[bi * cell + j] = {kept, r.u0, r.du, r.v0, r.dv};
       if (tail) {
         const float ua = r.u0 + r.du * static_cast<float>(i0), ub = r.u0 + r.du * static_cast<float>(i1);
         if (none_at_edge(ua, ub)) {
@@ -584,9 +586,9 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
       const Block& b = blocks[bi];
       const int x0 = b.bx * cell, y0 = b.by * cell;
       for (int j = 0; j < cell; ++j) {
-        uint64_t& mask = painted_masks[bi * cell + j];
+        KeptRow& r = kept_rows[bi * cell + j];
+        uint64_t& mask = r.mask;
         if (!mask) continue;
-        block_row(block_edge_values[bi], j, r);
         uint8_t* weights = scratch_weight.ptr<uint8_t>(y0 + j) + x0;
         // The row's ends tell whether any pixel can be a tail.
         const float fa = static_cast<float>(__builtin_ctzll(mask)), fb = static_cast<float>(63 - __builtin_clzll(mask));
@@ -625,10 +627,10 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
       const Block& b = blocks[bi];
       const int x0 = b.bx * cell, y0 = b.by * cell;
       for (int j = 0; j < cell; ++j) {
-        uint64_t mask = painted_masks[bi * cell + j];
+        const KeptRow& r = kept_rows[bi * cell + j];
+        uint64_t mask = r.mask;
         if (!mask) continue;
         uint8_t* pix = canvas_pixels.ptr<uint8_t>(y0 + j) + x0 * channels_;
-        block_row(block_edge_values[bi], j, r);
         if (channels_ == 1) {  // four at a time
           SampleGray4(data, step, r.u0, r.du, r.v0, r.dv, max_iu, max_iv, mask, pix);
           continue;

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 
 #include <opencv2/core/hal/intrin.hpp>
 
@@ -76,8 +77,9 @@ struct BlockRow {
 
 // Sample<1> for the pixels of a block row whose bits are set in `mask`
 // (pixel i at u0 + du * i, v0 + dv * i), four at a time: positions and
-// blending in SIMD, the four neighbours' loads scalar. Same arithmetic as
-// Sample<1>, so the same values.
+// blending in SIMD. Each pixel's two horizontal neighbours are loaded as one
+// 16-bit word per row and weighted by a multiply-add of 16-bit pairs. Same
+// arithmetic as Sample<1>, so the same values.
 inline void SampleGray4(const uint8_t* data, size_t step, float u0, float du, float v0, float dv, int max_iu,
                         int max_iv, uint64_t mask, uint8_t* out) {
   using cv::v_float32x4;
@@ -86,7 +88,6 @@ inline void SampleGray4(const uint8_t* data, size_t step, float u0, float du, fl
   const v_float32x4 vv0 = cv::v_setall_f32(v0), vdv = cv::v_setall_f32(dv), scale = cv::v_setall_f32(256.0f);
   const v_int32x4 zero = cv::v_setzero_s32(), hi_u = cv::v_setall_s32(max_iu), hi_v = cv::v_setall_s32(max_iv);
   const v_int32x4 frac = cv::v_setall_s32(255), one = cv::v_setall_s32(256), round = cv::v_setall_s32(32768);
-  const int stride = static_cast<int>(step);
   while (mask) {
     const int g = __builtin_ctzll(mask) & ~3;  // first pixel of the next group with a painted pixel
     const unsigned bits = static_cast<unsigned>(mask >> g) & 15u;
@@ -99,15 +100,22 @@ inline void SampleGray4(const uint8_t* data, size_t step, float u0, float du, fl
     alignas(16) int col[4], row[4];
     cv::v_store_aligned(col, iu >> 8);
     cv::v_store_aligned(row, iv >> 8);
-    int p00[4], p01[4], p10[4], p11[4];
+    uint16_t top[4], bottom[4];  // (left, right) neighbour bytes, in memory order
     for (int k = 0; k < 4; ++k) {
       const uint8_t* p = data + static_cast<size_t>(row[k]) * step + col[k];
-      p00[k] = p[0]; p01[k] = p[1]; p10[k] = p[stride]; p11[k] = p[stride + 1];
+      std::memcpy(&top[k], p, 2);
+      std::memcpy(&bottom[k], p + step, 2);
     }
-    const v_int32x4 top = cv::v_load(p00) * (one - fx) + cv::v_load(p01) * fx;
-    const v_int32x4 bottom = cv::v_load(p10) * (one - fx) + cv::v_load(p11) * fx;
+    cv::v_uint16x8 tops, bottoms;  // per pixel: left, right
+    cv::v_expand(cv::v_reinterpret_as_u8(cv::v_uint16x8(top[0], top[1], top[2], top[3], bottom[0], bottom[1],
+                                                        bottom[2], bottom[3])),
+                 tops, bottoms);
+    // Per pixel the 16-bit pair (256 - fx, fx): left * (256 - fx) + right * fx in one multiply-add.
+    const cv::v_int16x8 wx = cv::v_reinterpret_as_s16((one - fx) | (fx << 16));
+    const v_int32x4 upper = cv::v_dotprod(cv::v_reinterpret_as_s16(tops), wx);
+    const v_int32x4 lower = cv::v_dotprod(cv::v_reinterpret_as_s16(bottoms), wx);
     alignas(16) int value[4];
-    cv::v_store_aligned(value, (top * (one - fy) + bottom * fy + round) >> 16);
+    cv::v_store_aligned(value, (upper * (one - fy) + lower * fy + round) >> 16);
     for (int k = 0; k < 4; ++k)
       if (bits & (1u << k)) out[g + k] = static_cast<uint8_t>(value[k]);
   }

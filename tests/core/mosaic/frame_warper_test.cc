@@ -26,6 +26,35 @@ cv::Point2d Brightest(const WarpedFrame& f) {
   return {f.x0 + p.x + 0.5, f.y0 + p.y + 0.5};
 }
 
+TEST(FrameWarper, OutlineCornersAreWhereTheGroundCornersProject) {
+  // The outline maps the border through PROJ at the frame's centre only and
+  // affinely around it: the corners stay within a thousandth of a pixel of
+  // their exact projection, near the origin and kilometres from it, tilted,
+  // and at a high latitude.
+  const CameraModel cam = TestCamera();
+  for (const LatLon origin : {LatLon{43.1, 131.9}, LatLon{71.0, -8.0}}) {
+    LocalFrame frame(origin);
+    FrameWarper warper(cam, frame, 25, 256, 1, 1.0);
+    for (const double away : {0.0, 5000.0}) {
+      VehiclePose pose;
+      pose.east_m = away;
+      pose.north_m = -away;
+      pose.altitude_m = 3.0;
+      pose.heading_deg = 37;
+      pose.pitch_deg = 20;
+      pose.roll_deg = -15;
+      const auto outline = warper.Outline(pose);
+      const auto ground = warper.GroundCorners(pose);
+      ASSERT_TRUE(outline && ground);
+      for (int i = 0; i < 4; ++i) {
+        const GlobalPixel exact = LatLonToPixel(frame.ToLatLon((*ground)[i]), 25, 256);
+        EXPECT_NEAR(outline->corners[i].x, exact.x - 0.5, 1e-3) << origin.lat << " " << away << " corner " << i;
+        EXPECT_NEAR(outline->corners[i].y, exact.y - 0.5, 1e-3) << origin.lat << " " << away << " corner " << i;
+      }
+    }
+  }
+}
+
 TEST(FrameWarper, NadirFrameIsCentredOnTheVehicleAndNorthUp) {
   const LatLon origin{43.1, 131.9};
   LocalFrame frame(origin);

@@ -121,31 +121,63 @@ inline void SampleGray4(const uint8_t* data, size_t step, float u0, float du, fl
   }
 }
 
+// The pixel indices i (as an open interval) at which x0 + dx * i lies in (0, limit).
+inline void OpenInterval(float x0, float dx, float limit, float* lo, float* hi) {
+  if (dx > 0) {
+    *lo = std::max(*lo, -x0 / dx);
+    *hi = std::min(*hi, (limit - x0) / dx);
+  } else if (dx < 0) {
+    *lo = std::max(*lo, (limit - x0) / dx);
+    *hi = std::min(*hi, -x0 / dx);
+  } else if (!(x0 > 0 && x0 < limit)) {
+    *lo = 1e30f;
+    *hi = -1e30f;
+  }
+}
+
 // Weights of pixels [0, n) of a block row into w (room for n rounded up to
-// 4): the feather tent (shaped by `lut` when given), times, for each rival
-// that sees the pixel more centrally, a ramp to zero across its seam.
-// Explicit SIMD through OpenCV's universal intrinsics (SSE2 here, NEON on
-// ARM boards): the same arithmetic as ImageShape, four pixels at a time.
+// 4): positive exactly where the pixel is inside the image, the feather tent
+// there (shaped by `lut` when given), times, for each rival that sees the
+// pixel more centrally, a ramp to zero across its seam; 0 or below elsewhere.
+// Along a row positions are linear in i, so the ramp, a difference of
+// squared distances, is a quadratic in i and the pixels a rival sees are an
+// interval of i: both are worked out once per row, leaving a few SIMD
+// operations per pixel (OpenCV's universal intrinsics: SSE2 here, NEON on
+// ARM boards).
 inline void RowWeights(const ImageShape& sh, const BlockRow& r, int rivals, const float* inv_seam, const float* lut,
                 int n, float* w) {
   using cv::v_float32x4;
   const v_float32x4 zero = cv::v_setzero_f32(), one = cv::v_setall_f32(1.0f), half = cv::v_setall_f32(0.5f);
   const v_float32x4 right = cv::v_setall_f32(sh.width - 0.5f), bottom = cv::v_setall_f32(sh.height - 0.5f);
   const v_float32x4 inv_hw = cv::v_setall_f32(sh.inv_half_w), inv_hh = cv::v_setall_f32(sh.inv_half_h);
-  const v_float32x4 cu = cv::v_setall_f32(sh.centre_u), cv_ = cv::v_setall_f32(sh.centre_v);
-  const v_float32x4 last_u = cv::v_setall_f32(sh.width - 1.0f), last_v = cv::v_setall_f32(sh.height - 1.0f);
-  auto centrality = [&](const v_float32x4& u, const v_float32x4& v) {
-    const v_float32x4 a = (u - cu) * inv_hw, b = (v - cv_) * inv_hh;
-    return a * a + b * b;
+  // Centrality along the row: c0 + c1 i + c2 i^2.
+  auto centrality = [&](float u0, float du, float v0, float dv, float* c) {
+    const float a0 = (u0 - sh.centre_u) * sh.inv_half_w, a1 = du * sh.inv_half_w;
+    const float b0 = (v0 - sh.centre_v) * sh.inv_half_h, b1 = dv * sh.inv_half_h;
+    c[0] = a0 * a0 + b0 * b0;
+    c[1] = 2 * (a0 * a1 + b0 * b1);
+    c[2] = a1 * a1 + b1 * b1;
   };
+  float own[3];
+  centrality(r.u0, r.du, r.v0, r.dv, own);
+  // Per rival: the ramp's coefficients and the interval of i it sees (by half a pixel).
+  v_float32x4 q0[kMaxRivals], q1[kMaxRivals], q2[kMaxRivals], lo[kMaxRivals], hi[kMaxRivals];
+  int active = 0;
+  for (int k = 0; k < rivals; ++k) {
+    if (!r.rival[k]) continue;
+    float c[3], from = -1e30f, to = 1e30f;
+    centrality(r.ru0[k], r.rdu[k], r.rv0[k], r.rdv[k], c);
+    OpenInterval(r.ru0[k], r.rdu[k], sh.width - 1.0f, &from, &to);
+    OpenInterval(r.rv0[k], r.rdv[k], sh.height - 1.0f, &from, &to);
+    q0[active] = cv::v_setall_f32((c[0] - own[0]) * inv_seam[k] + 1.0f);
+    q1[active] = cv::v_setall_f32((c[1] - own[1]) * inv_seam[k]);
+    q2[active] = cv::v_setall_f32((c[2] - own[2]) * inv_seam[k]);
+    lo[active] = cv::v_setall_f32(from);
+    hi[active] = cv::v_setall_f32(to);
+    ++active;
+  }
   const v_float32x4 u0 = cv::v_setall_f32(r.u0), du = cv::v_setall_f32(r.du);
   const v_float32x4 v0 = cv::v_setall_f32(r.v0), dv = cv::v_setall_f32(r.dv);
-  v_float32x4 ru0[kMaxRivals], rdu[kMaxRivals], rv0[kMaxRivals], rdv[kMaxRivals], inv[kMaxRivals];
-  for (int k = 0; k < rivals; ++k) {
-    ru0[k] = cv::v_setall_f32(r.ru0[k]); rdu[k] = cv::v_setall_f32(r.rdu[k]);
-    rv0[k] = cv::v_setall_f32(r.rv0[k]); rdv[k] = cv::v_setall_f32(r.rdv[k]);
-    inv[k] = cv::v_setall_f32(inv_seam[k]);
-  }
   v_float32x4 idx(0.0f, 1.0f, 2.0f, 3.0f);
   const v_float32x4 four = cv::v_setall_f32(4.0f);
   alignas(16) float ramps[kMaxCell + 4];
@@ -153,19 +185,12 @@ inline void RowWeights(const ImageShape& sh, const BlockRow& r, int rivals, cons
     const v_float32x4 u = u0 + du * idx, v = v0 + dv * idx;
     const v_float32x4 ta = cv::v_min(u + half, right - u) * inv_hw;
     const v_float32x4 tb = cv::v_min(v + half, bottom - v) * inv_hh;
-    const v_float32x4 inside = cv::v_min(ta * tb, one);
-    const v_float32x4 outside = cv::v_min(ta, zero) + cv::v_min(tb, zero);
-    const v_float32x4 tent = cv::v_select((ta > zero) & (tb > zero), inside, outside);
-    const v_float32x4 c = centrality(u, v);
+    const v_float32x4 tent = cv::v_min(cv::v_max(ta, zero) * cv::v_max(tb, zero), one);
+    const v_float32x4 idx2 = idx * idx;
     v_float32x4 factor = one;
-    for (int k = 0; k < rivals; ++k) {
-      if (!r.rival[k]) continue;
-      const v_float32x4 ru = ru0[k] + rdu[k] * idx, rv = rv0[k] + rdv[k] * idx;
-      // The rival must see the pixel by half a pixel: its own, separately
-      // interpolated mapping then agrees that it does.
-      const v_float32x4 sees = (ru > zero) & (ru < last_u) & (rv > zero) & (rv < last_v);
-      const v_float32x4 ramp = cv::v_min(cv::v_max((centrality(ru, rv) - c) * inv[k] + one, zero), one);
-      factor = factor * cv::v_select(sees, ramp, one);
+    for (int k = 0; k < active; ++k) {
+      const v_float32x4 ramp = cv::v_min(cv::v_max(q0[k] + q1[k] * idx + q2[k] * idx2, zero), one);
+      factor = factor * cv::v_select((idx > lo[k]) & (idx < hi[k]), ramp, one);
     }
     if (lut) {
       cv::v_store(w + i, tent);

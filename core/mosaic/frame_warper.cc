@@ -521,7 +521,7 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
     float u0, du, v0, dv;
   };
   thread_local std::vector<KeptRow> kept_rows;
-  kept_rows.assign(blocks.size() * cell, KeptRow{0, 0, 0, 0, 0});
+  kept_rows.resize(blocks.size() * cell);  // each block's masks are cleared when it is visited
   float v_min = 1e30f, v_max = -1e30f;
   // With a tail: the lowest and highest raw rows sampled by pixels that
   // cannot be in the lower, resp. upper, tail. u is linear along a row, so
@@ -544,6 +544,7 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
     const Block& b = blocks[bi];
     const int x0 = b.bx * cell, y0 = b.by * cell;
     const int w_cols = std::min(cell, width - x0), h_rows = std::min(cell, height - y0);
+    for (int j = 0; j < cell; ++j) kept_rows[bi * cell + j].mask = 0;
     Edges edges;
     block_edges(b, edges);
     BlockRow r;

@@ -186,15 +186,24 @@ void FrameImage::DecodeJpegRows(const std::vector<std::array<int, 2>>& ranges) {
   // frame for a gray map, BGR (OpenCV's order) for a colour one.
   c.out_color_space = channels_ == 1 ? JCS_GRAYSCALE : JCS_EXT_BGR;
   jpeg_start_decompress(&c);
-  for (const auto& [first, last] : ranges) {
-    if (first > static_cast<int>(c.output_scanline))
-      jpeg_skip_scanlines(&c, static_cast<JDIMENSION>(first - static_cast<int>(c.output_scanline)));
+  auto read_to = [&](int last) {
     while (static_cast<int>(c.output_scanline) <= last) {
       JSAMPROW row = pixels_.ptr<unsigned char>(static_cast<int>(c.output_scanline));
       if (jpeg_read_scanlines(&c, &row, 1) != 1)  // rows the map needs must not be left undecoded
         throw InputError(path_, 0, "image",
                          "unreadable image: JPEG data stops at row " + std::to_string(c.output_scanline));
     }
+  };
+  // libjpeg-turbo 2.1 skips wrongly from inside a row group (8 rows, 16
+  // with vertically subsampled chroma): it hands back rows from before the
+  // skip. So a skip starts on a group boundary, reading up to it first.
+  const int group = c.max_v_samp_factor * DCTSIZE;
+  for (const auto& [first, last] : ranges) {
+    int at = static_cast<int>(c.output_scanline);
+    if (first > at && at % group != 0) read_to(std::min(first, (at / group + 1) * group) - 1);
+    at = static_cast<int>(c.output_scanline);
+    if (first > at) jpeg_skip_scanlines(&c, static_cast<JDIMENSION>(first - at));
+    read_to(last);
   }
   jpeg_abort_decompress(&c);  // the rows below are not needed
 }

@@ -106,9 +106,10 @@ class FrameWarper {
   // unsampled, so those rows are not decoded. Along a survey line these are
   // slivers of swath edge that the neighbours miss when the footprint drifts
   // sideways: the upper half of one side, the lower half of the other.
-  // Rows below the others' are never decoded, which saves a third of the
-  // frame's JPEG; rows above are skipped without the inverse DCT, which
-  // saves a quarter. Usually another survey line covers them (see MosaicBuilder).
+  // Rows below the others' are never decoded; rows above are only skipped
+  // (Huffman-decoded without the inverse DCT, at about a third of the cost
+  // of decoding them). Usually another survey line covers them (see
+  // MosaicBuilder).
   using RowSource = std::function<const cv::Mat&(int first, int last)>;
   // `tail_sides` chooses the edges and halves: any of kTailLowerLeft,
   // kTailLowerRight, kTailUpperLeft and kTailUpperRight.

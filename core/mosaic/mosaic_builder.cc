@@ -559,7 +559,11 @@ unsigned MosaicBuilder::TailSides(const FrameSpec& spec) const {
   // Not its own run, the consecutive frames overlapping it: they share its
   // swath edges (a neighbour wobbling sideways reaches past them by a few
   // pixels and leaves that place to a tail of its own).
-  auto in_run = [&](int j) { return foreseen_frames_[j] && foreseen_frames_[j]->footprint.Overlaps(own.footprint); };
+  // (At a turn the run can reach into the next line: less is deferred there.)
+  auto in_run = [&](int j) {
+    return std::abs(j - spec.index) <= config_.lookahead_frames && foreseen_frames_[j] &&
+           foreseen_frames_[j]->footprint.Overlaps(own.footprint);
+  };
   int run_first = spec.index, run_last = spec.index;
   while (run_first > 0 && in_run(run_first - 1)) --run_first;
   while (run_last + 1 < static_cast<int>(foreseen_frames_.size()) && in_run(run_last + 1)) ++run_last;

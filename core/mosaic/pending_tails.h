@@ -3,7 +3,8 @@
 // A tail is taken tile by tile when its tiles are finished, or whole when it
 // has waited long enough: by then another survey line has usually painted
 // its pixels, and a frame whose tail is all covered never decodes the rows
-// below its handover band. Holds each waiting frame's compressed image.
+// below its handover band (and only skips those above it). Holds each
+// waiting frame's compressed image.
 #include <cstddef>
 #include <cstdint>
 #include <deque>

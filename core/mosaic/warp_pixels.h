@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <cmath>
 #include <cstring>
 
 #include <opencv2/core/hal/intrin.hpp>
@@ -82,6 +83,7 @@ struct BlockRow {
 // arithmetic as Sample<1>, so the same values.
 inline void SampleGray4(const uint8_t* data, size_t step, float u0, float du, float v0, float dv, int max_iu,
                         int max_iv, uint64_t mask, uint8_t* out) {
+  static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "the 16-bit pairs below put the left byte low");
   using cv::v_float32x4;
   using cv::v_int32x4;
   const v_float32x4 vu0 = cv::v_setall_f32(u0), vdu = cv::v_setall_f32(du);
@@ -123,7 +125,10 @@ inline void SampleGray4(const uint8_t* data, size_t step, float u0, float du, fl
 
 // The pixel indices i (as an open interval) at which x0 + dx * i lies in (0, limit).
 inline void OpenInterval(float x0, float dx, float limit, float* lo, float* hi) {
-  if (dx > 0) {
+  if (!std::isfinite(x0) || !std::isfinite(dx)) {  // no position: sees nothing
+    *lo = 1e30f;
+    *hi = -1e30f;
+  } else if (dx > 0) {
     *lo = std::max(*lo, -x0 / dx);
     *hi = std::min(*hi, (limit - x0) / dx);
   } else if (dx < 0) {

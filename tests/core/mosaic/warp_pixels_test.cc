@@ -46,6 +46,8 @@ TEST(WarpPixels, RowWeightsFollowTheScalarRule) {
       r.ru0[k] = r.u0 + pos(rng) * 0.2f - 16; r.rdu[k] = r.du + slope(rng) * 0.01f;
       r.rv0[k] = r.v0 + pos(rng) * 0.2f - 16; r.rdv[k] = r.dv + slope(rng) * 0.01f;
     }
+    if (trial % 5 == 1) r.dv = r.rdv[0] = r.rdv[1] = 0;  // a north-up row: v constant along it
+    if (trial % 7 == 2) r.du = r.rdu[0] = 0;
     const int n = 1 + trial % 16;
     const int rivals = trial % 3;
     const float* table = trial % 4 == 0 ? lut.data() : nullptr;

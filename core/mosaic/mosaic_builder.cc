@@ -556,20 +556,8 @@ unsigned MosaicBuilder::TailSides(const FrameSpec& spec) const {
         if (j != spec.index && std::abs(j - spec.index) <= config_.lookahead_frames) near.push_back(j);
   std::sort(near.begin(), near.end());
   near.erase(std::unique(near.begin(), near.end()), near.end());
-  // Not its own run, the consecutive frames overlapping it: they share its
-  // swath edges (a neighbour wobbling sideways reaches past them by a few
-  // pixels and leaves that place to a tail of its own).
-  // (At a turn the run can reach into the next line: less is deferred there.)
-  auto in_run = [&](int j) {
-    return std::abs(j - spec.index) <= config_.lookahead_frames && foreseen_frames_[j] &&
-           foreseen_frames_[j]->footprint.Overlaps(own.footprint);
-  };
-  int run_first = spec.index, run_last = spec.index;
-  while (run_first > 0 && in_run(run_first - 1)) --run_first;
-  while (run_last + 1 < static_cast<int>(foreseen_frames_.size()) && in_run(run_last + 1)) ++run_last;
   std::vector<const MapFootprint*> others;
-  for (int j : near)
-    if (j < run_first || j > run_last) others.push_back(&foreseen_frames_[j]->footprint);
+  for (int j : near) others.push_back(&foreseen_frames_[j]->footprint);
   // Inside the others by more than their side-edge strips (kTailEdge raw
   // pixels, at this frame's scale) and two map pixels.
   const auto& c = own.footprint.corners;

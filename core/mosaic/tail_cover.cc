@@ -1,7 +1,5 @@
 #include "core/mosaic/tail_cover.h"
 
-#include <algorithm>
-
 #include "core/mosaic/frame_warper.h"
 
 namespace seamap {
@@ -19,19 +17,6 @@ bool MapFootprint::HoldsInside(const cv::Point2d& p, double margin) const {
     if (cross <= 0 || cross * cross < margin * margin * e.dot(e)) return false;
   }
   return true;
-}
-
-bool MapFootprint::Overlaps(const MapFootprint& other) const {
-  auto box = [](const MapFootprint& f) {
-    cv::Point2d lo = f.corners[0], hi = f.corners[0];
-    for (const cv::Point2d& c : f.corners) {
-      lo = {std::min(lo.x, c.x), std::min(lo.y, c.y)};
-      hi = {std::max(hi.x, c.x), std::max(hi.y, c.y)};
-    }
-    return std::array<cv::Point2d, 2>{lo, hi};
-  };
-  const auto a = box(*this), b = box(other);
-  return a[0].x < b[1].x && b[0].x < a[1].x && a[0].y < b[1].y && b[0].y < a[1].y;
 }
 
 unsigned CoveredSides(const MapFootprint& own, const std::vector<const MapFootprint*>& others, double margin) {

@@ -16,8 +16,6 @@ struct MapFootprint {
   explicit MapFootprint(const std::array<cv::Point2d, 4>& c);
   // Whether p lies inside, at least `margin` (map pixels) from every edge.
   bool HoldsInside(const cv::Point2d& p, double margin) const;
-  // Whether the two footprints' bounding boxes overlap.
-  bool Overlaps(const MapFootprint& other) const;
 
  private:
   double turn_ = 1;  // the sign of (b - a) x (p - a) for p inside, along each edge a -> b

@@ -115,20 +115,5 @@ TEST(Blending, DeferredTailsCoverTheSameSeabedAndMostAreNeverDecoded) {
   EXPECT_EQ(stats.at("tail_failures"), 0);
 }
 
-TEST(Blending, OnASingleLineNoTailWaits) {
-  // A frame's own line shares its swath edges: frames beside it wobble a
-  // few pixels past them and leave those pixels to tails of their own. With
-  // no other line over them, no tail waits (each would be decoded later).
-  testing::TempDir dir;
-  const auto& survey = SharedSurvey("single-line", "--frames 60 --line-length 10 --seed 4 --image-format jpg");
-  const std::string report = (dir / "report.json").string(), out = (dir / "single.mbtiles").string();
-  std::string log;
-  ASSERT_EQ(Seamap(survey.BuildArgs() + " --out " + out + " --report " + report, &log), 0) << log;
-  const auto stats = nlohmann::json::parse(std::ifstream(report));
-  EXPECT_EQ(stats.at("frames_used"), 60);
-  EXPECT_EQ(stats.at("tail_frames"), 0);
-  EXPECT_EQ(stats.at("tail_decodes"), 0);
-}
-
 }  // namespace
 }  // namespace seamap

@@ -43,16 +43,6 @@ TEST(TailCover, SideHalvesAreCoveredWhereOtherFramesHoldThem) {
   EXPECT_EQ(CoveredSides(own, {&wobble}, 9), 0u);
 }
 
-TEST(TailCover, FootprintsOverlapWhereTheirBoxesDo) {
-  const MapFootprint own = Frame(0, 0);
-  EXPECT_TRUE(own.Overlaps(Frame(0, 30)));     // the next frame of its line
-  EXPECT_TRUE(own.Overlaps(Frame(60, 10)));    // the next line, beside it
-  EXPECT_TRUE(Frame(60, 10).Overlaps(own));
-  EXPECT_FALSE(own.Overlaps(Frame(0, 80)));    // touching is not overlapping
-  EXPECT_FALSE(own.Overlaps(Frame(150, 0)));
-  EXPECT_FALSE(own.Overlaps(Frame(-101, -81)));
-}
-
 TEST(TailCover, InsideDoesNotDependOnTheCornersTurn) {
   const MapFootprint forward = Frame(0, 0);
   const MapFootprint backward({cv::Point2d(0, 0), cv::Point2d(0, 80), cv::Point2d(100, 80), cv::Point2d(100, 0)});

@@ -26,7 +26,6 @@ class FrameImage {
   static FrameImage FromMat(const cv::Mat& image, int channels, int sixteen_bit_white);
 
   int width() const { return width_; }
-  int channels() const { return channels_; }
   int height() const { return height_; }
   bool empty() const { return width_ == 0; }
 

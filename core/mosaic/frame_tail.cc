@@ -13,39 +13,51 @@ namespace {
 // skips whole 8- or 16-row block rows).
 constexpr float kSplitRows = 32;
 
-// The frame the pixels make, weights and runs set, pixels still zero.
-WarpedFrame TailFrame(const std::vector<TailPixel>& pixels, int type) {
+}  // namespace
+
+std::array<int64_t, 4> TailBounds(const std::vector<TailPixel>& pixels) {
+  if (pixels.empty()) return {0, 0, 0, 0};
+  std::array<int64_t, 4> b{pixels[0].x, pixels[0].y, pixels[0].x, pixels[0].y};
+  for (const TailPixel& p : pixels) {
+    b[0] = std::min(b[0], p.x); b[2] = std::max(b[2], p.x);
+    b[1] = std::min(b[1], p.y); b[3] = std::max(b[3], p.y);
+  }
+  ++b[2];
+  ++b[3];
+  return b;
+}
+
+WarpedFrame SampleTail(const std::vector<TailPixel>& pixels, const cv::Mat& image) {
   WarpedFrame out;
+  const int type = image.channels() == 1 ? CV_8UC1 : CV_8UC3;
   if (pixels.empty()) {
     out.pixels = cv::Mat::zeros(1, 1, type);
     out.weight = cv::Mat::zeros(1, 1, CV_8U);
     out.run_offset.assign(2, 0);
     return out;
   }
-  std::vector<const TailPixel*> order;  // by row, then column, for the runs
-  order.reserve(pixels.size());
-  int64_t x1 = pixels[0].x, y1 = pixels[0].y;
-  out.x0 = x1;
-  out.y0 = y1;
-  for (const TailPixel& p : pixels) {
-    order.push_back(&p);
-    out.x0 = std::min(out.x0, p.x); x1 = std::max(x1, p.x);
-    out.y0 = std::min(out.y0, p.y); y1 = std::max(y1, p.y);
-  }
-  std::sort(order.begin(), order.end(),
-            [](const TailPixel* a, const TailPixel* b) { return a->y != b->y ? a->y < b->y : a->x < b->x; });
-  out.box_x0 = out.x0;
-  out.box_y0 = out.y0;
-  out.box_width = static_cast<int>(x1 - out.x0 + 1);
-  out.box_height = static_cast<int>(y1 - out.y0 + 1);
+  const std::array<int64_t, 4> bounds = TailBounds(pixels);
+  out.x0 = out.box_x0 = bounds[0];
+  out.y0 = out.box_y0 = bounds[1];
+  out.box_width = static_cast<int>(bounds[2] - bounds[0]);
+  out.box_height = static_cast<int>(bounds[3] - bounds[1]);
   out.pixels = cv::Mat::zeros(out.box_height, out.box_width, type);
   out.weight = cv::Mat::zeros(out.box_height, out.box_width, CV_8U);
   out.run_offset.assign(out.box_height + 1, 0);
+  std::vector<const TailPixel*> order;  // by row, then column, for the runs
+  order.reserve(pixels.size());
+  for (const TailPixel& p : pixels) order.push_back(&p);
+  std::sort(order.begin(), order.end(),
+            [](const TailPixel* a, const TailPixel* b) { return a->y != b->y ? a->y < b->y : a->x < b->x; });
+  const int max_iu = (image.cols - 1) * 256 - 1, max_iv = (image.rows - 1) * 256 - 1;
   size_t k = 0;
   for (int row = 0; row < out.box_height; ++row) {
     for (; k < order.size() && order[k]->y - out.y0 == row; ++k) {
       const TailPixel& p = *order[k];
       const int col = static_cast<int>(p.x - out.x0);
+      uint8_t* px = out.pixels.ptr<uint8_t>(row) + col * image.channels();
+      if (image.channels() == 1) warp::Sample<1>(image.data, image.step[0], p.u, p.v, max_iu, max_iv, px);
+      else warp::Sample<3>(image.data, image.step[0], p.u, p.v, max_iu, max_iv, px);
       out.weight.ptr<uint8_t>(row)[col] = p.weight;
       if (!out.runs.empty() && static_cast<int>(out.runs.size()) > out.run_offset[row] && out.runs.back()[1] == col)
         ++out.runs.back()[1];
@@ -57,27 +69,7 @@ WarpedFrame TailFrame(const std::vector<TailPixel>& pixels, int type) {
   return out;
 }
 
-// Samples the pixels into `out` (TailFrame's) from `image`, which has their rows.
-void SampleInto(const std::vector<TailPixel>& pixels, const cv::Mat& image, WarpedFrame* out) {
-  const int max_iu = (image.cols - 1) * 256 - 1, max_iv = (image.rows - 1) * 256 - 1;
-  for (const TailPixel& p : pixels) {
-    uint8_t* px = out->pixels.ptr<uint8_t>(static_cast<int>(p.y - out->y0)) + (p.x - out->x0) * image.channels();
-    if (image.channels() == 1) warp::Sample<1>(image.data, image.step[0], p.u, p.v, max_iu, max_iv, px);
-    else warp::Sample<3>(image.data, image.step[0], p.u, p.v, max_iu, max_iv, px);
-  }
-}
-
-}  // namespace
-
-WarpedFrame SampleTail(const std::vector<TailPixel>& pixels, const cv::Mat& image) {
-  WarpedFrame out = TailFrame(pixels, image.channels() == 1 ? CV_8UC1 : CV_8UC3);
-  SampleInto(pixels, image, &out);
-  return out;
-}
-
 WarpedFrame DecodeTail(FrameImage& image, const std::vector<TailPixel>& pixels) {
-  WarpedFrame out = TailFrame(pixels, image.channels() == 1 ? CV_8UC1 : CV_8UC3);
-  if (pixels.empty()) return out;
   // An upper and a lower tail lie far apart: the rows between them are
   // skipped without the inverse DCT. (Bilinear: rows floor(v) and below.)
   std::vector<float> v;
@@ -98,8 +90,7 @@ WarpedFrame DecodeTail(FrameImage& image, const std::vector<TailPixel>& pixels) 
     FrameImage& image;
     ~Release() { image.ReleasePixels(); }
   } release{image};
-  SampleInto(pixels, image.RowRanges(ranges), &out);
-  return out;
+  return SampleTail(pixels, image.RowRanges(ranges));
 }
 
 }  // namespace seamap

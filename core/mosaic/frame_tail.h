@@ -2,6 +2,8 @@
 // Painting a frame's tail later: the side-edge pixels FrameWarper::Warp left
 // out unsampled, so that the JPEG rows they need were not decoded (see Warp
 // and MosaicBuilder).
+#include <array>
+#include <cstdint>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -10,6 +12,10 @@
 #include "core/mosaic/frame_warper.h"
 
 namespace seamap {
+
+// The global pixels around the tail pixels: {x0, y0, x1, y1}, spanning
+// [x0, x1) x [y0, y1) (all 0 for none).
+std::array<int64_t, 4> TailBounds(const std::vector<TailPixel>& pixels);
 
 // Tail pixels sampled (bilinearly, as Warp samples) from `image`, which has
 // the rows they need decoded, as a frame to blend. No pixels: an empty frame.

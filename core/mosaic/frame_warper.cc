@@ -587,9 +587,10 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
     // rows floor(v) and floor(v) + 1; rows are decoded with one to spare.)
     const int last_row = core_v_max > -1e29f ? static_cast<int>(std::ceil(core_v_max)) + 1 : INT_MAX;
     const int first_row = core_v_min < 1e29f ? static_cast<int>(std::floor(core_v_min)) - 1 : INT_MIN;
+    auto below = [&](float v) { return static_cast<int>(std::floor(v)) + 1 > last_row; };
+    auto above = [&](float v) { return static_cast<int>(std::floor(v)) < first_row; };
     auto in_tail = [&](float u, float v) {
-      const int row = static_cast<int>(std::floor(v));
-      return (row + 1 > last_row && at_edge(lower_edges, u)) || (row < first_row && at_edge(upper_edges, u));
+      return (below(v) && at_edge(lower_edges, u)) || (above(v) && at_edge(upper_edges, u));
     };
     v_min = 1e30f;
     v_max = -1e30f;
@@ -604,9 +605,7 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
         // The row's ends tell whether any pixel can be a tail.
         const float fa = static_cast<float>(__builtin_ctzll(mask)), fb = static_cast<float>(63 - __builtin_clzll(mask));
         const float va = r.v0 + r.dv * fa, vb = r.v0 + r.dv * fb;
-        if (none_at_edge(r.u0 + r.du * fa, r.u0 + r.du * fb) ||
-            (static_cast<int>(std::floor(std::max(va, vb))) + 1 <= last_row &&
-             static_cast<int>(std::floor(std::min(va, vb))) >= first_row)) {
+        if (none_at_edge(r.u0 + r.du * fa, r.u0 + r.du * fb) || (!below(std::max(va, vb)) && !above(std::min(va, vb)))) {
           v_min = std::min(v_min, std::min(va, vb));
           v_max = std::max(v_max, std::max(va, vb));
           continue;

@@ -18,14 +18,7 @@ void PendingTails::Add(int order, FrameImage image, std::vector<TailPixel> pixel
   f.order = order;
   f.image = std::make_shared<FrameImage>(std::move(image));
   f.pixels = std::move(pixels);
-  f.x0 = f.x1 = f.pixels[0].x;
-  f.y0 = f.y1 = f.pixels[0].y;
-  for (const TailPixel& p : f.pixels) {
-    f.x0 = std::min(f.x0, p.x); f.x1 = std::max(f.x1, p.x);
-    f.y0 = std::min(f.y0, p.y); f.y1 = std::max(f.y1, p.y);
-  }
-  ++f.x1;
-  ++f.y1;
+  f.bounds = TailBounds(f.pixels);
   f.bytes = f.image->Bytes() + f.pixels.size() * sizeof(TailPixel);
   bytes_ += f.bytes;
   frames_.push_back(std::move(f));
@@ -35,7 +28,7 @@ std::vector<PendingTails::Taken> PendingTails::TakeIn(int64_t x0, int64_t y0, in
   std::vector<Taken> out;
   for (size_t i = 0; i < frames_.size();) {
     Frame& f = frames_[i];
-    if (f.x1 <= x0 || f.x0 >= x1 || f.y1 <= y0 || f.y0 >= y1) {
+    if (f.bounds[2] <= x0 || f.bounds[0] >= x1 || f.bounds[3] <= y0 || f.bounds[1] >= y1) {
       ++i;
       continue;
     }

@@ -5,6 +5,7 @@
 // its pixels, and a frame whose tail is all covered never decodes the rows
 // below its handover band (and only skips those above it). Holds each
 // waiting frame's compressed image.
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <deque>
@@ -12,6 +13,7 @@
 #include <vector>
 
 #include "core/mosaic/frame_image.h"
+#include "core/mosaic/frame_tail.h"
 #include "core/mosaic/frame_warper.h"
 
 namespace seamap {
@@ -48,7 +50,7 @@ class PendingTails {
     int order = 0;
     std::shared_ptr<FrameImage> image;
     std::vector<TailPixel> pixels;
-    int64_t x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // around the pixels: [x0, x1) x [y0, y1)
+    std::array<int64_t, 4> bounds{};  // TailBounds of the pixels (not narrowed as pixels are taken)
     size_t bytes = 0;
   };
   void PopFront(std::vector<Taken>* out);

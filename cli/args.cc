@@ -16,8 +16,7 @@ double ParseNumber(const std::string& text, const std::string& param) {
 }
 }  // namespace
 
-Args::Args(int argc, char** argv, int first, std::set<std::string> flags)
-    : known_flags_(std::move(flags)) {
+Args::Args(int argc, char** argv, int first, std::set<std::string> flags) : known_flags_(std::move(flags)) {
   for (int i = first; i < argc; ++i) {
     std::string a = argv[i];
     if (a.size() > 2 && a.compare(0, 2, "--") == 0) {
@@ -83,12 +82,12 @@ void Args::RejectUnknown() const {
 
 LatLonArg ParseLatLon(const std::string& text, const std::string& param) {
   auto comma = text.find(',');
-  if (comma == std::string::npos)
-    throw InputError("", 0, param, "expected 'lat,lon' in degrees, got '" + text + "'");
+  if (comma == std::string::npos) throw InputError("", 0, param, "expected 'lat,lon' in degrees, got '" + text + "'");
   LatLonArg r{ParseNumber(text.substr(0, comma), param.substr(2)),
               ParseNumber(text.substr(comma + 1), param.substr(2))};
   if (std::fabs(r.lat) > 90 || std::fabs(r.lon) > 180)
-    throw InputError("", 0, param, "latitude must be within [-90, 90] and longitude within [-180, 180], got '" + text + "'");
+    throw InputError("", 0, param,
+                     "latitude must be within [-90, 90] and longitude within [-180, 180], got '" + text + "'");
   return r;
 }
 

@@ -1,10 +1,10 @@
 // seamap build: photos + navigation + camera -> tile pyramid.
 #include <algorithm>
 #include <cstdio>
-#include <fstream>
-#include <optional>
 #include <filesystem>
+#include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include <opencv2/imgcodecs.hpp>
@@ -54,8 +54,8 @@ std::string Summary(const BuildStats& s) {
   }
   int64_t distinct = 0;
   for (const auto& [z, n] : s.tiles_per_zoom) distinct += n;
-  out << "; tiles written " << distinct << " (" << s.tiles_written << " writes, "
-      << s.tile_bytes / 1024 << " KiB); " << std::fixed;
+  out << "; tiles written " << distinct << " (" << s.tiles_written << " writes, " << s.tile_bytes / 1024 << " KiB); "
+      << std::fixed;
   out.precision(2);
   out << s.seconds << " s";
   if (s.seconds > 0) {
@@ -112,11 +112,9 @@ int RunBuild(int argc, char** argv, int first) {
 
   auto store = OpenOutput(out, in.config, append, overwrite);
   MosaicPlan plan = PlanMosaic(in.config, in.camera, in.frame, in.frames.frames, in.channels);
-  std::fprintf(stderr,
-               "seamap build: %zu frames, GSD %.1f mm at %.3f N -> zooms %d..%d, %s tiles of %d px -> %s\n",
-               in.frames.frames.size(), plan.gsd_m * 1000, plan.latitude, plan.min_zoom,
-               plan.base_zoom, TileExtension(in.config.encoding.format).c_str(),
-               in.config.tile_size, out.c_str());
+  std::fprintf(stderr, "seamap build: %zu frames, GSD %.1f mm at %.3f N -> zooms %d..%d, %s tiles of %d px -> %s\n",
+               in.frames.frames.size(), plan.gsd_m * 1000, plan.latitude, plan.min_zoom, plan.base_zoom,
+               TileExtension(in.config.encoding.format).c_str(), in.config.tile_size, out.c_str());
   for (const auto& w : in.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
 
   // The main layer is raw unless only the enhanced map was asked for; with

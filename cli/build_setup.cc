@@ -59,8 +59,7 @@ BuildInputs ReadBuildInputs(Args& args) {
   in.camera = LoadCamera(args.Require("camera"));
   const std::string images = args.Require("images");
   std::error_code ec;
-  if (!fs::is_directory(images, ec))
-    throw InputError(images, 0, "--images", "is not a folder of photos");
+  if (!fs::is_directory(images, ec)) throw InputError(images, 0, "--images", "is not a folder of photos");
   NavTable nav = ReadNavigation(args.Require("nav"), in.config.nav);
   in.frame = LocalFrame(nav.origin);
   std::optional<std::string> image_times = args.Get("image-times");
@@ -72,10 +71,8 @@ BuildInputs ReadBuildInputs(Args& args) {
   return in;
 }
 
-std::unique_ptr<TileStore> OpenOutput(const std::string& path, const BuildConfig& config,
-                                      bool append, bool overwrite) {
-  if (append && overwrite)
-    throw InputError("", 0, "--append", "cannot be combined with --overwrite");
+std::unique_ptr<TileStore> OpenOutput(const std::string& path, const BuildConfig& config, bool append, bool overwrite) {
+  if (append && overwrite) throw InputError("", 0, "--append", "cannot be combined with --overwrite");
   std::error_code ec;
   const bool exists = IsMBTilesPath(path) ? fs::exists(path, ec) : (fs::exists(path, ec) && !fs::is_empty(path, ec));
   if (exists && !append) {

@@ -30,8 +30,7 @@ struct BuildInputs {
 BuildInputs ReadBuildInputs(Args& args);
 
 // Opens the output map; an existing one is refused unless append/overwrite.
-std::unique_ptr<TileStore> OpenOutput(const std::string& path, const BuildConfig& config,
-                                      bool append, bool overwrite);
+std::unique_ptr<TileStore> OpenOutput(const std::string& path, const BuildConfig& config, bool append, bool overwrite);
 
 // Hooks for the configured enhancement chain (seeded from the first frames).
 BuildHooks MakeHooks(const BuildInputs& inputs);

@@ -3,13 +3,13 @@
 // subcommand name. Each returns the process exit code.
 namespace seamap::cli {
 
-int RunSimulate(int argc, char** argv, int first);        // cli/simulate_command.cc
-int RunBuild(int argc, char** argv, int first);           // cli/build_command.cc
-int RunInfo(int argc, char** argv, int first);            // cli/info_command.cc
-int RunEnhance(int argc, char** argv, int first);         // cli/enhance_command.cc
-int RunEnhanceReport(int argc, char** argv, int first);   // cli/enhance_command.cc
-int RunServe(int argc, char** argv, int first);           // cli/serve_command.cc
-int RunReplay(int argc, char** argv, int first);          // cli/replay_command.cc
-int RunExport(int argc, char** argv, int first);          // cli/export_command.cc
+int RunSimulate(int argc, char** argv, int first);       // cli/simulate_command.cc
+int RunBuild(int argc, char** argv, int first);          // cli/build_command.cc
+int RunInfo(int argc, char** argv, int first);           // cli/info_command.cc
+int RunEnhance(int argc, char** argv, int first);        // cli/enhance_command.cc
+int RunEnhanceReport(int argc, char** argv, int first);  // cli/enhance_command.cc
+int RunServe(int argc, char** argv, int first);          // cli/serve_command.cc
+int RunReplay(int argc, char** argv, int first);         // cli/replay_command.cc
+int RunExport(int argc, char** argv, int first);         // cli/export_command.cc
 
 }  // namespace seamap::cli

@@ -74,12 +74,14 @@ int RunEnhance(int argc, char** argv, int first) {
   auto config = args.Get("config");
   args.RejectUnknown();
   if (args.positionals().size() != 2)
-    throw InputError("", 0, "", "usage: seamap enhance IN OUT [--ops LIST | --config FILE] (expected 2 paths, got " +
-                                    std::to_string(args.positionals().size()) + ")");
+    throw InputError("", 0, "",
+                     "usage: seamap enhance IN OUT [--ops LIST | --config FILE] (expected 2 paths, got " +
+                         std::to_string(args.positionals().size()) + ")");
   if (ops && config) throw InputError("", 0, "--config", "give either --ops or --config, not both");
   const std::string in = args.positionals()[0], out = args.positionals()[1];
-  EnhanceChain chain = ops ? EnhanceChain::FromOpList(*ops, "--ops")
-                           : config ? LoadChainFile(*config) : EnhanceChain::Default();
+  EnhanceChain chain = ops      ? EnhanceChain::FromOpList(*ops, "--ops")
+                       : config ? LoadChainFile(*config)
+                                : EnhanceChain::Default();
 
   cv::Mat image = ReadImage(in);
   auto start = std::chrono::steady_clock::now();
@@ -91,7 +93,8 @@ int RunEnhance(int argc, char** argv, int first) {
   } catch (const cv::Exception& e) {
     throw InputError(out, 0, "", "cannot write the image: " + e.msg);
   }
-  if (!written) throw InputError(out, 0, "", "cannot write the image (expected a writable .png, .jpg, .tif or .bmp path)");
+  if (!written)
+    throw InputError(out, 0, "", "cannot write the image (expected a writable .png, .jpg, .tif or .bmp path)");
   std::printf("%s -> %s (%dx%d, %s) in %.1f ms\nchain: %s\n", in.c_str(), out.c_str(), image.cols, image.rows,
               cv::typeToString(image.type()).c_str(), ms, chain.Describe().c_str());
   return 0;
@@ -107,9 +110,11 @@ int RunEnhanceReport(int argc, char** argv, int first) {
   const std::string detector_name = args.GetOr("detector", "sift");
   args.RejectUnknown();
   if (args.positionals().size() != 1)
-    throw InputError("", 0, "", "usage: seamap enhance-report DIR [--ops LIST[;LIST...]] [--config FILE] "
-                                "[--max-frames N] [--detector sift|orb]");
-  if (max_frames < 2) throw InputError("", 0, "--max-frames", "expected a whole number >= 2, got " + std::to_string(max_frames));
+    throw InputError("", 0, "",
+                     "usage: seamap enhance-report DIR [--ops LIST[;LIST...]] [--config FILE] "
+                     "[--max-frames N] [--detector sift|orb]");
+  if (max_frames < 2)
+    throw InputError("", 0, "--max-frames", "expected a whole number >= 2, got " + std::to_string(max_frames));
   const FeatureDetector detector = ParseFeatureDetector(detector_name, "--detector");
   const fs::path dir = args.positionals()[0];
   if (!fs::is_directory(dir)) throw InputError(dir.string(), 0, "", "expected a folder of survey photos");
@@ -130,8 +135,8 @@ int RunEnhanceReport(int argc, char** argv, int first) {
   std::sort(paths.begin(), paths.end());  // survey photos are named in capture order
   if (paths.size() > static_cast<size_t>(max_frames)) paths.resize(max_frames);
   if (paths.size() < 2)
-    throw InputError(dir.string(), 0, "", "expected at least 2 images (.png, .jpg, .tif, .bmp), found " +
-                                              std::to_string(paths.size()));
+    throw InputError(dir.string(), 0, "",
+                     "expected at least 2 images (.png, .jpg, .tif, .bmp), found " + std::to_string(paths.size()));
   std::vector<cv::Mat> frames;
   for (const auto& p : paths) frames.push_back(ReadImage(p.string()));
 
@@ -142,8 +147,9 @@ int RunEnhanceReport(int argc, char** argv, int first) {
   for (const EnhanceChain& chain : chains)
     rows.push_back(ForImage(dir.string(), [&] { return ReportChain(chain, frames, detector, &before); }));
   std::fputs(FormatReportTable(rows, detector_name).c_str(), stdout);
-  auto best = std::max_element(rows.begin(), rows.end(),
-                               [](const ChainReport& a, const ChainReport& b) { return a.after.inliers < b.after.inliers; });
+  auto best = std::max_element(rows.begin(), rows.end(), [](const ChainReport& a, const ChainReport& b) {
+    return a.after.inliers < b.after.inliers;
+  });
   std::printf("most homography inliers per pair: %s (%.1f -> %.1f)\n", best->chain.c_str(), best->before.inliers,
               best->after.inliers);
   return 0;

@@ -29,8 +29,7 @@ uintmax_t SizeOnDisk(const std::string& path) {
 int RunInfo(int argc, char** argv, int first) {
   Args args(argc, argv, first, {"help"});
   if (args.Flag("help") || args.positionals().size() != 1) {
-    std::fputs("usage: seamap info MAP   (a .mbtiles file or a tile folder)\n",
-               args.Flag("help") ? stdout : stderr);
+    std::fputs("usage: seamap info MAP   (a .mbtiles file or a tile folder)\n", args.Flag("help") ? stdout : stderr);
     return args.Flag("help") ? 0 : 2;
   }
   args.RejectUnknown();

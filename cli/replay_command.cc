@@ -8,8 +8,8 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <set>
 #include <mutex>
+#include <set>
 #include <thread>
 
 #include "cli/args.h"
@@ -98,7 +98,8 @@ void WaitForFirstFrame(const std::string& nav, const std::string& images, const 
     std::error_code ec;
     if (complete >= 2 && fs::is_directory(images, ec)) {
       for (const auto& entry : fs::directory_iterator(images, ec)) {
-        static const std::set<std::string> kImages = {".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp", ".webp", ".pgm"};
+        static const std::set<std::string> kImages = {".png",  ".jpg", ".jpeg", ".tif",
+                                                      ".tiff", ".bmp", ".webp", ".pgm"};
         std::string ext = entry.path().extension().string();
         for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
         if (!entry.is_regular_file(ec) || !kImages.count(ext)) continue;
@@ -109,8 +110,9 @@ void WaitForFirstFrame(const std::string& nav, const std::string& images, const 
       }
     }
     if (photo) return;  // header, one record, one photo that stopped growing
-    if (!told) std::fprintf(stderr, "seamap replay: waiting for navigation in %s and photos in %s\n", nav.c_str(),
-                            images.c_str());
+    if (!told)
+      std::fprintf(stderr, "seamap replay: waiting for navigation in %s and photos in %s\n", nav.c_str(),
+                   images.c_str());
     told = true;
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
   }
@@ -166,7 +168,8 @@ int RunReplay(int argc, char** argv, int first) {
   if (watch) {
     NavReadOptions nav_options = in.config.nav;
     nav_options.origin = in.frame.origin();
-    feed = std::make_unique<FolderWatchFeed>(args.GetOr("nav", ""), args.GetOr("images", ""), nav_options, idle_timeout);
+    feed =
+        std::make_unique<FolderWatchFeed>(args.GetOr("nav", ""), args.GetOr("images", ""), nav_options, idle_timeout);
   } else {
     feed = std::make_unique<RecordedFeed>(in.frames, speed);
   }
@@ -187,8 +190,8 @@ int RunReplay(int argc, char** argv, int first) {
   server::MissionState mission;
   BuildHooks enhance = MakeHooks(in);
   const bool both = in.config.layers == "both" && enhance.preprocess;
-  const std::vector<std::string> layers =
-      both ? std::vector<std::string>{"raw", "enhanced"} : std::vector<std::string>{enhance.preprocess ? "enhanced" : "raw"};
+  const std::vector<std::string> layers = both ? std::vector<std::string>{"raw", "enhanced"}
+                                               : std::vector<std::string>{enhance.preprocess ? "enhanced" : "raw"};
   std::string layer_list;
   for (const auto& l : layers) layer_list += (layer_list.empty() ? "" : ",") + l;
   const std::string format = TileExtension(in.config.encoding.format);
@@ -206,9 +209,11 @@ int RunReplay(int argc, char** argv, int first) {
   ObservedStore observed(store.get(), [&](const std::string& layer, const std::vector<CommittedTile>& done) {
     for (const auto& t : done) {
       if (tiles) tiles->Invalidate(layer, t.id);
-      events.Publish("tile", nlohmann::json{{"layer", layer}, {"z", t.id.z}, {"x", t.id.x}, {"y", t.id.y},
-                                            {"version", TileVersionHex(t.version)}}
-                                 .dump());
+      events.Publish(
+          "tile",
+          nlohmann::json{
+              {"layer", layer}, {"z", t.id.z}, {"x", t.id.x}, {"y", t.id.y}, {"version", TileVersionHex(t.version)}}
+              .dump());
     }
   });
   tiles = std::make_unique<server::TileSource>(out, 8, 64u << 20, &observed);

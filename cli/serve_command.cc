@@ -61,8 +61,9 @@ int RunServe(int argc, char** argv, int first) {
   const bool mbtiles = IsMBTilesPath(path);
   std::error_code ec;
   if (mbtiles ? !fs::is_regular_file(path, ec) : !fs::is_regular_file(fs::path(path) / "metadata.json", ec))
-    throw InputError(path, 0, "MAP",
-                     mbtiles ? "no such MBTiles file" : "is not a tile folder (no metadata.json); build one with seamap build");
+    throw InputError(
+        path, 0, "MAP",
+        mbtiles ? "no such MBTiles file" : "is not a tile folder (no metadata.json); build one with seamap build");
 
   server::EventHub events;
   server::TileSource tiles(path, 8);
@@ -97,9 +98,8 @@ int RunServe(int argc, char** argv, int first) {
     stopped.notify_all();
   });
   http.Start();
-  std::printf("serving %s (%s, %zu frames, %zu track points)\n", ServerUrl(options, http.port()).c_str(),
-              path.c_str(), static_cast<size_t>(mission.progress().frames_done),
-              static_cast<size_t>(mission.TrackSize()));
+  std::printf("serving %s (%s, %zu frames, %zu track points)\n", ServerUrl(options, http.port()).c_str(), path.c_str(),
+              static_cast<size_t>(mission.progress().frames_done), static_cast<size_t>(mission.TrackSize()));
   std::fflush(stdout);
   // A map another process is still building: follow it every two seconds
   // (frames, track, state) and tell the browsers.

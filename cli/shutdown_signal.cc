@@ -26,7 +26,9 @@ ShutdownSignal::ShutdownSignal() {
   signal(SIGPIPE, SIG_IGN);  // a browser closing a connection must not end the process
 }
 
-ShutdownSignal::~ShutdownSignal() { Stop(); }
+ShutdownSignal::~ShutdownSignal() {
+  Stop();
+}
 
 void ShutdownSignal::OnSignal(std::function<void()> on_signal) {
   on_signal_ = std::move(on_signal);

@@ -97,8 +97,7 @@ SimulationOptions ParseOptions(Args& args) {
   o.camera.distortion = DefaultSimCamera().distortion;
   if (auto d = args.Get("distortion")) {
     const auto k = ParseList(*d, "distortion");
-    if (k.empty() || k.size() > 5)
-      throw InputError("", 0, "--distortion", "expected 1 to 5 numbers: k1,k2,p1,p2,k3");
+    if (k.empty() || k.size() > 5) throw InputError("", 0, "--distortion", "expected 1 to 5 numbers: k1,k2,p1,p2,k3");
     o.camera.distortion = {};
     for (size_t i = 0; i < k.size(); ++i) o.camera.distortion[i] = k[i];
   }
@@ -148,10 +147,9 @@ int RunSimulate(int argc, char** argv, int first) {
       bar->Update(done);
     });
     if (bar) bar->Finish();
-    std::printf(
-        "simulated %d frames, %.1f m path, area %.1f m2, texture %dx%d px at %.2f mm/px, %.1f s -> %s\n",
-        s.frames, s.path_length_m, s.area_m2, s.texture_size.width, s.texture_size.height,
-        s.texture_res_m * 1000, s.seconds, options.out_dir.c_str());
+    std::printf("simulated %d frames, %.1f m path, area %.1f m2, texture %dx%d px at %.2f mm/px, %.1f s -> %s\n",
+                s.frames, s.path_length_m, s.area_m2, s.texture_size.width, s.texture_size.height,
+                s.texture_res_m * 1000, s.seconds, options.out_dir.c_str());
     return 0;
   } catch (const InputError& e) {
     std::fprintf(stderr, "seamap simulate: %s\n", e.what());

@@ -40,8 +40,7 @@ std::string TypeOf(const nlohmann::json& j) {
 
 // Geometry of a Feature: a Point [lon, lat] (an altitude is allowed and ignored).
 LatLon ParsePoint(const nlohmann::json& geometry) {
-  if (!geometry.is_object() || TypeOf(geometry) != "Point")
-    throw ApiError(400, "geometry: expected a GeoJSON Point");
+  if (!geometry.is_object() || TypeOf(geometry) != "Point") throw ApiError(400, "geometry: expected a GeoJSON Point");
   const auto& c = geometry.contains("coordinates") ? geometry["coordinates"] : nlohmann::json();
   if (!c.is_array() || c.size() < 2 || c.size() > 3 || !c[0].is_number() || !c[1].is_number())
     throw ApiError(400, "geometry.coordinates: expected [lon, lat]");
@@ -69,9 +68,12 @@ void ApplyProperties(const nlohmann::json& props, Detection* d) {
         throw ApiError(400, "properties.score: expected a number in [0, 1]");
       d->score = value.get<double>();
     } else if (key == "time_s") {
-      if (value.is_null()) d->time_s.reset();
-      else if (value.is_number()) d->time_s = value.get<double>();
-      else throw ApiError(400, "properties.time_s: expected a number of seconds or null");
+      if (value.is_null())
+        d->time_s.reset();
+      else if (value.is_number())
+        d->time_s = value.get<double>();
+      else
+        throw ApiError(400, "properties.time_s: expected a number of seconds or null");
     } else if (!kReadOnly.count(key)) {
       throw ApiError(400, "properties." + key + ": unknown property; expected class, note, score or time_s");
     }
@@ -138,8 +140,8 @@ nlohmann::json DetectionRegistry::Query(const DetectionFilter& f) const {
   nlohmann::json features = nlohmann::json::array();
   std::lock_guard<std::mutex> lock(mutex_);
   for (const auto& [id, d] : detections_) {
-    if (f.bbox && (d.position.lon < f.bbox->west || d.position.lon > f.bbox->east ||
-                   d.position.lat < f.bbox->south || d.position.lat > f.bbox->north))
+    if (f.bbox && (d.position.lon < f.bbox->west || d.position.lon > f.bbox->east || d.position.lat < f.bbox->south ||
+                   d.position.lat > f.bbox->north))
       continue;
     if (!f.classes.empty() && !f.classes.count(d.class_name)) continue;
     if (f.min_score && d.score < *f.min_score) continue;

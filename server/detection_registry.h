@@ -21,7 +21,7 @@ struct DetectionFilter {
   std::optional<LatLonBounds> bbox;
   std::set<std::string> classes;  // empty: all
   std::optional<double> min_score;
-  std::optional<int64_t> since;   // changed after this seq
+  std::optional<int64_t> since;  // changed after this seq
 };
 
 // Parses the query parameters (bbox=w,s,e,n, class=a,b, min_score, since);

@@ -13,9 +13,9 @@
 namespace seamap::server {
 
 struct Event {
-  uint64_t id = 0;    // 1, 2, 3, ...
-  std::string type;   // "tile", "pose", "track", "detection", "progress"
-  std::string data;   // JSON, one line
+  uint64_t id = 0;   // 1, 2, 3, ...
+  std::string type;  // "tile", "pose", "track", "detection", "progress"
+  std::string data;  // JSON, one line
 };
 
 // "id: N\nevent: TYPE\ndata: DATA\n\n"

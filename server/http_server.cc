@@ -67,8 +67,8 @@ double ParseCoordinate(const httplib::Request& req, const char* name, double lo,
     if (used == v->size() && d >= lo && d <= hi) return d;
   } catch (const std::exception&) {
   }
-  throw ApiError(400, std::string("parameter '") + name + "': expected a number in [" + std::to_string(int(lo)) +
-                          ", " + std::to_string(int(hi)) + "], got '" + *v + "'");
+  throw ApiError(400, std::string("parameter '") + name + "': expected a number in [" + std::to_string(int(lo)) + ", " +
+                          std::to_string(int(hi)) + "], got '" + *v + "'");
 }
 
 nlohmann::json ParseBody(const httplib::Request& req) {
@@ -133,14 +133,14 @@ TilePath ParseTilePath(const std::string& path) {
   if (v[0] > 30) throw ApiError(400, "tile path: zoom " + std::to_string(v[0]) + " is out of range 0..30");
   const int64_t n = int64_t{1} << v[0];
   if (v[1] >= n || v[2] >= n)
-    throw ApiError(400, "tile path: x and y must be below 2^z = " + std::to_string(n) + " at zoom " +
-                            std::to_string(v[0]));
+    throw ApiError(400,
+                   "tile path: x and y must be below 2^z = " + std::to_string(n) + " at zoom " + std::to_string(v[0]));
   t.id = TileId{static_cast<int>(v[0]), static_cast<int>(v[1]), static_cast<int>(v[2])};
   return t;
 }
 
-HttpServer::HttpServer(ServerOptions options, TileSource* tiles, MissionState* mission,
-                       DetectionRegistry* detections, EventHub* events)
+HttpServer::HttpServer(ServerOptions options, TileSource* tiles, MissionState* mission, DetectionRegistry* detections,
+                       EventHub* events)
     : options_(std::move(options)),
       tiles_(tiles),
       mission_(mission),
@@ -164,7 +164,9 @@ HttpServer::HttpServer(ServerOptions options, TileSource* tiles, MissionState* m
   Routes();
 }
 
-HttpServer::~HttpServer() { Stop(); }
+HttpServer::~HttpServer() {
+  Stop();
+}
 
 void HttpServer::Routes() {
   httplib::Server& s = *http_;
@@ -185,12 +187,10 @@ void HttpServer::Routes() {
     res.set_header("Cache-Control", "no-cache");
     SendJson(res, j);
   };
-  s.Get("/tiles.json", Guard([tilejson](const httplib::Request& req, httplib::Response& res) {
-          tilejson(req, res, "");
-        }));
-  s.Get(R"(/tiles/([a-z0-9_]{1,32})\.json)", Guard([tilejson](const httplib::Request& req, httplib::Response& res) {
-          tilejson(req, res, req.matches[1]);
-        }));
+  s.Get("/tiles.json",
+        Guard([tilejson](const httplib::Request& req, httplib::Response& res) { tilejson(req, res, ""); }));
+  s.Get(R"(/tiles/([a-z0-9_]{1,32})\.json)",
+        Guard([tilejson](const httplib::Request& req, httplib::Response& res) { tilejson(req, res, req.matches[1]); }));
 
   // Tiles are most of the traffic: answered before httplib's routing, which
   // would first look for a static file of that name and then try every route's regex.
@@ -247,7 +247,8 @@ void HttpServer::Routes() {
           const double lat = ParseCoordinate(req, "lat", -90, 90);
           const double lon = ParseCoordinate(req, "lon", -180, 180);
           size_t limit = 50;
-          if (auto v = Param(req, "limit")) limit = std::max<int64_t>(1, std::min<int64_t>(1000, ParseId(*v, "parameter 'limit'")));
+          if (auto v = Param(req, "limit"))
+            limit = std::max<int64_t>(1, std::min<int64_t>(1000, ParseId(*v, "parameter 'limit'")));
           nlohmann::json frames = nlohmann::json::array();
           for (const auto& f : mission_->FramesCovering({lat, lon}, limit)) frames.push_back(FrameJson(f));
           SendJson(res, {{"frames", frames}});
@@ -265,7 +266,8 @@ void HttpServer::Routes() {
           auto f = id > INT_MAX ? std::nullopt : mission_->Frame(static_cast<int>(id));
           if (!f) throw ApiError(404, "no frame " + std::to_string(id));
           int max_side = 0;
-          if (auto v = Param(req, "max")) max_side = static_cast<int>(std::min<int64_t>(8192, ParseId(*v, "parameter 'max'")));
+          if (auto v = Param(req, "max"))
+            max_side = static_cast<int>(std::min<int64_t>(8192, ParseId(*v, "parameter 'max'")));
           std::string path = f->image_path;
           std::error_code ec;
           if (!options_.photo_dir.empty() && (path.empty() || !std::filesystem::is_regular_file(path, ec)))
@@ -277,8 +279,8 @@ void HttpServer::Routes() {
         }));
 
   s.Get("/api/detections", Guard([this](const httplib::Request& req, httplib::Response& res) {
-          DetectionFilter f =
-              ParseDetectionFilter(Param(req, "bbox"), Param(req, "class"), Param(req, "min_score"), Param(req, "since"));
+          DetectionFilter f = ParseDetectionFilter(Param(req, "bbox"), Param(req, "class"), Param(req, "min_score"),
+                                                   Param(req, "since"));
           res.set_header("Cache-Control", "no-cache");
           SendJson(res, detections_->Query(f));
         }));
@@ -301,12 +303,14 @@ void HttpServer::Routes() {
            res.set_header("Location", "/api/detections/" + std::to_string(feature["id"].get<int64_t>()));
            SendJson(res, feature, 201);
          }));
-  s.Patch(R"(/api/detections/([^/]+))", Guard([this, require_token](const httplib::Request& req, httplib::Response& res) {
+  s.Patch(R"(/api/detections/([^/]+))",
+          Guard([this, require_token](const httplib::Request& req, httplib::Response& res) {
             if (!require_token(req, res)) return;
             const int64_t id = ParseId(req.matches[1], "detection id");
             SendJson(res, detections_->Update(id, ParseBody(req)));
           }));
-  s.Delete(R"(/api/detections/([^/]+))", Guard([this, require_token](const httplib::Request& req, httplib::Response& res) {
+  s.Delete(R"(/api/detections/([^/]+))",
+           Guard([this, require_token](const httplib::Request& req, httplib::Response& res) {
              if (!require_token(req, res)) return;
              detections_->Delete(ParseId(req.matches[1], "detection id"));
              res.status = 204;

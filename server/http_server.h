@@ -22,12 +22,12 @@ namespace seamap::server {
 
 struct ServerOptions {
   std::string host = "0.0.0.0";
-  int port = 8080;             // 0: any free port
-  std::string web_dir;         // the console's files; empty: no console
-  std::string token;           // required for writes when not empty
-  int threads = 96;            // request threads (one per open connection)
-  int max_streams = 32;        // concurrent /api/events streams, on top of `threads`
-  std::string photo_dir;       // where to find photos whose recorded path is gone
+  int port = 8080;        // 0: any free port
+  std::string web_dir;    // the console's files; empty: no console
+  std::string token;      // required for writes when not empty
+  int threads = 96;       // request threads (one per open connection)
+  int max_streams = 32;   // concurrent /api/events streams, on top of `threads`
+  std::string photo_dir;  // where to find photos whose recorded path is gone
 };
 
 class HttpServer {
@@ -52,7 +52,7 @@ class HttpServer {
   MissionState* mission_;
   DetectionRegistry* detections_;
   EventHub* events_;
-  std::unique_ptr<httplib::Server> http_;     // the API, on a loopback port
+  std::unique_ptr<httplib::Server> http_;      // the API, on a loopback port
   std::unique_ptr<class TileFrontEnd> front_;  // the public port: tiles itself, the rest to http_
   std::thread thread_;
   std::atomic<int> streams_{0};

@@ -20,16 +20,19 @@ bool FootprintContains(const std::array<LatLon, 4>& fp, const LatLon& p) {
   for (size_t i = 0, j = fp.size() - 1; i < fp.size(); j = i++) {
     const LatLon& a = fp[i];
     const LatLon& b = fp[j];
-    if ((a.lat > p.lat) != (b.lat > p.lat) &&
-        p.lon < (b.lon - a.lon) * (p.lat - a.lat) / (b.lat - a.lat) + a.lon)
+    if ((a.lat > p.lat) != (b.lat > p.lat) && p.lon < (b.lon - a.lon) * (p.lat - a.lat) / (b.lat - a.lat) + a.lon)
       inside = !inside;
   }
   return inside;
 }
 
 nlohmann::json PoseJson(const FrameRecord& f) {
-  return {{"frame", f.id},          {"lat", f.position.lat},   {"lon", f.position.lon},
-          {"heading_deg", f.heading_deg}, {"depth_m", f.depth_m}, {"altitude_m", f.altitude_m},
+  return {{"frame", f.id},
+          {"lat", f.position.lat},
+          {"lon", f.position.lon},
+          {"heading_deg", f.heading_deg},
+          {"depth_m", f.depth_m},
+          {"altitude_m", f.altitude_m},
           {"time_s", OptionalNumber(f.time_s)}};
 }
 
@@ -119,8 +122,10 @@ void MissionState::AddFrame(const FrameRecord& frame, const TrackPoint& point) {
   } else {  // a frame painted again (appending to a mission) replaces its record
     auto it = std::lower_bound(frames_.begin(), frames_.end(), frame.id,
                                [](const FrameRecord& f, int v) { return f.id < v; });
-    if (it != frames_.end() && it->id == frame.id) *it = frame;
-    else frames_.insert(it, frame);
+    if (it != frames_.end() && it->id == frame.id)
+      *it = frame;
+    else
+      frames_.insert(it, frame);
   }
   if (track_.empty() || point.seq > track_.back().seq) track_.push_back(point);
 }
@@ -187,8 +192,7 @@ std::vector<FrameRecord> MissionState::FramesCovering(const LatLon& p, size_t li
 
 std::optional<FrameRecord> MissionState::Frame(int id) const {
   std::lock_guard<std::mutex> lock(mutex_);
-  auto it = std::lower_bound(frames_.begin(), frames_.end(), id,
-                             [](const FrameRecord& f, int v) { return f.id < v; });
+  auto it = std::lower_bound(frames_.begin(), frames_.end(), id, [](const FrameRecord& f, int v) { return f.id < v; });
   if (it == frames_.end() || it->id != id) return std::nullopt;
   return *it;
 }

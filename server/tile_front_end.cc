@@ -15,13 +15,13 @@
 
 #include <algorithm>
 #include <atomic>
-#include <chrono>
-#include <thread>
 #include <cctype>
+#include <chrono>
 #include <cstring>
 #include <mutex>
 #include <optional>
 #include <set>
+#include <thread>
 
 #include "core/util/error.h"
 #include "server/mission_state.h"
@@ -34,12 +34,18 @@ constexpr size_t kMaxHead = 8192;  // longer heads go to httplib, which refuses 
 
 const char* Reason(int status) {
   switch (status) {
-    case 200: return "OK";
-    case 204: return "No Content";
-    case 304: return "Not Modified";
-    case 400: return "Bad Request";
-    case 404: return "Not Found";
-    default: return "Internal Server Error";
+    case 200:
+      return "OK";
+    case 204:
+      return "No Content";
+    case 304:
+      return "Not Modified";
+    case 400:
+      return "Bad Request";
+    case 404:
+      return "Not Found";
+    default:
+      return "Internal Server Error";
   }
 }
 
@@ -106,7 +112,9 @@ Head ParseHead(const std::string& head) {
   return h;
 }
 
-void FreeBody(const void*, size_t, void* holder) { delete static_cast<std::shared_ptr<const std::string>*>(holder); }
+void FreeBody(const void*, size_t, void* holder) {
+  delete static_cast<std::shared_ptr<const std::string>*>(holder);
+}
 
 }  // namespace
 
@@ -203,8 +211,10 @@ struct TileFrontEnd::Connection {
       evbuffer_write(out, bufferevent_getfd(client));
       evbuffer_freeze(out, 1);
     }
-    if (evbuffer_get_length(out) > 0) bufferevent_enable(client, EV_WRITE);
-    else bufferevent_disable(client, EV_WRITE);
+    if (evbuffer_get_length(out) > 0)
+      bufferevent_enable(client, EV_WRITE);
+    else
+      bufferevent_disable(client, EV_WRITE);
   }
 
   // Everything from here on (including what was read) goes to httplib.
@@ -233,8 +243,7 @@ struct TileFrontEnd::Connection {
 
   void ShutdownBackendWrite() {
     // The client said all it will say; tell httplib once it has everything.
-    if (evbuffer_get_length(bufferevent_get_output(backend)) == 0)
-      shutdown(bufferevent_getfd(backend), SHUT_WR);
+    if (evbuffer_get_length(bufferevent_get_output(backend)) == 0) shutdown(bufferevent_getfd(backend), SHUT_WR);
   }
 
   static void OnClientWrite(bufferevent* bev, void* arg) {
@@ -295,7 +304,7 @@ void OnAccept(evconnlistener*, evutil_socket_t fd, sockaddr*, int, void* arg) {
   bufferevent_setcb(c->client, TileFrontEnd::Connection::OnClientRead, TileFrontEnd::Connection::OnClientWrite,
                     TileFrontEnd::Connection::OnClientEvent, c);
   bufferevent_set_max_single_write(c->client, 1 << 20);  // a whole tile per write, not 16 KiB
-  bufferevent_enable(c->client, EV_READ);  // EV_WRITE only while a reply waits (FlushNow)
+  bufferevent_enable(c->client, EV_READ);                // EV_WRITE only while a reply waits (FlushNow)
   ctx->second->connections.insert(c);
 }
 

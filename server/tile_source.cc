@@ -196,7 +196,9 @@ std::map<std::string, std::string> TileSource::Metadata(const std::string& layer
   return out;
 }
 
-std::vector<std::string> TileSource::Layers() { return Snapshot()->layers; }
+std::vector<std::string> TileSource::Layers() {
+  return Snapshot()->layers;
+}
 
 bool TileSource::IsLayer(const std::string& name) {
   auto snapshot = Snapshot();
@@ -205,6 +207,8 @@ bool TileSource::IsLayer(const std::string& name) {
   return false;
 }
 
-std::string TileSource::Format() { return Snapshot()->format; }
+std::string TileSource::Format() {
+  return Snapshot()->format;
+}
 
 }  // namespace seamap::server

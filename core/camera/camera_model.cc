@@ -22,7 +22,9 @@ constexpr double kDegToRad = M_PI / 180.0;
 
 // Brown-Conrady coefficient counts OpenCV knows; we model the first five and
 // accept longer vectors only when the extra (rational/thin-prism/tilt) terms are 0.
-bool IsSupportedDistortionCount(size_t n) { return n <= 5 || n == 8 || n == 12 || n == 14; }
+bool IsSupportedDistortionCount(size_t n) {
+  return n <= 5 || n == 8 || n == 12 || n == 14;
+}
 
 std::string Lowercase(std::string s) {
   std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
@@ -33,17 +35,17 @@ std::string Lowercase(std::string s) {
 void SetDistortion(CameraModel& camera, const std::vector<double>& coeffs, const std::string& path,
                    const std::string& field) {
   if (!IsSupportedDistortionCount(coeffs.size()))
-    throw InputError(path, 0, field,
-                     "expected 0-5, 8, 12 or 14 coefficients (k1, k2, p1, p2, k3, ...), got " +
-                         std::to_string(coeffs.size()));
+    throw InputError(
+        path, 0, field,
+        "expected 0-5, 8, 12 or 14 coefficients (k1, k2, p1, p2, k3, ...), got " + std::to_string(coeffs.size()));
   for (size_t i = 0; i < coeffs.size(); ++i) {
     if (!std::isfinite(coeffs[i]))
-      throw InputError(path, 0, field, "expected finite numbers, element " + std::to_string(i) +
-                                           " is not");
+      throw InputError(path, 0, field, "expected finite numbers, element " + std::to_string(i) + " is not");
     if (i >= 5 && coeffs[i] != 0)
       throw InputError(path, 0, field,
                        "expected only k1, k2, p1, p2, k3 to be non-zero: the rational, thin-prism "
-                       "and tilt terms (element " + std::to_string(i) + ") are not supported");
+                       "and tilt terms (element " +
+                           std::to_string(i) + ") are not supported");
   }
   camera.distortion = {};
   for (size_t i = 0; i < std::min<size_t>(5, coeffs.size()); ++i) camera.distortion[i] = coeffs[i];
@@ -64,15 +66,13 @@ struct JsonReader {
     if (!v->is_number()) throw InputError(path, 0, field, "expected a number, got " + v->dump());
     return v->get<double>();
   }
-  double NumberOr(const json& obj, const std::string& key, const std::string& field,
-                  double fallback) const {
+  double NumberOr(const json& obj, const std::string& key, const std::string& field, double fallback) const {
     return Find(obj, key) ? Number(obj, key, field) : fallback;
   }
   int Integer(const json& obj, const std::string& key) const {
     const json* v = Find(obj, key);
     if (!v) throw InputError(path, 0, key, "missing; expected a positive integer");
-    if (!v->is_number_integer())
-      throw InputError(path, 0, key, "expected a positive integer, got " + v->dump());
+    if (!v->is_number_integer()) throw InputError(path, 0, key, "expected a positive integer, got " + v->dump());
     return v->get<int>();
   }
   std::vector<double> Numbers(const json& v, const std::string& field) const {
@@ -84,8 +84,7 @@ struct JsonReader {
     }
     return out;
   }
-  void RejectUnknownKeys(const json& obj, const std::set<std::string>& known,
-                         const std::string& prefix) const {
+  void RejectUnknownKeys(const json& obj, const std::set<std::string>& known, const std::string& prefix) const {
     for (const auto& item : obj.items()) {
       if (known.count(item.key())) continue;
       std::string list;
@@ -111,14 +110,14 @@ CameraModel LoadJson(const std::string& path) {
     j = json::parse(text);
   } catch (const json::parse_error& e) {
     // e.byte is 1-based position of the offending character.
-    throw InputError(path, LineOfByte(text, e.byte > 0 ? e.byte - 1 : 0), "",
-                     std::string("invalid JSON: ") + e.what());
+    throw InputError(path, LineOfByte(text, e.byte > 0 ? e.byte - 1 : 0), "", std::string("invalid JSON: ") + e.what());
   }
   if (!j.is_object()) throw InputError(path, 1, "", "expected a JSON object");
 
   JsonReader r{path};
-  r.RejectUnknownKeys(j, {"width", "height", "fx", "fy", "cx", "cy", "focal_mm", "pixel_pitch_um",
-                          "distortion", "mount", "name", "comment"},
+  r.RejectUnknownKeys(j,
+                      {"width", "height", "fx", "fy", "cx", "cy", "focal_mm", "pixel_pitch_um", "distortion", "mount",
+                       "name", "comment"},
                       "");
   CameraModel c;
   c.width = r.Integer(j, "width");
@@ -149,8 +148,7 @@ CameraModel LoadJson(const std::string& path) {
     c.cy = r.Number(j, "cy", "cy");
   }
 
-  if (const json* d = r.Find(j, "distortion"))
-    SetDistortion(c, r.Numbers(*d, "distortion"), path, "distortion");
+  if (const json* d = r.Find(j, "distortion")) SetDistortion(c, r.Numbers(*d, "distortion"), path, "distortion");
 
   if (const json* m = r.Find(j, "mount")) {
     if (!m->is_object()) throw InputError(path, 0, "mount", "expected an object");
@@ -161,8 +159,7 @@ CameraModel LoadJson(const std::string& path) {
     if (const json* o = r.Find(*m, "offset_m")) {
       const auto xyz = r.Numbers(*o, "mount.offset_m");
       if (xyz.size() != 3)
-        throw InputError(path, 0, "mount.offset_m",
-                         "expected [forward, starboard, down] in metres (3 numbers)");
+        throw InputError(path, 0, "mount.offset_m", "expected [forward, starboard, down] in metres (3 numbers)");
       c.mount_offset_m = {xyz[0], xyz[1], xyz[2]};
     }
   }
@@ -174,8 +171,8 @@ CameraModel LoadJson(const std::string& path) {
 
 // Reads a matrix written by cv::FileStorage (!!opencv-matrix) or the ROS
 // camera_info layout ({rows, cols, data: [...]}) into a flat vector.
-std::vector<double> ReadMatrix(const cv::FileNode& node, const std::string& path,
-                               const std::string& field, int* rows, int* cols) {
+std::vector<double> ReadMatrix(const cv::FileNode& node, const std::string& path, const std::string& field, int* rows,
+                               int* cols) {
   if (node.empty() || node.isNone()) throw InputError(path, 0, field, "missing; expected a matrix");
   cv::Mat m;
   try {
@@ -188,14 +185,12 @@ std::vector<double> ReadMatrix(const cv::FileNode& node, const std::string& path
     node["data"] >> data;
     const int r = node["rows"].empty() ? 1 : static_cast<int>(node["rows"]);
     const int c = node["cols"].empty() ? static_cast<int>(data.size()) : static_cast<int>(node["cols"]);
-    if (r * c != static_cast<int>(data.size()))
-      throw InputError(path, 0, field, "expected rows*cols data values");
+    if (r * c != static_cast<int>(data.size())) throw InputError(path, 0, field, "expected rows*cols data values");
     *rows = r;
     *cols = c;
     return data;
   }
-  if (m.empty())
-    throw InputError(path, 0, field, "expected a matrix (!!opencv-matrix or {rows, cols, data})");
+  if (m.empty()) throw InputError(path, 0, field, "expected a matrix (!!opencv-matrix or {rows, cols, data})");
   m.convertTo(m, CV_64F);
   *rows = m.rows;
   *cols = m.cols;
@@ -240,17 +235,14 @@ CameraModel LoadFileStorage(const std::string& path) {
   const auto k = ReadMatrix(fs["camera_matrix"], path, "camera_matrix", &rows, &cols);
   if (rows != 3 || cols != 3) throw InputError(path, 0, "camera_matrix", "expected a 3x3 matrix");
   if (k[1] != 0 || k[3] != 0 || k[6] != 0 || k[7] != 0 || k[8] != 1)
-    throw InputError(path, 0, "camera_matrix",
-                     "expected [fx 0 cx; 0 fy cy; 0 0 1] (no skew)");
+    throw InputError(path, 0, "camera_matrix", "expected [fx 0 cx; 0 fy cy; 0 0 1] (no skew)");
   c.fx = k[0];
   c.cx = k[2];
   c.fy = k[4];
   c.cy = k[5];
 
-  const auto d = ReadMatrix(fs["distortion_coefficients"], path, "distortion_coefficients", &rows,
-                            &cols);
-  if (rows != 1 && cols != 1)
-    throw InputError(path, 0, "distortion_coefficients", "expected a 1xN or Nx1 vector");
+  const auto d = ReadMatrix(fs["distortion_coefficients"], path, "distortion_coefficients", &rows, &cols);
+  if (rows != 1 && cols != 1) throw InputError(path, 0, "distortion_coefficients", "expected a 1xN or Nx1 vector");
   SetDistortion(c, d, path, "distortion_coefficients");
   c.Validate(path);
   return c;
@@ -280,9 +272,7 @@ bool CameraModel::HasDistortion() const {
 Eigen::Matrix3d CameraModel::CameraToBody() const {
   // Columns: camera x, y, z expressed in the body frame (stbd, aft, down).
   Eigen::Matrix3d down_bow_up;
-  down_bow_up << 0, -1, 0,
-                 1, 0, 0,
-                 0, 0, 1;
+  down_bow_up << 0, -1, 0, 1, 0, 0, 0, 0, 1;
   return RotationZYX(mount_rpy_deg) * down_bow_up;
 }
 
@@ -307,32 +297,25 @@ std::vector<cv::Point2d> CameraModel::Distort(const std::vector<cv::Point2d>& id
 
 void CameraModel::Validate(const std::string& source) const {
   if (width <= 0) throw InputError(source, 0, "width", "expected a positive image width in pixels");
-  if (height <= 0)
-    throw InputError(source, 0, "height", "expected a positive image height in pixels");
+  if (height <= 0) throw InputError(source, 0, "height", "expected a positive image height in pixels");
   if (!(fx > 0) || !std::isfinite(fx))
     throw InputError(source, 0, "fx", "expected a positive finite focal length in pixels");
   if (!(fy > 0) || !std::isfinite(fy))
     throw InputError(source, 0, "fy", "expected a positive finite focal length in pixels");
-  if (!(cx >= 0 && cx <= width))
-    throw InputError(source, 0, "cx", "expected a principal point in [0, width]");
-  if (!(cy >= 0 && cy <= height))
-    throw InputError(source, 0, "cy", "expected a principal point in [0, height]");
+  if (!(cx >= 0 && cx <= width)) throw InputError(source, 0, "cx", "expected a principal point in [0, width]");
+  if (!(cy >= 0 && cy <= height)) throw InputError(source, 0, "cy", "expected a principal point in [0, height]");
   for (double d : distortion)
     if (!std::isfinite(d)) throw InputError(source, 0, "distortion", "expected finite coefficients");
-  if (!mount_rpy_deg.allFinite())
-    throw InputError(source, 0, "mount", "expected finite roll/pitch/yaw in degrees");
-  if (!mount_offset_m.allFinite())
-    throw InputError(source, 0, "mount.offset_m", "expected finite offsets in metres");
+  if (!mount_rpy_deg.allFinite()) throw InputError(source, 0, "mount", "expected finite roll/pitch/yaw in degrees");
+  if (!mount_offset_m.allFinite()) throw InputError(source, 0, "mount.offset_m", "expected finite offsets in metres");
 }
 
 CameraModel LoadCamera(const std::string& path) {
-  if (!std::filesystem::is_regular_file(path))
-    throw InputError(path, 0, "", "camera file not found");
+  if (!std::filesystem::is_regular_file(path)) throw InputError(path, 0, "", "camera file not found");
   const std::string ext = Lowercase(std::filesystem::path(path).extension().string());
   if (ext == ".json") return LoadJson(path);
   if (ext == ".yaml" || ext == ".yml" || ext == ".xml") return LoadFileStorage(path);
-  throw InputError(path, 0, "", "unknown camera file type '" + ext +
-                                    "'; expected .json, .yaml, .yml or .xml");
+  throw InputError(path, 0, "", "unknown camera file type '" + ext + "'; expected .json, .yaml, .yml or .xml");
 }
 
 void SaveCameraJson(const CameraModel& camera, const std::string& path) {
@@ -347,8 +330,7 @@ void SaveCameraJson(const CameraModel& camera, const std::string& path) {
              {{"roll_deg", camera.mount_rpy_deg.x()},
               {"pitch_deg", camera.mount_rpy_deg.y()},
               {"yaw_deg", camera.mount_rpy_deg.z()},
-              {"offset_m",
-               {camera.mount_offset_m.x(), camera.mount_offset_m.y(), camera.mount_offset_m.z()}}}}};
+              {"offset_m", {camera.mount_offset_m.x(), camera.mount_offset_m.y(), camera.mount_offset_m.z()}}}}};
   std::ofstream out(path);
   out << j.dump(2) << "\n";
   if (!out) throw InputError(path, 0, "", "cannot write camera file");

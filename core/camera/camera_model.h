@@ -21,7 +21,7 @@ struct CameraModel {
   int width = 0;
   int height = 0;
   double fx = 0, fy = 0, cx = 0, cy = 0;  // pixels; pixel centres at integers
-  std::array<double, 5> distortion{};    // k1, k2, p1, p2, k3
+  std::array<double, 5> distortion{};     // k1, k2, p1, p2, k3
 
   // Extra rotation of the camera relative to the default downward mounting,
   // degrees, as (roll, pitch, yaw) about the BODY axes (x fwd, y stbd, z down):

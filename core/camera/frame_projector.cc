@@ -28,7 +28,9 @@ Eigen::Matrix3d PixelToNedRay(const CameraModel& camera, const VehiclePose& pose
   return CameraToNed(camera, pose) * k.inverse();
 }
 
-bool PointsDown(const Eigen::Vector3d& ray) { return ray.z() > kMinDownSine * ray.norm(); }
+bool PointsDown(const Eigen::Vector3d& ray) {
+  return ray.z() > kMinDownSine * ray.norm();
+}
 
 // Camera centre in NED relative to the navigation reference point.
 Eigen::Vector3d CameraOffsetNed(const CameraModel& camera, const VehiclePose& pose) {
@@ -64,9 +66,7 @@ std::optional<Eigen::Matrix3d> ImageToGround(const CameraModel& camera, const Ve
   Eigen::Matrix3d ned_to_enu_order;
   ned_to_enu_order << 0, 1, 0, 1, 0, 0, 0, 0, 1;
   Eigen::Matrix3d a;
-  a << height, 0, pose.east_m + c.y(),
-       0, height, pose.north_m + c.x(),
-       0, 0, 1;
+  a << height, 0, pose.east_m + c.y(), 0, height, pose.north_m + c.x(), 0, 0, 1;
   Eigen::Matrix3d h = a * ned_to_enu_order * ray;
 
   // w at the principal point is the optical axis' down component; make it 1.
@@ -75,8 +75,7 @@ std::optional<Eigen::Matrix3d> ImageToGround(const CameraModel& camera, const Ve
   return Eigen::Matrix3d(h / w_centre);
 }
 
-std::optional<LocalXY> PixelToGround(const CameraModel& camera, const VehiclePose& pose, double u,
-                                     double v) {
+std::optional<LocalXY> PixelToGround(const CameraModel& camera, const VehiclePose& pose, double u, double v) {
   const Eigen::Vector3d c = CameraOffsetNed(camera, pose);
   const double height = pose.altitude_m - c.z();
   if (!(height > 0)) return std::nullopt;
@@ -87,8 +86,7 @@ std::optional<LocalXY> PixelToGround(const CameraModel& camera, const VehiclePos
   return LocalXY{pose.east_m + c.y() + t * q.y(), pose.north_m + c.x() + t * q.x()};
 }
 
-std::optional<std::array<LocalXY, 4>> Footprint(const CameraModel& camera,
-                                                 const VehiclePose& pose) {
+std::optional<std::array<LocalXY, 4>> Footprint(const CameraModel& camera, const VehiclePose& pose) {
   const auto h = ImageToGround(camera, pose);
   if (!h) return std::nullopt;
   const auto corners = UndistortedCorners(camera);

@@ -39,14 +39,12 @@ std::optional<Eigen::Matrix3d> ImageToGround(const CameraModel& camera, const Ve
 
 // Where the ray of one raw (distorted) pixel hits the seabed; empty when it
 // does not (points at or above the horizon, or the camera is below the seabed).
-std::optional<LocalXY> PixelToGround(const CameraModel& camera, const VehiclePose& pose, double u,
-                                     double v);
+std::optional<LocalXY> PixelToGround(const CameraModel& camera, const VehiclePose& pose, double u, double v);
 
 // The four image corners (raw pixels, undistorted first) on the ground, in
 // order top-left, top-right, bottom-right, bottom-left. Corners are the outer
 // pixel edges: (-0.5, -0.5) ... (w - 0.5, h - 0.5).
-std::optional<std::array<LocalXY, 4>> Footprint(const CameraModel& camera,
-                                                 const VehiclePose& pose);
+std::optional<std::array<LocalXY, 4>> Footprint(const CameraModel& camera, const VehiclePose& pose);
 
 // Ground sample distance at the image centre, metres per pixel.
 double GroundSampleDistance(const CameraModel& camera, double altitude_m);

@@ -37,7 +37,8 @@ WindowGrid WindowStats(const cv::Mat& luma, int window) {
     for (int gx = 0; gx < gw; ++gx) {
       auto [x0, x1] = span(gx * g.stride + g.stride / 2, luma.cols);
       const double n = double(x1 - x0) * (y1 - y0);
-      const double s = sum.at<double>(y1, x1) - sum.at<double>(y0, x1) - sum.at<double>(y1, x0) + sum.at<double>(y0, x0);
+      const double s =
+          sum.at<double>(y1, x1) - sum.at<double>(y0, x1) - sum.at<double>(y1, x0) + sum.at<double>(y0, x0);
       const double sq =
           sqsum.at<double>(y1, x1) - sqsum.at<double>(y0, x1) - sqsum.at<double>(y1, x0) + sqsum.at<double>(y0, x0);
       g.mu.at<float>(gy, gx) = static_cast<float>(s / n);

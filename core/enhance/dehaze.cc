@@ -36,7 +36,9 @@ cv::Mat DarkFromEroded(const std::vector<cv::Mat>& planes, double full, const cv
   return dark;
 }
 
-double FullOf(const cv::Mat& image) { return image.depth() == CV_32F ? 1.0 : FullScale(image); }
+double FullOf(const cv::Mat& image) {
+  return image.depth() == CV_32F ? 1.0 : FullScale(image);
+}
 
 cv::Mat TransmissionFromDark(const cv::Mat& dark, const cv::Mat& guide, const DehazeParams& params) {
   cv::Mat t = 1.0 - params.omega * dark;
@@ -137,8 +139,7 @@ cv::Mat Dehaze(const cv::Mat& image, const DehazeParams& params, bool* applied) 
   if (small.channels() == 3) cv::cvtColor(small, gray, cv::COLOR_BGR2GRAY);
   gray.convertTo(guide, CV_32F, 1.0 / full);
   cv::Mat t = 1.0 - params.omega * DarkFromEroded(eroded, full, airlight);
-  if (params.guided_radius > 0)
-    t = GuidedFilter(guide, t, std::max(1, params.guided_radius / f), params.guided_eps, 1);
+  if (params.guided_radius > 0) t = GuidedFilter(guide, t, std::max(1, params.guided_radius / f), params.guided_eps, 1);
   if (f > 1) cv::resize(t, t, image.size(), 0, 0, cv::INTER_LINEAR);
   return Recover(image, t, airlight, params.t0);
 }

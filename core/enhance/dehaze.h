@@ -11,16 +11,16 @@
 namespace seamap {
 
 struct DehazeParams {
-  int window = 15;                  // dark-channel patch side (pixels)
-  double omega = 0.95;              // haze kept: t = 1 - omega * dark
-  double t0 = 0.1;                  // transmission floor
-  double airlight_fraction = 0.001; // brightest dark-channel share used for A
-  bool gate = true;                 // dehaze only blurred/hazy frames
-  double blur_threshold = 20.0;     // Laplacian variance (8-bit units) below which a frame is hazy
-  int blur_levels = 1;              // pyramid levels down before measuring (see blur_metric.h)
-  int guided_radius = 20;           // guided-filter refinement of t; 0 = off
+  int window = 15;                   // dark-channel patch side (pixels)
+  double omega = 0.95;               // haze kept: t = 1 - omega * dark
+  double t0 = 0.1;                   // transmission floor
+  double airlight_fraction = 0.001;  // brightest dark-channel share used for A
+  bool gate = true;                  // dehaze only blurred/hazy frames
+  double blur_threshold = 20.0;      // Laplacian variance (8-bit units) below which a frame is hazy
+  int blur_levels = 1;               // pyramid levels down before measuring (see blur_metric.h)
+  int guided_radius = 20;            // guided-filter refinement of t; 0 = off
   double guided_eps = 1e-3;
-  void Validate() const;            // throws InputError("dehaze.<param>")
+  void Validate() const;  // throws InputError("dehaze.<param>")
 };
 
 // Dark channel (eq. 19 over blue-green, or the gray channel) of `image` divided

@@ -33,7 +33,8 @@ std::string FormatValue(const json& v) {
 }  // namespace
 
 EnhanceChain EnhanceChain::FromJson(const json& config, const std::string& source) {
-  if (!config.is_object()) throw InputError(source, 0, "", "expected an object like {\"ops\": [...]}, got " + config.dump());
+  if (!config.is_object())
+    throw InputError(source, 0, "", "expected an object like {\"ops\": [...]}, got " + config.dump());
   for (const auto& [key, value] : config.items())
     if (key != "ops" && key != "comment" && key.rfind('_', 0) != 0)  // "_..." and "comment" are notes
       throw InputError(source, 0, key, "unknown key of the enhancement config (expected only \"ops\")");

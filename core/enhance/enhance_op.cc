@@ -126,13 +126,14 @@ std::shared_ptr<EnhanceOp> MakeFunctionOp(const std::string& name, ParamReader& 
   return std::make_shared<FunctionOp<P>>(name, p, std::move(described), fn);
 }
 
-cv::Mat DehazeFn(const cv::Mat& image, const DehazeParams& p) { return Dehaze(image, p); }
+cv::Mat DehazeFn(const cv::Mat& image, const DehazeParams& p) {
+  return Dehaze(image, p);
+}
 
 }  // namespace
 
 const std::vector<std::string>& EnhanceOpNames() {
-  static const std::vector<std::string> names = {"flatfield", "colorbalance", "dehaze",
-                                                 "brightness", "clahe",        "gamma"};
+  static const std::vector<std::string> names = {"flatfield", "colorbalance", "dehaze", "brightness", "clahe", "gamma"};
   return names;
 }
 

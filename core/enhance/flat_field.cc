@@ -25,7 +25,9 @@ void FlatFieldParams::Validate() const {
   RequireParam(seed_frames >= 0, "flatfield.seed_frames", "a whole number >= 0", seed_frames);
 }
 
-FlatField::FlatField(FlatFieldParams params) : params_(params) { params_.Validate(); }
+FlatField::FlatField(FlatFieldParams params) : params_(params) {
+  params_.Validate();
+}
 
 int FlatField::frame_count() const {
   std::lock_guard<std::mutex> lock(mutex_);

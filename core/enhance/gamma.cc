@@ -19,15 +19,13 @@ cv::Mat ApplyGamma(const cv::Mat& image, const GammaParams& params) {
   // A lookup table over every code value: exact and cheap for 8 and 16 bit.
   if (image.depth() == CV_8U) {
     cv::Mat lut(1, 256, CV_8U);
-    for (int v = 0; v < 256; ++v)
-      lut.at<uchar>(v) = cv::saturate_cast<uchar>(full * std::pow(v / full, params.gamma));
+    for (int v = 0; v < 256; ++v) lut.at<uchar>(v) = cv::saturate_cast<uchar>(full * std::pow(v / full, params.gamma));
     cv::Mat out;
     cv::LUT(image, lut, out);
     return out;
   }
   std::vector<ushort> lut(65536);
-  for (int v = 0; v < 65536; ++v)
-    lut[v] = cv::saturate_cast<ushort>(full * std::pow(v / full, params.gamma));
+  for (int v = 0; v < 65536; ++v) lut[v] = cv::saturate_cast<ushort>(full * std::pow(v / full, params.gamma));
   cv::Mat out(image.size(), image.type());
   const int row_len = image.cols * image.channels();
   for (int y = 0; y < image.rows; ++y) {

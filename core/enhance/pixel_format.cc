@@ -10,12 +10,14 @@ void RequireSupportedImage(const cv::Mat& image, const std::string& op) {
   if (image.empty()) throw InputError("", 0, op, "expected an image, got an empty one");
   int t = image.type();
   if (t == CV_8UC1 || t == CV_8UC3 || t == CV_16UC1 || t == CV_16UC3) return;
-  throw InputError("", 0, op,
-                   "expected an 8- or 16-bit gray or BGR image (CV_8UC1, CV_8UC3, CV_16UC1, CV_16UC3), got " +
-                       cv::typeToString(t));
+  throw InputError(
+      "", 0, op,
+      "expected an 8- or 16-bit gray or BGR image (CV_8UC1, CV_8UC3, CV_16UC1, CV_16UC3), got " + cv::typeToString(t));
 }
 
-double FullScale(const cv::Mat& image) { return image.depth() == CV_16U ? 65535.0 : 255.0; }
+double FullScale(const cv::Mat& image) {
+  return image.depth() == CV_16U ? 65535.0 : 255.0;
+}
 
 cv::Mat ToUnitFloat(const cv::Mat& image) {
   cv::Mat out;

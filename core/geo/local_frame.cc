@@ -41,17 +41,14 @@ struct ProjOperation {
 std::string TransverseMercatorAt(LatLon o) {
   std::ostringstream s;
   s.precision(17);
-  s << "+proj=tmerc +lat_0=" << o.lat << " +lon_0=" << o.lon
-    << " +k=1 +x_0=0 +y_0=0 +ellps=WGS84 +units=m";
+  s << "+proj=tmerc +lat_0=" << o.lat << " +lon_0=" << o.lon << " +k=1 +x_0=0 +y_0=0 +ellps=WGS84 +units=m";
   return s.str();
 }
 
 void CheckOrigin(LatLon o) {
-  if (!std::isfinite(o.lat) || !std::isfinite(o.lon) || std::fabs(o.lat) > 90 ||
-      std::fabs(o.lon) > 180) {
+  if (!std::isfinite(o.lat) || !std::isfinite(o.lon) || std::fabs(o.lat) > 90 || std::fabs(o.lon) > 180) {
     std::ostringstream s;
-    s << "origin must be a latitude within [-90, 90] and a longitude within [-180, 180], got "
-      << o.lat << "," << o.lon;
+    s << "origin must be a latitude within [-90, 90] and a longitude within [-180, 180], got " << o.lat << "," << o.lon;
     throw InputError("--origin", 0, "", s.str());
   }
 }
@@ -98,8 +95,7 @@ LocalXY LocalFrame::FromLatLon(LatLon ll) const {
 LatLon UtmToLatLon(double easting, double northing, int zone, bool north) {
   if (zone < 1 || zone > 60)
     throw InputError("", 0, "utm_zone", "expected a UTM zone 1..60, got " + std::to_string(zone));
-  ProjOperation utm("+proj=utm +zone=" + std::to_string(zone) + (north ? "" : " +south") +
-                    " +ellps=WGS84 +units=m");
+  ProjOperation utm("+proj=utm +zone=" + std::to_string(zone) + (north ? "" : " +south") + " +ellps=WGS84 +units=m");
   PJ_COORD c = utm.Run(PJ_INV, easting, northing);
   if (!std::isfinite(c.lp.phi) || !std::isfinite(c.lp.lam) || c.lp.phi == HUGE_VAL)
     throw InputError("", 0, "easting/northing", "UTM coordinates do not map to a position");

@@ -5,7 +5,9 @@
 
 namespace seamap {
 namespace {
-double WorldSize(int zoom, int tile_size) { return std::ldexp(static_cast<double>(tile_size), zoom); }
+double WorldSize(int zoom, int tile_size) {
+  return std::ldexp(static_cast<double>(tile_size), zoom);
+}
 }  // namespace
 
 GlobalPixel LatLonToPixel(LatLon ll, int zoom, int tile_size) {

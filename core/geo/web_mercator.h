@@ -33,17 +33,14 @@ struct TileId {
   int y = 0;  // XYZ row, 0 at the north
   bool operator==(const TileId& o) const { return z == o.z && x == o.x && y == o.y; }
   bool operator!=(const TileId& o) const { return !(*this == o); }
-  bool operator<(const TileId& o) const {
-    return z != o.z ? z < o.z : (x != o.x ? x < o.x : y < o.y);
-  }
+  bool operator<(const TileId& o) const { return z != o.z ? z < o.z : (x != o.x ? x < o.x : y < o.y); }
   TileId Parent() const { return {z - 1, x >> 1, y >> 1}; }
   int TmsRow() const { return (1 << z) - 1 - y; }  // MBTiles row numbering
 };
 
 struct TileIdHash {
   size_t operator()(const TileId& t) const {
-    return (static_cast<size_t>(t.z) << 58) ^ (static_cast<size_t>(t.x) << 29) ^
-           static_cast<size_t>(t.y);
+    return (static_cast<size_t>(t.z) << 58) ^ (static_cast<size_t>(t.x) << 29) ^ static_cast<size_t>(t.y);
   }
 };
 

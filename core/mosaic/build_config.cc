@@ -15,7 +15,12 @@ T Get(const json& value, const std::string& source, const std::string& key) {
   try {
     return value.get<T>();
   } catch (const json::exception&) {
-    throw InputError(source, 0, key, "expected a " + std::string(std::is_same_v<T, std::string> ? "string" : std::is_same_v<T, bool> ? "boolean" : "number") + ", got " + value.dump());
+    throw InputError(source, 0, key,
+                     "expected a " +
+                         std::string(std::is_same_v<T, std::string> ? "string"
+                                     : std::is_same_v<T, bool>      ? "boolean"
+                                                                    : "number") +
+                         ", got " + value.dump());
   }
 }
 
@@ -23,7 +28,8 @@ int GetInt(const json& v, const std::string& source, const std::string& key, int
   if (!v.is_number_integer()) throw InputError(source, 0, key, "expected a whole number, got " + v.dump());
   int x = v.get<int>();
   if (x < lo || x > hi)
-    throw InputError(source, 0, key, "expected " + std::to_string(lo) + ".." + std::to_string(hi) + ", got " + std::to_string(x));
+    throw InputError(source, 0, key,
+                     "expected " + std::to_string(lo) + ".." + std::to_string(hi) + ", got " + std::to_string(x));
   return x;
 }
 
@@ -68,12 +74,18 @@ void ApplyServer(const json& server, const std::string& source, ServerSettings* 
   if (!server.is_object()) throw InputError(source, 0, "server", "expected an object");
   for (auto& [key, v] : server.items()) {
     const std::string k = "server." + key;
-    if (key == "host") out->host = Get<std::string>(v, source, k);
-    else if (key == "port") out->port = GetInt(v, source, k, 0, 65535);
-    else if (key == "token") out->token = Get<std::string>(v, source, k);
-    else if (key == "threads") out->threads = GetInt(v, source, k, 2, 1024);
-    else if (key == "max_streams") out->max_streams = GetInt(v, source, k, 1, 1024);
-    else throw InputError(source, 0, k, "unknown key (known: host, port, token, threads, max_streams)");
+    if (key == "host")
+      out->host = Get<std::string>(v, source, k);
+    else if (key == "port")
+      out->port = GetInt(v, source, k, 0, 65535);
+    else if (key == "token")
+      out->token = Get<std::string>(v, source, k);
+    else if (key == "threads")
+      out->threads = GetInt(v, source, k, 2, 1024);
+    else if (key == "max_streams")
+      out->max_streams = GetInt(v, source, k, 1, 1024);
+    else
+      throw InputError(source, 0, k, "unknown key (known: host, port, token, threads, max_streams)");
   }
 }
 
@@ -82,39 +94,63 @@ void ApplyServer(const json& server, const std::string& source, ServerSettings* 
 void ApplyBuildConfig(const json& s, const std::string& source, BuildConfig* c) {
   if (!s.is_object()) throw InputError(source, 0, "", "expected a JSON object at the top level");
   for (auto& [key, v] : s.items()) {
-    if (key == "name") c->name = Get<std::string>(v, source, key);
-    else if (key == "attribution") c->attribution = Get<std::string>(v, source, key);
+    if (key == "name")
+      c->name = Get<std::string>(v, source, key);
+    else if (key == "attribution")
+      c->attribution = Get<std::string>(v, source, key);
     else if (key == "tile_size") {
       c->tile_size = GetInt(v, source, key, 256, 512);
       if (c->tile_size != 256 && c->tile_size != 512) throw InputError(source, 0, key, "expected 256 or 512");
-    } else if (key == "base_zoom") c->base_zoom = GetInt(v, source, key, 0, 30);
-    else if (key == "min_zoom") c->min_zoom = GetInt(v, source, key, 0, 30);
-    else if (key == "tile_format") c->encoding.format = ParseTileFormat(Get<std::string>(v, source, key), source);
-    else if (key == "png_level") c->encoding.png_level = GetInt(v, source, key, 0, 9);
-    else if (key == "jpeg_quality") c->encoding.jpeg_quality = GetInt(v, source, key, 1, 100);
-    else if (key == "webp_quality") c->encoding.webp_quality = GetInt(v, source, key, 1, 101);
-    else if (key == "background") c->encoding.background = ParseColor(v, source, key);
-    else if (key == "feather_power") c->feather_power = GetPositive(v, source, key);
+    } else if (key == "base_zoom")
+      c->base_zoom = GetInt(v, source, key, 0, 30);
+    else if (key == "min_zoom")
+      c->min_zoom = GetInt(v, source, key, 0, 30);
+    else if (key == "tile_format")
+      c->encoding.format = ParseTileFormat(Get<std::string>(v, source, key), source);
+    else if (key == "png_level")
+      c->encoding.png_level = GetInt(v, source, key, 0, 9);
+    else if (key == "jpeg_quality")
+      c->encoding.jpeg_quality = GetInt(v, source, key, 1, 100);
+    else if (key == "webp_quality")
+      c->encoding.webp_quality = GetInt(v, source, key, 1, 101);
+    else if (key == "background")
+      c->encoding.background = ParseColor(v, source, key);
+    else if (key == "feather_power")
+      c->feather_power = GetPositive(v, source, key);
     else if (key == "seam_band") {
       if (!v.is_number() || !(v.get<double>() > 0 && v.get<double>() <= 1))
         throw InputError(source, 0, key, "expected a number in (0, 1], got " + v.dump());
       c->seam_band = v.get<double>();
-    } else if (key == "blend_all_overlaps") c->blend_all_overlaps = Get<bool>(v, source, key);
-    else if (key == "linger_frames") c->linger_frames = GetInt(v, source, key, 1, 100000);
-    else if (key == "lookahead_frames") c->lookahead_frames = GetInt(v, source, key, 0, 1000000);
-    else if (key == "defer_edge_tails") c->defer_edge_tails = Get<bool>(v, source, key);
-    else if (key == "memory_cap_mb") c->memory_cap_mb = GetInt(v, source, key, 16, 1 << 20);
-    else if (key == "batch_frames") c->batch_frames = GetInt(v, source, key, 1, 100000);
+    } else if (key == "blend_all_overlaps")
+      c->blend_all_overlaps = Get<bool>(v, source, key);
+    else if (key == "linger_frames")
+      c->linger_frames = GetInt(v, source, key, 1, 100000);
+    else if (key == "lookahead_frames")
+      c->lookahead_frames = GetInt(v, source, key, 0, 1000000);
+    else if (key == "defer_edge_tails")
+      c->defer_edge_tails = Get<bool>(v, source, key);
+    else if (key == "memory_cap_mb")
+      c->memory_cap_mb = GetInt(v, source, key, 16, 1 << 20);
+    else if (key == "batch_frames")
+      c->batch_frames = GetInt(v, source, key, 1, 100000);
     else if (key == "batch_seconds") {
-      if (!v.is_number() || v.get<double>() < 0) throw InputError(source, 0, key, "expected a number >= 0, got " + v.dump());
+      if (!v.is_number() || v.get<double>() < 0)
+        throw InputError(source, 0, key, "expected a number >= 0, got " + v.dump());
       c->batch_seconds = v.get<double>();
-    } else if (key == "threads") c->threads = GetInt(v, source, key, 0, 256);
-    else if (key == "live_tiles") c->live_tiles = Get<bool>(v, source, key);
-    else if (key == "max_footprint_ratio") c->max_footprint_ratio = GetPositive(v, source, key);
-    else if (key == "sixteen_bit_white") c->sixteen_bit_white = GetInt(v, source, key, 1, 65535);
-    else if (key == "navigation") ApplyNav(v, source, &c->nav);
-    else if (key == "enhance") c->enhance = v;
-    else if (key == "server") ApplyServer(v, source, &c->server);
+    } else if (key == "threads")
+      c->threads = GetInt(v, source, key, 0, 256);
+    else if (key == "live_tiles")
+      c->live_tiles = Get<bool>(v, source, key);
+    else if (key == "max_footprint_ratio")
+      c->max_footprint_ratio = GetPositive(v, source, key);
+    else if (key == "sixteen_bit_white")
+      c->sixteen_bit_white = GetInt(v, source, key, 1, 65535);
+    else if (key == "navigation")
+      ApplyNav(v, source, &c->nav);
+    else if (key == "enhance")
+      c->enhance = v;
+    else if (key == "server")
+      ApplyServer(v, source, &c->server);
     else if (key == "layers") {
       c->layers = Get<std::string>(v, source, key);
       if (c->layers != "raw" && c->layers != "enhanced" && c->layers != "both")

@@ -1,9 +1,9 @@
 #include "core/mosaic/frame_image.h"
 
+#include <algorithm>
 #include <csetjmp>
 #include <cstdio>
 #include <filesystem>
-#include <algorithm>
 #include <fstream>
 #include <stdexcept>
 
@@ -68,16 +68,22 @@ class JpegReader {
 
 cv::Mat ToEightBit(const cv::Mat& image, int channels, int sixteen_bit_white) {
   cv::Mat eight;
-  if (image.depth() == CV_8U) eight = image;
-  else if (image.depth() == CV_16U) image.convertTo(eight, CV_8U, 255.0 / sixteen_bit_white);
-  else image.convertTo(eight, CV_8U);
+  if (image.depth() == CV_8U)
+    eight = image;
+  else if (image.depth() == CV_16U)
+    image.convertTo(eight, CV_8U, 255.0 / sixteen_bit_white);
+  else
+    image.convertTo(eight, CV_8U);
   if (eight.channels() == 2) cv::extractChannel(eight, eight, 0);  // gray + alpha
   const int have = eight.channels();
   if (have == channels) return eight;
   cv::Mat out;
-  if (channels == 1) cv::cvtColor(eight, out, have == 4 ? cv::COLOR_BGRA2GRAY : cv::COLOR_BGR2GRAY);
-  else if (have == 1) cv::cvtColor(eight, out, cv::COLOR_GRAY2BGR);
-  else cv::cvtColor(eight, out, cv::COLOR_BGRA2BGR);
+  if (channels == 1)
+    cv::cvtColor(eight, out, have == 4 ? cv::COLOR_BGRA2GRAY : cv::COLOR_BGR2GRAY);
+  else if (have == 1)
+    cv::cvtColor(eight, out, cv::COLOR_GRAY2BGR);
+  else
+    cv::cvtColor(eight, out, cv::COLOR_BGRA2BGR);
   return out;
 }
 
@@ -157,7 +163,8 @@ const cv::Mat& FrameImage::Rows(int first, int last) {
 
 const cv::Mat& FrameImage::RowRanges(const std::vector<std::array<int, 2>>& ranges) {
   if (jpeg_.empty()) {  // decoded in full when read
-    if (decoded_last_ < decoded_first_) throw std::logic_error("FrameImage " + path_ + ": rows asked of a released frame");
+    if (decoded_last_ < decoded_first_)
+      throw std::logic_error("FrameImage " + path_ + ": rows asked of a released frame");
     return pixels_;
   }
   std::vector<std::array<int, 2>> sorted = ranges, clamped;
@@ -165,8 +172,10 @@ const cv::Mat& FrameImage::RowRanges(const std::vector<std::array<int, 2>>& rang
   for (const auto& [first, last] : sorted) {
     const int a = std::max(first, 0), b = std::min(last, height_ - 1);
     if (a > b) continue;
-    if (!clamped.empty() && a <= clamped.back()[1] + 1) clamped.back()[1] = std::max(clamped.back()[1], b);
-    else clamped.push_back({a, b});
+    if (!clamped.empty() && a <= clamped.back()[1] + 1)
+      clamped.back()[1] = std::max(clamped.back()[1], b);
+    else
+      clamped.push_back({a, b});
   }
   DecodeJpegRows(clamped);
   decoded_first_ = 0;  // what was decoded is not one range: Rows decodes again
@@ -180,7 +189,8 @@ void FrameImage::DecodeJpegRows(const std::vector<std::array<int, 2>>& ranges) {
   if (ranges.empty()) return;
   JpegReader reader(jpeg_);
   jpeg_decompress_struct& c = reader.cinfo_;
-  if (setjmp(reader.errors_.jump)) throw InputError(path_, 0, "image", std::string("unreadable image: ") + reader.errors_.message);
+  if (setjmp(reader.errors_.jump))
+    throw InputError(path_, 0, "image", std::string("unreadable image: ") + reader.errors_.message);
   jpeg_read_header(&c, TRUE);
   // libjpeg-turbo converts to what the map needs: the luma of a colour
   // frame for a gray map, BGR (OpenCV's order) for a colour one.

@@ -19,8 +19,10 @@ std::array<int64_t, 4> TailBounds(const std::vector<TailPixel>& pixels) {
   if (pixels.empty()) return {0, 0, 0, 0};
   std::array<int64_t, 4> b{pixels[0].x, pixels[0].y, pixels[0].x, pixels[0].y};
   for (const TailPixel& p : pixels) {
-    b[0] = std::min(b[0], p.x); b[2] = std::max(b[2], p.x);
-    b[1] = std::min(b[1], p.y); b[3] = std::max(b[3], p.y);
+    b[0] = std::min(b[0], p.x);
+    b[2] = std::max(b[2], p.x);
+    b[1] = std::min(b[1], p.y);
+    b[3] = std::max(b[3], p.y);
   }
   ++b[2];
   ++b[3];
@@ -56,8 +58,10 @@ WarpedFrame SampleTail(const std::vector<TailPixel>& pixels, const cv::Mat& imag
       const TailPixel& p = *order[k];
       const int col = static_cast<int>(p.x - out.x0);
       uint8_t* px = out.pixels.ptr<uint8_t>(row) + col * image.channels();
-      if (image.channels() == 1) warp::Sample<1>(image.data, image.step[0], p.u, p.v, max_iu, max_iv, px);
-      else warp::Sample<3>(image.data, image.step[0], p.u, p.v, max_iu, max_iv, px);
+      if (image.channels() == 1)
+        warp::Sample<1>(image.data, image.step[0], p.u, p.v, max_iu, max_iv, px);
+      else
+        warp::Sample<3>(image.data, image.step[0], p.u, p.v, max_iu, max_iv, px);
       out.weight.ptr<uint8_t>(row)[col] = p.weight;
       if (!out.runs.empty() && static_cast<int>(out.runs.size()) > out.run_offset[row] && out.runs.back()[1] == col)
         ++out.runs.back()[1];

@@ -1,9 +1,9 @@
 #include "core/mosaic/frame_warper.h"
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <cstring>
-#include <climits>
 #include <limits>
 
 #include <opencv2/imgproc.hpp>
@@ -45,8 +45,10 @@ std::vector<cv::Point2d> RawBorder(const CameraModel& c) {
 std::array<int64_t, 4> BoxAround(const std::vector<cv::Point2d>& global) {
   double min_x = 1e300, min_y = 1e300, max_x = -1e300, max_y = -1e300;
   for (const auto& p : global) {
-    min_x = std::min(min_x, p.x); max_x = std::max(max_x, p.x);
-    min_y = std::min(min_y, p.y); max_y = std::max(max_y, p.y);
+    min_x = std::min(min_x, p.x);
+    max_x = std::max(max_x, p.x);
+    min_y = std::min(min_y, p.y);
+    max_y = std::max(max_y, p.y);
   }
   const auto x0 = static_cast<int64_t>(std::floor(min_x)), y0 = static_cast<int64_t>(std::floor(min_y));
   return {x0, y0, static_cast<int64_t>(std::ceil(max_x)) - x0 + 1, static_cast<int64_t>(std::ceil(max_y)) - y0 + 1};
@@ -68,8 +70,8 @@ bool PaintsAny(const WarpedFrame& frame, const cv::Rect& roi) {
   return false;
 }
 
-FrameWarper::FrameWarper(const CameraModel& camera, const LocalFrame& frame, int zoom,
-                         int tile_size, int channels, double feather_power, double seam_band)
+FrameWarper::FrameWarper(const CameraModel& camera, const LocalFrame& frame, int zoom, int tile_size, int channels,
+                         double feather_power, double seam_band)
     : camera_(camera),
       frame_(frame),
       zoom_(zoom),
@@ -124,13 +126,15 @@ std::optional<std::vector<cv::Point2d>> FrameWarper::MapBorder(const VehiclePose
   auto to_pixel = [&](double east, double north) {
     return LatLonToPixel(frame_.ToLatLon({east, north}), zoom_, tile_size_);
   };
-  const GlobalPixel p0 = to_pixel(c.east, c.north), pe = to_pixel(c.east + 1, c.north), pn = to_pixel(c.east, c.north + 1);
+  const GlobalPixel p0 = to_pixel(c.east, c.north), pe = to_pixel(c.east + 1, c.north),
+                    pn = to_pixel(c.east, c.north + 1);
   // A pixel's centre is its index; global pixel i spans [i, i+1).
   std::vector<cv::Point2d> global(std::min(count, border_.size()));
   for (size_t i = 0; i < global.size(); ++i) {
     const Eigen::Vector3d g = *h * Eigen::Vector3d(border_[i].x, border_[i].y, 1.0);
     const double de = g.x() / g.z() - c.east, dn = g.y() / g.z() - c.north;
-    global[i] = {p0.x + (pe.x - p0.x) * de + (pn.x - p0.x) * dn - 0.5, p0.y + (pe.y - p0.y) * de + (pn.y - p0.y) * dn - 0.5};
+    global[i] = {p0.x + (pe.x - p0.x) * de + (pn.x - p0.x) * dn - 0.5,
+                 p0.y + (pe.y - p0.y) * de + (pn.y - p0.y) * dn - 0.5};
   }
   return global;
 }
@@ -152,8 +156,7 @@ bool FrameWarper::SeesSeabed(const VehiclePose& pose) const {
   return h && SeesSeabed(*h);
 }
 
-cv::Matx33d FrameWarper::BoxToNormalised(const std::vector<cv::Point2d>& global, int64_t x0,
-                                         int64_t y0) const {
+cv::Matx33d FrameWarper::BoxToNormalised(const std::vector<cv::Point2d>& global, int64_t x0, int64_t y0) const {
   // From the four corners: the seabed-to-Web-Mercator step is affine to far
   // below a pixel over a frame. Offsets are taken in double before going to
   // float (global pixels at zoom 25 need 33 bits).
@@ -167,7 +170,6 @@ cv::Matx33d FrameWarper::BoxToNormalised(const std::vector<cv::Point2d>& global,
 }
 
 namespace {
-
 
 // One exactly evaluated grid point: raw image positions in this frame and in
 // the rivals, each with whether its mapping is trustworthy there (in front of
@@ -273,8 +275,10 @@ class RowRuns {
   void Add(int y, int a, int b) {
     int& n = count_[y];
     std::array<int, 2>* r = &runs_[static_cast<size_t>(y) * kMax];
-    if (n > 0 && (a <= r[n - 1][1] + kMergeGap || n == kMax)) r[n - 1][1] = std::max(r[n - 1][1], b);
-    else r[n++] = {a, b};
+    if (n > 0 && (a <= r[n - 1][1] + kMergeGap || n == kMax))
+      r[n - 1][1] = std::max(r[n - 1][1], b);
+    else
+      r[n++] = {a, b};
   }
   int Count(int y) const { return count_[y]; }
   const std::array<int, 2>& Run(int y, int k) const { return runs_[static_cast<size_t>(y) * kMax + k]; }
@@ -318,8 +322,10 @@ void CopyPainted(const cv::Mat& canvas_pixels, const cv::Mat& canvas_weight, con
   for (int y = 0; y < height; ++y) {
     const int n = runs.Count(y);
     if (n == 0) continue;
-    px0 = std::min(px0, runs.Run(y, 0)[0]); px1 = std::max(px1, runs.Run(y, n - 1)[1]);
-    py0 = std::min(py0, y); py1 = y;
+    px0 = std::min(px0, runs.Run(y, 0)[0]);
+    px1 = std::max(px1, runs.Run(y, n - 1)[1]);
+    py0 = std::min(py0, y);
+    py1 = y;
   }
   if (py1 < 0) px0 = px1 = py0 = py1 = 0;
   const int out_w = px1 - px0 + 1, out_h = py1 - py0 + 1;
@@ -358,8 +364,8 @@ std::optional<WarpedFrame> FrameWarper::Warp(const cv::Mat& image, const Vehicle
 }
 
 std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const VehiclePose& pose,
-                                             const std::vector<VehiclePose>& neighbours,
-                                             std::vector<TailPixel>* tail, unsigned tail_sides) const {
+                                             const std::vector<VehiclePose>& neighbours, std::vector<TailPixel>* tail,
+                                             unsigned tail_sides) const {
   auto global = MapBorder(pose);
   if (!global) return std::nullopt;
   WarpedFrame out;
@@ -403,11 +409,15 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
       const double x = gx * cell, y = gy * cell;
       GridPoint& g = grid[i];
       const Projection p = Project(m, x, y, camera_, max_r2_);
-      g.u = p.u; g.v = p.v; g.valid = p.valid;
+      g.u = p.u;
+      g.v = p.v;
+      g.valid = p.valid;
       if (!p.valid || shape.Tent(p.u, p.v) < -0.5f) continue;  // far outside: rivals do not matter
       for (int k = 0; k < n_rivals; ++k) {
         const Projection q = Project(rivals[k], x, y, camera_, max_r2_);
-        g.ru[k] = q.u; g.rv[k] = q.v; g.rival_valid[k] = q.valid;
+        g.ru[k] = q.u;
+        g.rv[k] = q.v;
+        g.rival_valid[k] = q.valid;
       }
     }
   }
@@ -478,8 +488,10 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
     const GridPoint& g01 = (&g00)[nx];
     const GridPoint& g11 = (&g00)[nx + 1];
     auto set = [&](int q, float c00, float c10, float c01, float c11) {
-      e.left[q] = c00; e.left_step[q] = c01 - c00;
-      e.right[q] = c10; e.right_step[q] = c11 - c10;
+      e.left[q] = c00;
+      e.left_step[q] = c01 - c00;
+      e.right[q] = c10;
+      e.right_step[q] = c11 - c10;
     };
     set(0, g00.u, g10.u, g01.u, g11.u);
     set(1, g00.v, g10.v, g01.v, g11.v);
@@ -506,12 +518,16 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
       start[q] = left;
       step[q] = (right - left) * inv_cell;
     }
-    r.u0 = start[0]; r.du = step[0];
-    r.v0 = start[1]; r.dv = step[1];
+    r.u0 = start[0];
+    r.du = step[0];
+    r.v0 = start[1];
+    r.dv = step[1];
     for (int k = 0; k < kMaxRivals; ++k) {
       r.rival[k] = e.rival[k];
-      r.ru0[k] = start[2 + 2 * k]; r.rdu[k] = step[2 + 2 * k];
-      r.rv0[k] = start[3 + 2 * k]; r.rdv[k] = step[3 + 2 * k];
+      r.ru0[k] = start[2 + 2 * k];
+      r.rdu[k] = step[2 + 2 * k];
+      r.rv0[k] = start[3 + 2 * k];
+      r.rdv[k] = step[3 + 2 * k];
     }
   };
   // Which pixels of each block row are painted (bit i: pixel i) and where
@@ -605,7 +621,8 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
         // The row's ends tell whether any pixel can be a tail.
         const float fa = static_cast<float>(__builtin_ctzll(mask)), fb = static_cast<float>(63 - __builtin_clzll(mask));
         const float va = r.v0 + r.dv * fa, vb = r.v0 + r.dv * fb;
-        if (none_at_edge(r.u0 + r.du * fa, r.u0 + r.du * fb) || (!below(std::max(va, vb)) && !above(std::min(va, vb)))) {
+        if (none_at_edge(r.u0 + r.du * fa, r.u0 + r.du * fb) ||
+            (!below(std::max(va, vb)) && !above(std::min(va, vb)))) {
           v_min = std::min(v_min, std::min(va, vb));
           v_max = std::max(v_max, std::max(va, vb));
           continue;

@@ -16,8 +16,8 @@
 // most central of a run of frames keeps it. Lateral overlaps between survey
 // lines are not neighbours and blend in full.
 #include <array>
-#include <cstdint>
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <optional>
 #include <vector>
@@ -37,9 +37,9 @@ struct WarpedFrame {
   int64_t box_x0 = 0, box_y0 = 0;
   int box_width = 0, box_height = 0;
   // The part it paints (often a band of the box, see below).
-  int64_t x0 = 0, y0 = 0;           // global pixel of pixels(0,0) at the base zoom
-  cv::Mat pixels;                   // CV_8UC1 (gray) or CV_8UC3 (BGR)
-  cv::Mat weight;                   // CV_8UC1, 0 where the frame paints nothing, 1..255 elsewhere
+  int64_t x0 = 0, y0 = 0;  // global pixel of pixels(0,0) at the base zoom
+  cv::Mat pixels;          // CV_8UC1 (gray) or CV_8UC3 (BGR)
+  cv::Mat weight;          // CV_8UC1, 0 where the frame paints nothing, 1..255 elsewhere
   // Per row y, runs[run_offset[y] .. run_offset[y + 1]) are column ranges
   // [begin, end), in order, outside which weight is 0 (a band and the
   // slivers along the frame's sides leave most of a span empty). Warp always
@@ -65,8 +65,8 @@ class FrameWarper {
  public:
   // channels: 1 (gray mosaic) or 3 (colour mosaic). seam_band in (0, 1]
   // (see above); 0: no handover, every overlapping frame blends everywhere.
-  FrameWarper(const CameraModel& camera, const LocalFrame& frame, int zoom, int tile_size,
-              int channels, double feather_power, double seam_band = 0);
+  FrameWarper(const CameraModel& camera, const LocalFrame& frame, int zoom, int tile_size, int channels,
+              double feather_power, double seam_band = 0);
 
   // The mapping is evaluated exactly every `step` map pixels in x and y and
   // interpolated bilinearly in between: it is smooth (homography and lens
@@ -138,7 +138,7 @@ class FrameWarper {
                                      // principal point, then points along the edges
   double max_r2_ = 0;                // beyond this normalised radius² a point is outside the image
   int grid_step_ = 16;
-  std::vector<float> weight_lut_;    // tent^power, indexed by tent * (kLut - 1)
+  std::vector<float> weight_lut_;  // tent^power, indexed by tent * (kLut - 1)
 };
 
 }  // namespace seamap

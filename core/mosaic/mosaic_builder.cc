@@ -23,7 +23,9 @@ double Median(std::vector<double> v) {
 }
 
 // Rounds towards minus infinity (global pixels may lie left of or above the map).
-int64_t FloorDiv(int64_t v, int64_t d) { return v >= 0 ? v / d : -((-v + d - 1) / d); }
+int64_t FloorDiv(int64_t v, int64_t d) {
+  return v >= 0 ? v / d : -((-v + d - 1) / d);
+}
 
 }  // namespace
 
@@ -35,7 +37,9 @@ rusage SelfUsage() {
 }
 }  // namespace
 
-int64_t PeakRssBytes() { return static_cast<int64_t>(SelfUsage().ru_maxrss) * 1024; }
+int64_t PeakRssBytes() {
+  return static_cast<int64_t>(SelfUsage().ru_maxrss) * 1024;
+}
 
 double ProcessCpuSeconds() {
   const rusage usage = SelfUsage();
@@ -43,8 +47,8 @@ double ProcessCpuSeconds() {
   return seconds(usage.ru_utime) + seconds(usage.ru_stime);
 }
 
-MosaicPlan PlanMosaic(const BuildConfig& config, const CameraModel& camera,
-                      const LocalFrame& frame, const std::vector<FrameSpec>& frames, int channels) {
+MosaicPlan PlanMosaic(const BuildConfig& config, const CameraModel& camera, const LocalFrame& frame,
+                      const std::vector<FrameSpec>& frames, int channels) {
   MosaicPlan plan;
   plan.channels = channels;
   std::vector<double> altitudes, easts, norths;
@@ -59,8 +63,8 @@ MosaicPlan PlanMosaic(const BuildConfig& config, const CameraModel& camera,
   plan.gsd_m = GroundSampleDistance(camera, median_alt);
   LatLon centre = frame.ToLatLon({Median(easts), Median(norths)});
   plan.latitude = centre.lat;
-  plan.base_zoom = config.base_zoom ? *config.base_zoom
-                                    : ZoomForGroundSampleDistance(plan.gsd_m, plan.latitude, config.tile_size);
+  plan.base_zoom =
+      config.base_zoom ? *config.base_zoom : ZoomForGroundSampleDistance(plan.gsd_m, plan.latitude, config.tile_size);
   plan.base_zoom = std::clamp(plan.base_zoom, 0, 30);
   if (config.min_zoom) {
     plan.min_zoom = std::min(*config.min_zoom, plan.base_zoom);
@@ -81,9 +85,8 @@ MosaicPlan PlanMosaic(const BuildConfig& config, const CameraModel& camera,
   return plan;
 }
 
-MosaicBuilder::MosaicBuilder(const BuildConfig& config, const CameraModel& camera,
-                             const LocalFrame& frame, const MosaicPlan& plan, TileStore* store,
-                             BuildHooks hooks)
+MosaicBuilder::MosaicBuilder(const BuildConfig& config, const CameraModel& camera, const LocalFrame& frame,
+                             const MosaicPlan& plan, TileStore* store, BuildHooks hooks)
     : config_(config),
       camera_(camera),
       frame_(frame),
@@ -110,8 +113,8 @@ MosaicBuilder::MosaicBuilder(const BuildConfig& config, const CameraModel& camer
   pipeline_depth_ = std::clamp(by_memory, 2 * threads + 4, 8 * threads);
   writer_ = std::make_unique<TileWriter>(store, pool_.get(), config.encoding, hooks_.on_tile_written);
   const size_t cap = static_cast<size_t>(config.memory_cap_mb) << 20;
-  pyramid_ = std::make_unique<OverviewPyramid>(writer_.get(), config.tile_size, plan.channels,
-                                               plan.min_zoom, plan.base_zoom, cap / 4);
+  pyramid_ = std::make_unique<OverviewPyramid>(writer_.get(), config.tile_size, plan.channels, plan.min_zoom,
+                                               plan.base_zoom, cap / 4);
   // Continuing a mission (--append): new frames and track points follow the
   // stored ones instead of overwriting them.
   for (const FrameRecord& f : store_->Frames()) frame_id_offset_ = std::max(frame_id_offset_, f.id + 1);
@@ -189,9 +192,12 @@ void MosaicBuilder::Push(const FrameSpec& spec) {
     while (!loading_.empty() && IsReady(loading_.front())) TakeLoaded();
     ConsumeReady(false);
     if (loading_.size() + queued_.size() <= pipeline_depth_) return;
-    if (!queued_.empty() && queued_.front()->warp.valid()) ConsumeReady(true);
-    else if (!loading_.empty()) TakeLoaded();
-    else return;  // only the last usable frame waits, for its next neighbour
+    if (!queued_.empty() && queued_.front()->warp.valid())
+      ConsumeReady(true);
+    else if (!loading_.empty())
+      TakeLoaded();
+    else
+      return;  // only the last usable frame waits, for its next neighbour
   }
 }
 
@@ -264,7 +270,8 @@ void MosaicBuilder::Reject(const Rejection& rejection) {
 std::optional<std::string> MosaicBuilder::TooSteep(const VehiclePose& pose,
                                                    const std::array<LocalXY, 4>& corners) const {
   // Nearly horizontal views smear one frame over a huge area: refuse them.
-  const double nadir_area = (camera_.width * pose.altitude_m / camera_.fx) * (camera_.height * pose.altitude_m / camera_.fy);
+  const double nadir_area =
+      (camera_.width * pose.altitude_m / camera_.fx) * (camera_.height * pose.altitude_m / camera_.fy);
   double area = 0;  // shoelace formula over the corners in local metres
   for (int i = 0; i < 4; ++i) {
     const LocalXY& a = corners[i];
@@ -297,8 +304,8 @@ MosaicBuilder::Prepared MosaicBuilder::Load(const FrameSpec& spec) const {
   if (!image) return reject("image", problem);
   if (image->width() != camera_.width || image->height() != camera_.height) {
     std::ostringstream s;
-    s << "image is " << image->width() << "x" << image->height() << ", the camera model expects "
-      << camera_.width << "x" << camera_.height;
+    s << "image is " << image->width() << "x" << image->height() << ", the camera model expects " << camera_.width
+      << "x" << camera_.height;
     return reject("image", s.str());
   }
   if (!p.footprint) return reject("pitch_deg/roll_deg", "the camera does not see the seabed in this attitude");
@@ -344,10 +351,13 @@ void MosaicBuilder::Consume(Prepared p) {
     record.status = "used";
     LatLonBounds fb{180, 90, -180, -90};
     for (const auto& c : *p.footprint) {
-      fb.west = std::min(fb.west, c.lon); fb.east = std::max(fb.east, c.lon);
-      fb.south = std::min(fb.south, c.lat); fb.north = std::max(fb.north, c.lat);
+      fb.west = std::min(fb.west, c.lon);
+      fb.east = std::max(fb.east, c.lon);
+      fb.south = std::min(fb.south, c.lat);
+      fb.north = std::max(fb.north, c.lat);
     }
-    if (!stats_.bounds) stats_.bounds = fb;
+    if (!stats_.bounds)
+      stats_.bounds = fb;
     else {
       stats_.bounds->west = std::min(stats_.bounds->west, fb.west);
       stats_.bounds->east = std::max(stats_.bounds->east, fb.east);
@@ -450,8 +460,10 @@ void MosaicBuilder::FinishTiles(bool all) {
   std::vector<TileId> done;
   std::vector<std::pair<int, TileId>> by_age;  // the tiles kept
   for (const auto& [id, slot] : buffer_) {
-    if (all || (consumed_ - slot.last_frame >= config_.linger_frames && !OverSoon(id))) done.push_back(id);
-    else by_age.push_back({slot.last_frame, id});
+    if (all || (consumed_ - slot.last_frame >= config_.linger_frames && !OverSoon(id)))
+      done.push_back(id);
+    else
+      by_age.push_back({slot.last_frame, id});
   }
   // Memory cap: finish the least recently painted tiles first.
   const size_t cap = (static_cast<size_t>(config_.memory_cap_mb) << 20) * 3 / 4;
@@ -491,7 +503,8 @@ std::vector<TailPixel> MosaicBuilder::Unpainted(const std::vector<TailPixel>& pi
     if (auto it = buffer_.find(id); it != buffer_.end()) {
       covered = it->second.accumulator->Covers(p.x, p.y);
     } else if (auto kept = finished_weights_.find(id); kept != finished_weights_.end()) {
-      covered = kept->second.weights.at<uint16_t>(static_cast<int>(p.y - id.y * ts), static_cast<int>(p.x - id.x * ts)) > 0;
+      covered =
+          kept->second.weights.at<uint16_t>(static_cast<int>(p.y - id.y * ts), static_cast<int>(p.x - id.x * ts)) > 0;
     }  // else not known: painted (a written tile is read back)
     if (!covered) open.push_back(p);
   }
@@ -525,7 +538,8 @@ void MosaicBuilder::SettleTails(std::vector<PendingTails::Taken> taken) {
   const size_t in_flight = 2 * static_cast<size_t>(pool_->size());
   std::deque<std::future<WarpedFrame>> jobs;
   auto submit = [&](size_t i) {
-    jobs.push_back(pool_->Submit([image = images[i], pixels = std::move(open[i])] { return DecodeTail(*image, pixels); }));
+    jobs.push_back(
+        pool_->Submit([image = images[i], pixels = std::move(open[i])] { return DecodeTail(*image, pixels); }));
   };
   size_t next = 0;
   for (; next < images.size() && next < in_flight; ++next) submit(next);
@@ -664,8 +678,8 @@ void MosaicBuilder::WriteMetadata(bool complete) {
     const auto& b = *stats_.bounds;
     store_->SetMetadata("bounds", num(b.west) + "," + num(b.south) + "," + num(b.east) + "," + num(b.north));
     const int centre_zoom = std::max(plan_.min_zoom, std::min(plan_.base_zoom, plan_.min_zoom + 2));
-    store_->SetMetadata("center", num((b.west + b.east) / 2) + "," + num((b.south + b.north) / 2) + "," +
-                                      std::to_string(centre_zoom));
+    store_->SetMetadata(
+        "center", num((b.west + b.east) / 2) + "," + num((b.south + b.north) / 2) + "," + std::to_string(centre_zoom));
   }
 }
 

@@ -44,13 +44,13 @@ namespace seamap {
 struct MosaicPlan {
   int base_zoom = 0;
   int min_zoom = 0;
-  int channels = 1;         // 1 gray, 3 colour
-  double gsd_m = 0;         // ground sample distance at the median altitude
-  double latitude = 0;      // survey latitude used for the zoom choice
+  int channels = 1;     // 1 gray, 3 colour
+  double gsd_m = 0;     // ground sample distance at the median altitude
+  double latitude = 0;  // survey latitude used for the zoom choice
 };
 
-MosaicPlan PlanMosaic(const BuildConfig& config, const CameraModel& camera,
-                      const LocalFrame& frame, const std::vector<FrameSpec>& frames, int channels);
+MosaicPlan PlanMosaic(const BuildConfig& config, const CameraModel& camera, const LocalFrame& frame,
+                      const std::vector<FrameSpec>& frames, int channels);
 
 struct BuildStats {
   int frames_seen = 0;
@@ -59,12 +59,12 @@ struct BuildStats {
   int64_t tiles_written = 0;          // store writes, rewrites included
   int64_t tile_bytes = 0;
   std::map<int, int64_t> tiles_per_zoom;  // distinct tiles
-  int64_t readbacks = 0;              // tiles read back to continue painting
-  int tail_frames = 0;                // frames whose side-edge tail waited (BuildConfig::defer_edge_tails)
-  int tail_decodes = 0;               // times a waiting tail had pixels left to paint (rows decoded)
-  int tail_failures = 0;              // of those, JPEG data broken beyond the rows decoded first: tail not painted
+  int64_t readbacks = 0;                  // tiles read back to continue painting
+  int tail_frames = 0;                    // frames whose side-edge tail waited (BuildConfig::defer_edge_tails)
+  int tail_decodes = 0;                   // times a waiting tail had pixels left to paint (rows decoded)
+  int tail_failures = 0;                  // of those, JPEG data broken beyond the rows decoded first: tail not painted
   double seconds = 0;
-  double cpu_seconds = 0;             // process CPU time (all threads) over the same span
+  double cpu_seconds = 0;  // process CPU time (all threads) over the same span
   std::optional<LatLonBounds> bounds;
 };
 
@@ -78,8 +78,8 @@ struct BuildHooks {
 
 class MosaicBuilder {
  public:
-  MosaicBuilder(const BuildConfig& config, const CameraModel& camera, const LocalFrame& frame,
-                const MosaicPlan& plan, TileStore* store, BuildHooks hooks = {});
+  MosaicBuilder(const BuildConfig& config, const CameraModel& camera, const LocalFrame& frame, const MosaicPlan& plan,
+                TileStore* store, BuildHooks hooks = {});
   ~MosaicBuilder();
 
   // Offline builds: the whole survey, before the first Push. A tile is then
@@ -110,7 +110,7 @@ class MosaicBuilder {
   struct Queued {
     Prepared prepared;
     std::vector<VehiclePose> neighbours;
-    std::string problem;  // set by the warp job when the image cannot be decoded
+    std::string problem;          // set by the warp job when the image cannot be decoded
     std::vector<TailPixel> tail;  // set by the warp job
     std::future<std::optional<WarpedFrame>> warp;
     // Loaded and checked, so it will be warped. (The warp job decodes rows

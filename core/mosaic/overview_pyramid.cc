@@ -15,8 +15,7 @@ cv::Mat ReduceTile2x(const cv::Mat& tile) {
     const uint8_t* r1 = tile.ptr<uint8_t>(2 * y + 1);
     uint8_t* d = out.ptr<uint8_t>(y);
     for (int x = 0; x < out.cols; ++x, d += ch) {
-      const uint8_t* p[4] = {r0 + 2 * x * ch, r0 + (2 * x + 1) * ch, r1 + 2 * x * ch,
-                             r1 + (2 * x + 1) * ch};
+      const uint8_t* p[4] = {r0 + 2 * x * ch, r0 + (2 * x + 1) * ch, r1 + 2 * x * ch, r1 + (2 * x + 1) * ch};
       int alpha_sum = p[0][colour] + p[1][colour] + p[2][colour] + p[3][colour];
       if (alpha_sum == 0) continue;
       if (alpha_sum == 4 * 255) {  // all four painted (most pixels): the weighted mean below, without a division
@@ -25,8 +24,7 @@ cv::Mat ReduceTile2x(const cv::Mat& tile) {
         continue;
       }
       for (int c = 0; c < colour; ++c) {
-        int s = p[0][c] * p[0][colour] + p[1][c] * p[1][colour] + p[2][c] * p[2][colour] +
-                p[3][c] * p[3][colour];
+        int s = p[0][c] * p[0][colour] + p[1][c] * p[1][colour] + p[2][c] * p[2][colour] + p[3][c] * p[3][colour];
         d[c] = static_cast<uint8_t>((s + alpha_sum / 2) / alpha_sum);
       }
       d[colour] = static_cast<uint8_t>((alpha_sum + 2) / 4);
@@ -35,8 +33,8 @@ cv::Mat ReduceTile2x(const cv::Mat& tile) {
   return out;
 }
 
-OverviewPyramid::OverviewPyramid(TileWriter* writer, int tile_size, int channels, int min_zoom,
-                                 int base_zoom, size_t memory_cap_bytes)
+OverviewPyramid::OverviewPyramid(TileWriter* writer, int tile_size, int channels, int min_zoom, int base_zoom,
+                                 size_t memory_cap_bytes)
     : writer_(writer),
       tile_size_(tile_size),
       channels_(channels),

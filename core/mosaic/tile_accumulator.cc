@@ -96,7 +96,7 @@ cv::Mat TileAccumulator::Finalize() const {
   const cv::v_float32x4 zero = cv::v_setzero_f32(), one = cv::v_setall_f32(1.0f), half = cv::v_setall_f32(0.5f),
                         top = cv::v_setall_f32(255.0f);
   // Sixteen pixels of one channel to 8 bits: value = sum / weight, or sum * weight when given inverses.
-  auto to_u8 = [&](const cv::v_float32x4 (&sum)[4], const cv::v_float32x4 (&weight)[4], bool inverse) {
+  auto to_u8 = [&](const cv::v_float32x4(&sum)[4], const cv::v_float32x4(&weight)[4], bool inverse) {
     cv::v_int32x4 q[4];
     for (int g = 0; g < 4; ++g) {
       const cv::v_float32x4 ratio = inverse ? sum[g] * weight[g] : sum[g] / weight[g];
@@ -115,8 +115,8 @@ cv::Mat TileAccumulator::Finalize() const {
         weight[g] = cv::v_load(w + x + 4 * g);
         covered[g] = cv::v_reinterpret_as_s32(weight[g] > zero);  // all ones: -1
       }
-      const cv::v_uint8x16 alpha = cv::v_reinterpret_as_u8(
-          cv::v_pack(cv::v_pack(covered[0], covered[1]), cv::v_pack(covered[2], covered[3])));
+      const cv::v_uint8x16 alpha =
+          cv::v_reinterpret_as_u8(cv::v_pack(cv::v_pack(covered[0], covered[1]), cv::v_pack(covered[2], covered[3])));
       if (channels_ == 1) {
         cv::v_float32x4 gray[4];
         for (int g = 0; g < 4; ++g) gray[g] = cv::v_load(s + x + 4 * g);

@@ -41,8 +41,8 @@ class TileAccumulator {
  private:
   int tile_size_, channels_;
   int64_t origin_x_, origin_y_;  // global pixel of the tile's top-left pixel
-  cv::Mat sum_;     // CV_32FC(channels): sum of weight * value
-  cv::Mat weight_;  // CV_32F: sum of weights
+  cv::Mat sum_;                  // CV_32FC(channels): sum of weight * value
+  cv::Mat weight_;               // CV_32F: sum of weights
 };
 
 }  // namespace seamap

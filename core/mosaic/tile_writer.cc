@@ -25,8 +25,10 @@ void TileWriter::Submit(const TileId& id, const cv::Mat& tile) {
       std::vector<std::future<void>> still;
       for (auto& f : in_flight_) {
         // Finished jobs' errors stay in their futures until Flush reports them.
-        if (IsReady(f)) done_.push_back(std::move(f));
-        else still.push_back(std::move(f));
+        if (IsReady(f))
+          done_.push_back(std::move(f));
+        else
+          still.push_back(std::move(f));
       }
       in_flight_.swap(still);
     }

@@ -38,7 +38,7 @@ class TileWriter {
   // Waits for every submitted tile to be written, then commits the store.
   void Flush();
 
-  int64_t tiles_written() const { return written_; }       // store writes
+  int64_t tiles_written() const { return written_; }  // store writes
   int64_t bytes_written() const { return bytes_; }
   std::map<int, int64_t> distinct_tiles_per_zoom() const;  // tiles that exist, by zoom
 

@@ -5,9 +5,9 @@
 // decides which pixels to visit; these only compute. Inline: they run once
 // per block row and share their constants across a block when inlined.
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <cmath>
 #include <cstring>
 
 #include <opencv2/core/hal/intrin.hpp>
@@ -25,9 +25,12 @@ constexpr int kMaxCell = 64;   // largest grid step (pixels per block row)
 struct ImageShape {
   float width, height, inv_half_w, inv_half_h, centre_u, centre_v;
   explicit ImageShape(const CameraModel& c)
-      : width(static_cast<float>(c.width)), height(static_cast<float>(c.height)),
-        inv_half_w(2.0f / c.width), inv_half_h(2.0f / c.height),
-        centre_u((c.width - 1) / 2.0f), centre_v((c.height - 1) / 2.0f) {}
+      : width(static_cast<float>(c.width)),
+        height(static_cast<float>(c.height)),
+        inv_half_w(2.0f / c.width),
+        inv_half_h(2.0f / c.height),
+        centre_u((c.width - 1) / 2.0f),
+        centre_v((c.height - 1) / 2.0f) {}
   // The feather tent: 1 at the centre, 0 at the raw image edges, <= 0 outside.
   float Tent(float u, float v) const {
     const float ta = std::min(u + 0.5f, width - 0.5f - u) * inv_half_w;
@@ -109,8 +112,8 @@ inline void SampleGray4(const uint8_t* data, size_t step, float u0, float du, fl
       std::memcpy(&bottom[k], p + step, 2);
     }
     cv::v_uint16x8 tops, bottoms;  // per pixel: left, right
-    cv::v_expand(cv::v_reinterpret_as_u8(cv::v_uint16x8(top[0], top[1], top[2], top[3], bottom[0], bottom[1],
-                                                        bottom[2], bottom[3])),
+    cv::v_expand(cv::v_reinterpret_as_u8(
+                     cv::v_uint16x8(top[0], top[1], top[2], top[3], bottom[0], bottom[1], bottom[2], bottom[3])),
                  tops, bottoms);
     // Per pixel the 16-bit pair (256 - fx, fx): left * (256 - fx) + right * fx in one multiply-add.
     const cv::v_int16x8 wx = cv::v_reinterpret_as_s16((one - fx) | (fx << 16));
@@ -150,7 +153,7 @@ inline void OpenInterval(float x0, float dx, float limit, float* lo, float* hi) 
 // operations per pixel (OpenCV's universal intrinsics: SSE2 here, NEON on
 // ARM boards).
 inline void RowWeights(const ImageShape& sh, const BlockRow& r, int rivals, const float* inv_seam, const float* lut,
-                int n, float* w) {
+                       int n, float* w) {
   using cv::v_float32x4;
   const v_float32x4 zero = cv::v_setzero_f32(), one = cv::v_setall_f32(1.0f), half = cv::v_setall_f32(0.5f);
   const v_float32x4 right = cv::v_setall_f32(sh.width - 0.5f), bottom = cv::v_setall_f32(sh.height - 0.5f);
@@ -205,8 +208,7 @@ inline void RowWeights(const ImageShape& sh, const BlockRow& r, int rivals, cons
     }
   }
   if (lut)
-    for (int i = 0; i < n; ++i)
-      w[i] = (w[i] > 0 ? lut[static_cast<int>(w[i] * (kLut - 1))] : w[i]) * ramps[i];
+    for (int i = 0; i < n; ++i) w[i] = (w[i] > 0 ? lut[static_cast<int>(w[i] * (kLut - 1))] : w[i]) * ramps[i];
 }
 
 // Weights [0, n) to the canvas's 8 bits (0: not painted, else 1..255);

@@ -10,8 +10,7 @@ namespace {
 
 const std::vector<std::pair<std::string, std::vector<std::string>>>& Aliases() {
   static const std::vector<std::pair<std::string, std::vector<std::string>>> table = {
-      {"image", {"image", "filename", "file", "image_name", "photo", "frame", "file_name",
-                 "image_file", "img"}},
+      {"image", {"image", "filename", "file", "image_name", "photo", "frame", "file_name", "image_file", "img"}},
       {"time_s", {"time_s", "time", "t", "timestamp", "seconds", "time_sec"}},
       {"x_m", {"x_m", "x", "east", "east_m", "easting_local"}},
       {"y_m", {"y_m", "y", "north", "north_m", "northing_local"}},
@@ -41,9 +40,12 @@ std::string NormalizeColumnName(const std::string& name) {
   std::string out;
   int depth = 0;
   for (unsigned char c : name) {
-    if (c == '(' || c == '[') ++depth;
-    else if ((c == ')' || c == ']') && depth > 0) --depth;
-    else if (depth == 0) out += static_cast<char>(std::tolower(c));
+    if (c == '(' || c == '[')
+      ++depth;
+    else if ((c == ')' || c == ']') && depth > 0)
+      --depth;
+    else if (depth == 0)
+      out += static_cast<char>(std::tolower(c));
   }
   // Trim, then spaces and dashes inside the name become '_'.
   const size_t begin = out.find_first_not_of(" \t");
@@ -74,8 +76,7 @@ bool IsCanonicalColumn(const std::string& name) {
   return false;
 }
 
-ColumnMap MapColumns(const std::vector<std::string>& header,
-                     const std::map<std::string, std::string>& extra,
+ColumnMap MapColumns(const std::vector<std::string>& header, const std::map<std::string, std::string>& extra,
                      const std::string& path, int header_line) {
   ColumnMap map;
   std::vector<bool> taken(header.size(), false);
@@ -83,8 +84,7 @@ ColumnMap MapColumns(const std::vector<std::string>& header,
     if (!IsCanonicalColumn(canonical)) {
       std::vector<std::string> known;
       for (const auto& entry : Aliases()) known.push_back(entry.first);
-      throw InputError(path, header_line, canonical,
-                       "unknown column in the column mapping; known: " + Join(known));
+      throw InputError(path, header_line, canonical, "unknown column in the column mapping; known: " + Join(known));
     }
     const std::string wanted = NormalizeColumnName(file_name);
     bool found = false;
@@ -94,9 +94,9 @@ ColumnMap MapColumns(const std::vector<std::string>& header,
       taken[i] = found = true;
     }
     if (!found)
-      throw InputError(path, header_line, canonical,
-                       "column '" + file_name + "' (from the column mapping) is not in the header; found: " +
-                           Join(header));
+      throw InputError(
+          path, header_line, canonical,
+          "column '" + file_name + "' (from the column mapping) is not in the header; found: " + Join(header));
   }
   for (size_t i = 0; i < header.size(); ++i) {
     if (taken[i]) continue;

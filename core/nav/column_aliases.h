@@ -29,8 +29,7 @@ struct ColumnMap {
 // extra: canonical -> name used in the file (NavReadOptions::columns); these
 // win over aliases. Throws InputError(path, header_line, canonical, ...) when
 // extra names an unknown canonical column or a column the header lacks.
-ColumnMap MapColumns(const std::vector<std::string>& header,
-                     const std::map<std::string, std::string>& extra,
+ColumnMap MapColumns(const std::vector<std::string>& header, const std::map<std::string, std::string>& extra,
                      const std::string& path, int header_line);
 
 }  // namespace seamap

@@ -14,18 +14,22 @@ std::string Trim(const std::string& text) {
   size_t begin = 0, end = text.size();
   auto space_at = [&](size_t i) { return text[i] == ' ' || text[i] == '\t'; };
   // U+00A0 (no-break space) is C2 A0 in UTF-8; spreadsheets like to emit it.
-  auto nbsp_at = [&](size_t i) {
-    return i + 1 < text.size() && text[i] == '\xC2' && text[i + 1] == '\xA0';
-  };
+  auto nbsp_at = [&](size_t i) { return i + 1 < text.size() && text[i] == '\xC2' && text[i + 1] == '\xA0'; };
   while (begin < end) {
-    if (space_at(begin)) ++begin;
-    else if (begin + 1 < end && nbsp_at(begin)) begin += 2;
-    else break;
+    if (space_at(begin))
+      ++begin;
+    else if (begin + 1 < end && nbsp_at(begin))
+      begin += 2;
+    else
+      break;
   }
   while (end > begin) {
-    if (space_at(end - 1)) --end;
-    else if (end >= begin + 2 && nbsp_at(end - 2)) end -= 2;
-    else break;
+    if (space_at(end - 1))
+      --end;
+    else if (end >= begin + 2 && nbsp_at(end - 2))
+      end -= 2;
+    else
+      break;
   }
   return text.substr(begin, end - begin);
 }
@@ -59,8 +63,7 @@ std::vector<TextLine> ReadTextLines(const std::string& path) {
     if (trimmed.empty() || trimmed[0] == '#') continue;
     lines.push_back({number, line});
   }
-  if (lines.empty())
-    throw InputError(path, 0, "", "file has no header line (only blank lines and # comments)");
+  if (lines.empty()) throw InputError(path, 0, "", "file has no header line (only blank lines and # comments)");
   return lines;
 }
 
@@ -93,9 +96,12 @@ std::vector<std::string> SplitFields(const std::string& line, char separator) {
   for (size_t i = 0; i < line.size(); ++i) {
     const char c = line[i];
     if (quoted) {
-      if (c != '"') field += c;
-      else if (i + 1 < line.size() && line[i + 1] == '"') field += line[++i];
-      else quoted = false;
+      if (c != '"')
+        field += c;
+      else if (i + 1 < line.size() && line[i + 1] == '"')
+        field += line[++i];
+      else
+        quoted = false;
     } else if (c == '"' && Trim(field).empty()) {
       field.clear();
       quoted = pending = true;

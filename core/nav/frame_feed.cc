@@ -1,9 +1,9 @@
 #include "core/nav/frame_feed.h"
 
+#include <unistd.h>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
-#include <unistd.h>
 
 #include "core/nav/nav_reader.h"
 #include "core/util/error.h"
@@ -63,8 +63,8 @@ NavTable FolderWatchFeed::ReadCompleteLines() {
   std::ifstream in(nav_path_, std::ios::binary);
   std::string text(std::istreambuf_iterator<char>(in), {});
   text.resize(text.rfind('\n') == std::string::npos ? 0 : text.rfind('\n') + 1);
-  const fs::path copy = fs::temp_directory_path() / ("seamap-watch-" + std::to_string(::getpid()) + "-" +
-                                                     fs::path(nav_path_).filename().string());
+  const fs::path copy = fs::temp_directory_path() /
+                        ("seamap-watch-" + std::to_string(::getpid()) + "-" + fs::path(nav_path_).filename().string());
   {
     std::ofstream out(copy, std::ios::binary | std::ios::trunc);
     out << text;

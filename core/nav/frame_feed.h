@@ -7,10 +7,10 @@
 #include <chrono>
 #include <condition_variable>
 #include <deque>
-#include <set>
 #include <map>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -70,8 +70,8 @@ class RecordedFeed : public FrameFeed {
 // The feed ends after `idle_timeout_s` without anything new (0: never; Stop()).
 class FolderWatchFeed : public FrameFeed {
  public:
-  FolderWatchFeed(std::string nav_path, std::string images_dir, NavReadOptions options,
-                  double idle_timeout_s = 0, double image_wait_s = 10, int poll_ms = 200);
+  FolderWatchFeed(std::string nav_path, std::string images_dir, NavReadOptions options, double idle_timeout_s = 0,
+                  double image_wait_s = 10, int poll_ms = 200);
   std::optional<FeedItem> Next() override;
   int Total() const override { return 0; }
   // Reads the navigation's complete lines now (the first read fixes the origin).

@@ -46,7 +46,9 @@ std::vector<ImageTime> ReadImageTimes(const std::string& path, FrameList* out) {
     const int needed = std::max(image_col, time_col) + 1;
     if (static_cast<int>(row.fields.size()) < needed) {
       const int missing = static_cast<int>(row.fields.size());
-      reject(missing == image_col ? "image" : missing == time_col ? "time_s" : table.header[missing],
+      reject(missing == image_col  ? "image"
+             : missing == time_col ? "time_s"
+                                   : table.header[missing],
              "line has " + std::to_string(row.fields.size()) + " fields but the header has " +
                  std::to_string(table.header.size()) + "; missing column '" + table.header[missing] + "'");
       continue;
@@ -77,14 +79,17 @@ std::string ImagePath(const std::string& images_dir, const std::string& image) {
 }
 
 void OrderAndIndex(std::vector<FrameSpec>& frames) {
-  const bool all_timed = std::all_of(frames.begin(), frames.end(), [](const FrameSpec& f) { return f.time_s.has_value(); });
+  const bool all_timed =
+      std::all_of(frames.begin(), frames.end(), [](const FrameSpec& f) { return f.time_s.has_value(); });
   if (all_timed)
     std::stable_sort(frames.begin(), frames.end(),
                      [](const FrameSpec& a, const FrameSpec& b) { return *a.time_s < *b.time_s; });
   for (size_t i = 0; i < frames.size(); ++i) frames[i].index = static_cast<int>(i);
 }
 
-double Lerp(double a, double b, double f) { return a + (b - a) * f; }
+double Lerp(double a, double b, double f) {
+  return a + (b - a) * f;
+}
 
 }  // namespace
 
@@ -125,9 +130,9 @@ FrameList MatchFrames(const NavTable& nav, const std::string& images_dir,
       if (record.image.empty()) continue;  // a navigation sample between photos
       auto [it, inserted] = first_line.emplace(record.image, record.line);
       if (!inserted) {
-        out.rejected.push_back({nav.source, record.line, "image",
-                                "duplicate image '" + record.image + "' (first at line " +
-                                    std::to_string(it->second) + ")"});
+        out.rejected.push_back(
+            {nav.source, record.line, "image",
+             "duplicate image '" + record.image + "' (first at line " + std::to_string(it->second) + ")"});
         continue;
       }
       FrameSpec frame;
@@ -158,8 +163,8 @@ FrameList MatchFrames(const NavTable& nav, const std::string& images_dir,
                                               : "[" + FormatNumber(*series.front().time_s) + ", " +
                                                     FormatNumber(*series.back().time_s) + "] s";
       out.rejected.push_back({*image_times_csv, shot.line, "time_s",
-                              "time_s " + FormatNumber(shot.time_s) + " is outside the navigation's time span " +
-                                  span + " in " + nav.source});
+                              "time_s " + FormatNumber(shot.time_s) + " is outside the navigation's time span " + span +
+                                  " in " + nav.source});
       continue;
     }
     FrameSpec frame;

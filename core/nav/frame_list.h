@@ -14,12 +14,12 @@
 namespace seamap {
 
 struct FrameSpec {
-  int index = 0;                 // 0-based order of acquisition
-  std::string image_path;        // images_dir / image
-  std::string image;             // name as given
+  int index = 0;           // 0-based order of acquisition
+  std::string image_path;  // images_dir / image
+  std::string image;       // name as given
   std::optional<double> time_s;
   VehiclePose pose;
-  int nav_line = 0;              // source line (0 when interpolated)
+  int nav_line = 0;  // source line (0 when interpolated)
 };
 
 struct FrameList {

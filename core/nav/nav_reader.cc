@@ -52,8 +52,8 @@ std::string Where(const std::string& path, int line) {
 
 // ---- CSV ----------------------------------------------------------------
 
-Source ReadCsv(const std::string& path, const std::vector<TextLine>& lines,
-               const NavReadOptions& options, std::vector<std::string>* warnings) {
+Source ReadCsv(const std::string& path, const std::vector<TextLine>& lines, const NavReadOptions& options,
+               std::vector<std::string>* warnings) {
   const CsvTable table = ParseCsv(lines);
   const ColumnMap map = MapColumns(table.header, options.columns, path, table.header_line);
   Source source;
@@ -79,12 +79,12 @@ Source ReadCsv(const std::string& path, const std::vector<TextLine>& lines,
                                      std::to_string(width) + "; missing column '" + missing + "'"});
       continue;
     }
-    const bool extra = std::any_of(row.fields.begin() + width, row.fields.end(),
-                                   [](const std::string& f) { return !f.empty(); });
+    const bool extra =
+        std::any_of(row.fields.begin() + width, row.fields.end(), [](const std::string& f) { return !f.empty(); });
     if (extra) {
-      source.rejected.push_back({path, row.line, "",
-                                 "line has " + std::to_string(row.fields.size()) + " fields but the header has " +
-                                     std::to_string(width)});
+      source.rejected.push_back(
+          {path, row.line, "",
+           "line has " + std::to_string(row.fields.size()) + " fields but the header has " + std::to_string(width)});
       continue;
     }
     RawRow raw{row.line, {}};
@@ -104,8 +104,7 @@ bool IsSeedText(const std::string& line) {
   return squeezed.find("x(m):") != std::string::npos;
 }
 
-Source ReadSeedText(const std::string& path, const std::vector<TextLine>& lines,
-                    std::vector<std::string>* warnings) {
+Source ReadSeedText(const std::string& path, const std::vector<TextLine>& lines, std::vector<std::string>* warnings) {
   Source source;
   source.header_line = lines.front().number;
   source.columns.insert("image");
@@ -137,8 +136,7 @@ Source ReadSeedText(const std::string& path, const std::vector<TextLine>& lines,
       }
       raw.fields[canonical] = piece.substr(colon + 1);
       source.columns.insert(canonical);
-      if (std::find(source.found.begin(), source.found.end(), key) == source.found.end())
-        source.found.push_back(key);
+      if (std::find(source.found.begin(), source.found.end(), key) == source.found.end()) source.found.push_back(key);
     }
     if (!bad) source.rows.push_back(std::move(raw));
   }
@@ -175,8 +173,8 @@ PositionKind ChoosePosition(const Source& source, const std::string& path, const
     throw InputError(path, source.header_line, "position",
                      "no position columns; found: " + FoundList(source) +
                          "; expected x_m,y_m (metres east/north of --origin), lat,lon (WGS84 degrees) or "
-                         "easting,northing (UTM). Accepted names: x_m: " + AcceptedNames("x_m") +
-                         "; y_m: " + AcceptedNames("y_m") + "; lat: " + AcceptedNames("lat") +
+                         "easting,northing (UTM). Accepted names: x_m: " +
+                         AcceptedNames("x_m") + "; y_m: " + AcceptedNames("y_m") + "; lat: " + AcceptedNames("lat") +
                          "; lon: " + AcceptedNames("lon") + "; easting: " + AcceptedNames("easting") +
                          "; northing: " + AcceptedNames("northing"));
   }
@@ -191,14 +189,13 @@ PositionKind ChoosePosition(const Source& source, const std::string& path, const
     throw InputError(path, source.header_line, "utm_zone",
                      "UTM easting/northing need a zone: add a utm_zone column (e.g. 52N) or give --utm-zone ZONE");
   if (!has("altitude_m"))
-    throw InputError(path, source.header_line, "altitude_m",
-                     "no altitude column; found: " + FoundList(source) +
-                         "; accepted names: " + AcceptedNames("altitude_m"));
+    throw InputError(
+        path, source.header_line, "altitude_m",
+        "no altitude column; found: " + FoundList(source) + "; accepted names: " + AcceptedNames("altitude_m"));
   if (!has("image") && !has("time_s"))
     throw InputError(path, source.header_line, "image",
                      "no image or time column; found: " + FoundList(source) +
-                         "; accepted names: image: " + AcceptedNames("image") +
-                         "; time_s: " + AcceptedNames("time_s"));
+                         "; accepted names: image: " + AcceptedNames("image") + "; time_s: " + AcceptedNames("time_s"));
   return kind;
 }
 
@@ -370,7 +367,8 @@ NavTable ReadNavigation(const std::string& path, const NavReadOptions& options) 
     const Rejection& first = table.rejected.front();
     throw InputError(path, first.line, first.field,
                      "no valid navigation record (" + std::to_string(table.rejected.size()) +
-                         (table.rejected.size() == 1 ? " line" : " lines") + " rejected); first problem: " + first.reason);
+                         (table.rejected.size() == 1 ? " line" : " lines") +
+                         " rejected); first problem: " + first.reason);
   }
 
   table.origin = options.origin ? *options.origin : parsed.front().geo.value_or(LatLon{});

@@ -15,7 +15,7 @@ struct NavRecord {
   std::string image;             // file name relative to the images folder; may be empty
   std::optional<double> time_s;  // seconds, any epoch
   VehiclePose pose;
-  int line = 0;                  // 1-based line in the source file
+  int line = 0;  // 1-based line in the source file
 };
 
 // A line (or frame) that was skipped, with the reason shown to the user.
@@ -45,8 +45,8 @@ struct NavTable {
   LatLon origin;       // origin of the local frame the poses are in
   std::vector<NavRecord> records;
   std::vector<Rejection> rejected;  // lines skipped, with reasons
-  bool has_images = false;  // an image column with at least one name
-  bool has_times = false;   // a time column
+  bool has_images = false;          // an image column with at least one name
+  bool has_times = false;           // a time column
   // Things the user should know that did not stop reading, e.g.
   // "nav.csv:1: ignoring unknown columns: foo, bar".
   std::vector<std::string> warnings;

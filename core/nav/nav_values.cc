@@ -22,8 +22,7 @@ std::string AsciiMinus(const std::string& text) {
   if (std::all_of(text.begin(), text.end(), [](char c) { return static_cast<unsigned char>(c) < 0x80; }))
     return out;  // plain ASCII, the usual case
   for (const char* dash : kDashes)
-    for (size_t at = out.find(dash); at != std::string::npos; at = out.find(dash, at))
-      out.replace(at, 3, "-");
+    for (size_t at = out.find(dash); at != std::string::npos; at = out.find(dash, at)) out.replace(at, 3, "-");
   return out;
 }
 
@@ -45,8 +44,7 @@ std::optional<double> ParseClock(const std::string& text, size_t& pos) {
   double s = 0;
   if (pos < text.size() && text[pos] == ':') {
     size_t end = pos + 1;
-    while (end < text.size() && (std::isdigit(static_cast<unsigned char>(text[end])) || text[end] == '.'))
-      ++end;
+    while (end < text.size() && (std::isdigit(static_cast<unsigned char>(text[end])) || text[end] == '.')) ++end;
     auto [ptr, ec] = std::from_chars(text.data() + pos + 1, text.data() + end, s);
     if (ec != std::errc() || ptr != text.data() + end) return std::nullopt;
     pos = end;
@@ -75,8 +73,7 @@ std::optional<double> ParseIsoTime(const std::string& text) {
   } else if (pos < text.size() && (text[pos] == '+' || text[pos] == '-')) {
     int oh = 0, om = 0, n = 0;
     const char* rest = text.c_str() + pos + 1;
-    if (std::sscanf(rest, "%2d:%2d%n", &oh, &om, &n) != 2 &&
-        std::sscanf(rest, "%2d%2d%n", &oh, &om, &n) != 2)
+    if (std::sscanf(rest, "%2d:%2d%n", &oh, &om, &n) != 2 && std::sscanf(rest, "%2d%2d%n", &oh, &om, &n) != 2)
       return std::nullopt;
     offset_s = (text[pos] == '-' ? -1 : 1) * (oh * 3600.0 + om * 60.0);
     pos += 1 + n;
@@ -146,8 +143,10 @@ std::optional<UtmZone> ParseUtmZone(const std::string& raw, std::string* why) {
     *why = "is not a UTM zone 1..60: '" + raw + "'";
     return std::nullopt;
   }
-  if (rest == "N" || rest == "NORTH") out.north = true;
-  else if (rest == "S" || rest == "SOUTH") out.north = false;
+  if (rest == "N" || rest == "NORTH")
+    out.north = true;
+  else if (rest == "S" || rest == "SOUTH")
+    out.north = false;
   else if (rest.size() == 1 && rest[0] >= 'C' && rest[0] <= 'X' && rest[0] != 'I' && rest[0] != 'O')
     out.north = rest[0] >= 'N';
   else if (!rest.empty()) {

@@ -10,13 +10,11 @@ namespace seamap {
 // dashes (U+2010..U+2015, U+FE63, U+FF0D) as '-', and a decimal comma when
 // decimal_comma is set (';' or tab separated files). On failure returns
 // nullopt and sets *why.
-std::optional<double> ParseNumber(const std::string& text, std::string* why,
-                                  bool decimal_comma = false);
+std::optional<double> ParseNumber(const std::string& text, std::string* why, bool decimal_comma = false);
 
 // Seconds: a plain number, an ISO 8601 date-time (2023-05-01T12:00:00.5Z,
 // offsets allowed; seconds since 1970 UTC) or a time of day hh:mm:ss[.f].
-std::optional<double> ParseTimeSeconds(const std::string& text, std::string* why,
-                                       bool decimal_comma = false);
+std::optional<double> ParseTimeSeconds(const std::string& text, std::string* why, bool decimal_comma = false);
 
 struct UtmZone {
   int zone = 0;

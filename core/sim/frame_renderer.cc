@@ -53,8 +53,7 @@ FrameRenderer::FrameRenderer(const CameraModel& camera, const Degradations& degr
     for (int u = 0; u < camera.width; ++u) pixels.emplace_back(u, v);
   std::vector<cv::Point2d> normalised;
   // No P matrix: the output is the normalised ray (x, y) with z = 1.
-  cv::undistortPoints(pixels, normalised, camera.K(), camera.DistortionCoeffs(), cv::noArray(),
-                      cv::noArray(),
+  cv::undistortPoints(pixels, normalised, camera.K(), camera.DistortionCoeffs(), cv::noArray(), cv::noArray(),
                       cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 50, 1e-12));
   rays_.create(camera.height, camera.width);
   ray_norm_.create(camera.height, camera.width);
@@ -100,8 +99,7 @@ bool FrameRenderer::GroundBounds(const VehiclePose& pose, cv::Rect2d* bounds) co
   return true;
 }
 
-cv::Mat FrameRenderer::Render(const SeabedTexture& texture, const VehiclePose& pose,
-                              uint64_t noise_seed) const {
+cv::Mat FrameRenderer::Render(const SeabedTexture& texture, const VehiclePose& pose, uint64_t noise_seed) const {
   const RayCaster caster(camera_, pose);
   const Degradations& deg = degradations_;
   // Texture coordinates are a homography of the ray (x, y, 1): with d = R (x, y, 1),
@@ -132,8 +130,7 @@ cv::Mat FrameRenderer::Render(const SeabedTexture& texture, const VehiclePose& p
     }
   });
   cv::Mat frame;
-  cv::remap(texture.image, frame, map_x, map_y, cv::INTER_LINEAR, cv::BORDER_CONSTANT,
-            cv::Scalar::all(0));
+  cv::remap(texture.image, frame, map_x, map_y, cv::INTER_LINEAR, cv::BORDER_CONSTANT, cv::Scalar::all(0));
   if (!deg.Any()) return frame;
 
   // Degradations, in float and 8-bit units whatever the depth, with

@@ -42,7 +42,7 @@ class FrameRenderer {
  private:
   CameraModel camera_;
   Degradations degradations_;
-  cv::Mat2f rays_;   // undistorted normalised (x, y) of each raw pixel; z = 1
+  cv::Mat2f rays_;      // undistorted normalised (x, y) of each raw pixel; z = 1
   cv::Mat1f ray_norm_;  // |(x, y, 1)|, for the range to the seabed
   // Vignetting (lamp falloff) times the colour cast, per pixel.
   cv::Mat1f gain_gray_;

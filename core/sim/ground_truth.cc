@@ -13,8 +13,7 @@ namespace seamap {
 namespace {
 
 double Number(const nlohmann::json& j, const std::string& key, const std::string& file) {
-  if (!j.contains(key) || !j[key].is_number())
-    throw InputError(file, 0, key, "missing or not a number");
+  if (!j.contains(key) || !j[key].is_number()) throw InputError(file, 0, key, "missing or not a number");
   return j[key].get<double>();
 }
 
@@ -72,8 +71,7 @@ bool GroundTruth::Sample(LocalXY p, cv::Vec3f* value) const {
 }
 
 cv::Mat RenderTruth(const GroundTruth& truth, const cv::Mat& east_map, const cv::Mat& north_map) {
-  CV_Assert(east_map.size() == north_map.size() && east_map.channels() == 1 &&
-            north_map.channels() == 1);
+  CV_Assert(east_map.size() == north_map.size() && east_map.channels() == 1 && north_map.channels() == 1);
   // Local metres to texture pixel coordinates (centre convention).
   cv::Mat map_x, map_y;
   east_map.convertTo(map_x, CV_32F, 1 / truth.res_m, -truth.east_min / truth.res_m - 0.5);

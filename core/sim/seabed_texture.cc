@@ -64,8 +64,8 @@ void AddRipples(cv::Mat1f& img, double res_m, double wavelength_m, double angle,
 // Rocks and shells: filled ellipses with a shadow towards the south-east and
 // a highlight towards the north-west, added to the texture so that the fine
 // noise stays visible on them.
-void AddStones(cv::Mat1f& img, double res_m, double per_m2, double r_min_m, double r_max_m,
-               double brightness, cv::RNG& rng) {
+void AddStones(cv::Mat1f& img, double res_m, double per_m2, double r_min_m, double r_max_m, double brightness,
+               cv::RNG& rng) {
   const double area_m2 = img.total() * res_m * res_m;
   const int count = static_cast<int>(area_m2 * per_m2);
   for (int k = 0; k < count; ++k) {
@@ -76,18 +76,16 @@ void AddStones(cv::Mat1f& img, double res_m, double per_m2, double r_min_m, doub
     const cv::Point2f centre(static_cast<float>(rng.uniform(0.0, 1.0 * img.cols)),
                              static_cast<float>(rng.uniform(0.0, 1.0 * img.rows)));
     const int half = static_cast<int>(std::ceil(r * 1.4)) + 2;
-    const cv::Rect box = cv::Rect(static_cast<int>(centre.x) - half, static_cast<int>(centre.y) - half,
-                                  2 * half + 1, 2 * half + 1) &
-                         cv::Rect(0, 0, img.cols, img.rows);
+    const cv::Rect box =
+        cv::Rect(static_cast<int>(centre.x) - half, static_cast<int>(centre.y) - half, 2 * half + 1, 2 * half + 1) &
+        cv::Rect(0, 0, img.cols, img.rows);
     if (box.empty()) continue;
     cv::Mat1f layer(box.size(), 0.f);
     const cv::Point2f c = centre - cv::Point2f(static_cast<float>(box.x), static_cast<float>(box.y));
     const float shift = static_cast<float>(0.3 * r);
-    cv::ellipse(layer, cv::RotatedRect(c + cv::Point2f(shift, shift), axes * 2.f, angle),
-                cv::Scalar(-2.0), cv::FILLED);
+    cv::ellipse(layer, cv::RotatedRect(c + cv::Point2f(shift, shift), axes * 2.f, angle), cv::Scalar(-2.0), cv::FILLED);
     cv::ellipse(layer, cv::RotatedRect(c, axes * 2.f, angle), cv::Scalar(body), cv::FILLED);
-    cv::ellipse(layer, cv::RotatedRect(c - cv::Point2f(shift, shift), axes, angle),
-                cv::Scalar(body + 1.0), cv::FILLED);
+    cv::ellipse(layer, cv::RotatedRect(c - cv::Point2f(shift, shift), axes, angle), cv::Scalar(body + 1.0), cv::FILLED);
     cv::GaussianBlur(layer, layer, cv::Size(), 0.8);  // soft edges
     img(box) += layer;
   }
@@ -100,8 +98,7 @@ void CheckBitDepth(int bit_depth) {
 
 }  // namespace
 
-cv::Mat MakeProceduralTexture(cv::Size size, double res_m, bool color, int bit_depth,
-                              uint64_t seed) {
+cv::Mat MakeProceduralTexture(cv::Size size, double res_m, bool color, int bit_depth, uint64_t seed) {
   CheckBitDepth(bit_depth);
   cv::RNG rng(seed * 0x9E3779B97F4A7C15ull + 0x5eabed);
   // Noise octaves as a pyramid, coarse to fine: white noise added at level k
@@ -134,8 +131,8 @@ cv::Mat MakeProceduralTexture(cv::Size size, double res_m, bool color, int bit_d
     AddRipples(lum, res_m, ripple_wavelength_m, ripple_angle, rng);
   }
   NormaliseToUnit(lum);
-  AddStones(lum, res_m, 3.0, 0.03, 0.12, 0.0, rng);   // rocks, lighter or darker
-  AddStones(lum, res_m, 25.0, 0.005, 0.02, 2.0, rng); // pale shells and pebbles
+  AddStones(lum, res_m, 3.0, 0.03, 0.12, 0.0, rng);    // rocks, lighter or darker
+  AddStones(lum, res_m, 25.0, 0.005, 0.02, 2.0, rng);  // pale shells and pebbles
   NormaliseToUnit(lum);
   const double max_value = bit_depth == 16 ? 65535.0 : 255.0;
   const int depth = bit_depth == 16 ? CV_16U : CV_8U;
@@ -164,18 +161,16 @@ cv::Mat MakeProceduralTexture(cv::Size size, double res_m, bool color, int bit_d
         const int x0 = std::min(static_cast<int>(mx), std::max(0, mix.cols - 2));
         const int x1 = std::min(x0 + 1, mix.cols - 1);
         const float fx = mx - x0;
-        const float m = (1 - fy) * ((1 - fx) * mix(y0, x0) + fx * mix(y0, x1)) +
-                        fy * ((1 - fx) * mix(y1, x0) + fx * mix(y1, x1));
+        const float m =
+            (1 - fy) * ((1 - fx) * mix(y0, x0) + fx * mix(y0, x1)) + fy * ((1 - fx) * mix(y1, x0) + fx * mix(y1, x1));
         const float w = std::clamp(0.5f + 0.4f * m, 0.f, 1.f);
         const float value = std::clamp(0.5f + 0.16f * l[x], 0.02f, 0.98f);
         const cv::Vec3f bgr = (brown * (1 - w) + green * w) * (1.1f * value * static_cast<float>(max_value));
         if (depth == CV_16U)
-          out.ptr<cv::Vec3w>(y)[x] = cv::Vec3w(cv::saturate_cast<uint16_t>(bgr[0]),
-                                               cv::saturate_cast<uint16_t>(bgr[1]),
+          out.ptr<cv::Vec3w>(y)[x] = cv::Vec3w(cv::saturate_cast<uint16_t>(bgr[0]), cv::saturate_cast<uint16_t>(bgr[1]),
                                                cv::saturate_cast<uint16_t>(bgr[2]));
         else
-          out.ptr<cv::Vec3b>(y)[x] = cv::Vec3b(cv::saturate_cast<uint8_t>(bgr[0]),
-                                               cv::saturate_cast<uint8_t>(bgr[1]),
+          out.ptr<cv::Vec3b>(y)[x] = cv::Vec3b(cv::saturate_cast<uint8_t>(bgr[0]), cv::saturate_cast<uint8_t>(bgr[1]),
                                                cv::saturate_cast<uint8_t>(bgr[2]));
       }
     }
@@ -193,8 +188,7 @@ cv::Mat LoadTextureImage(const std::string& path, bool color, int bit_depth) {
   if (color && img.channels() == 1) cv::cvtColor(img, img, cv::COLOR_GRAY2BGR);
   if (!color && img.channels() == 3) cv::cvtColor(img, img, cv::COLOR_BGR2GRAY);
   const int depth = bit_depth == 16 ? CV_16U : CV_8U;
-  if (img.depth() != depth)
-    img.convertTo(img, CV_MAKETYPE(depth, img.channels()), depth == CV_16U ? 257.0 : 1 / 257.0);
+  if (img.depth() != depth) img.convertTo(img, CV_MAKETYPE(depth, img.channels()), depth == CV_16U ? 257.0 : 1 / 257.0);
   return img;
 }
 
@@ -202,12 +196,9 @@ void SaveTruth(const SeabedTexture& texture, LatLon origin, const std::string& t
   std::filesystem::create_directories(truth_dir);
   const std::string png = truth_dir + "/texture.png";
   if (!cv::imwrite(png, texture.image)) throw InputError(png, 0, "", "cannot write the texture");
-  const nlohmann::json j = {{"origin", {origin.lat, origin.lon}},
-                            {"res_m", texture.res_m},
-                            {"east_min", texture.east_min},
-                            {"north_max", texture.north_max},
-                            {"width", texture.image.cols},
-                            {"height", texture.image.rows}};
+  const nlohmann::json j = {{"origin", {origin.lat, origin.lon}}, {"res_m", texture.res_m},
+                            {"east_min", texture.east_min},       {"north_max", texture.north_max},
+                            {"width", texture.image.cols},        {"height", texture.image.rows}};
   const std::string json_path = truth_dir + "/texture.json";
   std::ofstream out(json_path);
   out << j.dump(2) << "\n";

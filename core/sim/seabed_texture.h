@@ -29,8 +29,7 @@ struct SeabedTexture {
 // shaded rocks and shells, so that it has strong features at every scale.
 // Gray, or brownish/greenish sand tones when `color`. bit_depth 8 or 16.
 // Same seed, same texture.
-cv::Mat MakeProceduralTexture(cv::Size size, double res_m, bool color, int bit_depth,
-                              uint64_t seed);
+cv::Mat MakeProceduralTexture(cv::Size size, double res_m, bool color, int bit_depth, uint64_t seed);
 
 // Reads any image OpenCV can decode and converts it to the requested channels
 // and depth. Throws InputError naming the file.

@@ -26,8 +26,7 @@ std::vector<std::string> SplitCsv(const std::string& line) {
   return cells;
 }
 
-double ParseCell(const std::string& text, const std::string& file, int line,
-                 const std::string& field) {
+double ParseCell(const std::string& text, const std::string& file, int line, const std::string& field) {
   char* end = nullptr;
   const double v = std::strtod(text.c_str(), &end);
   if (text.empty() || *end != '\0' || !std::isfinite(v))
@@ -79,8 +78,7 @@ SurveyPath SurveyPath::FromWaypoints(const std::vector<LocalXY>& waypoints) {
     s.length = std::hypot(s.end.east - s.start.east, s.end.north - s.start.north);
     path.Add(s);
   }
-  if (path.segments_.empty())
-    throw InputError("", 0, "--path", "expected at least two distinct waypoints");
+  if (path.segments_.empty()) throw InputError("", 0, "--path", "expected at least two distinct waypoints");
   return path;
 }
 
@@ -92,8 +90,7 @@ SurveyPath SurveyPath::LoadCsv(const std::string& file) {
   const auto header = SplitCsv(line);
   const auto column = [&](const std::string& name) {
     auto it = std::find(header.begin(), header.end(), name);
-    if (it == header.end())
-      throw InputError(file, 1, name, "missing column; expected a header with x_m,y_m");
+    if (it == header.end()) throw InputError(file, 1, name, "missing column; expected a header with x_m,y_m");
     return static_cast<size_t>(it - header.begin());
   };
   const size_t cx = column("x_m"), cy = column("y_m");
@@ -103,8 +100,7 @@ SurveyPath SurveyPath::LoadCsv(const std::string& file) {
     const auto cells = SplitCsv(line);
     if (cells.size() <= std::max(cx, cy))
       throw InputError(file, number, cells.size() <= cx ? "x_m" : "y_m", "missing value");
-    points.push_back({ParseCell(cells[cx], file, number, "x_m"),
-                      ParseCell(cells[cy], file, number, "y_m")});
+    points.push_back({ParseCell(cells[cx], file, number, "x_m"), ParseCell(cells[cy], file, number, "y_m")});
   }
   try {
     return FromWaypoints(points);
@@ -115,9 +111,8 @@ SurveyPath SurveyPath::LoadCsv(const std::string& file) {
 
 LocalXY SurveyPath::PositionAt(double s) const {
   s = std::clamp(s, 0.0, Length());
-  const size_t i = std::min<size_t>(
-      std::lower_bound(cumulative_.begin(), cumulative_.end(), s) - cumulative_.begin(),
-      segments_.size() - 1);
+  const size_t i = std::min<size_t>(std::lower_bound(cumulative_.begin(), cumulative_.end(), s) - cumulative_.begin(),
+                                    segments_.size() - 1);
   const Segment& seg = segments_[i];
   const double f = (s - (cumulative_[i] - seg.length)) / seg.length;
   if (!seg.arc)
@@ -134,15 +129,12 @@ double SurveyPath::HeadingAt(double s) const {
   return deg < 0 ? deg + 360 : deg;
 }
 
-std::vector<TimedPose> MakeTrajectory(const SurveyPath& path, const TrajectoryOptions& o,
-                                      uint64_t seed) {
+std::vector<TimedPose> MakeTrajectory(const SurveyPath& path, const TrajectoryOptions& o, uint64_t seed) {
   std::mt19937_64 rng(seed ^ 0x7261636b);  // "track"
   std::uniform_real_distribution<double> phase(0, 2 * M_PI);
   double ph[6];
   for (double& p : ph) p = phase(rng);
-  const auto wave = [](double t, double period, double phi) {
-    return std::sin(2 * M_PI * t / period + phi);
-  };
+  const auto wave = [](double t, double period, double phi) { return std::sin(2 * M_PI * t / period + phi); };
   const double alt_mid = (o.altitude_min_m + o.altitude_max_m) / 2;
   const double alt_half = (o.altitude_max_m - o.altitude_min_m) / 2;
 
@@ -168,8 +160,8 @@ std::vector<TimedPose> MakeTrajectory(const SurveyPath& path, const TrajectoryOp
   return poses;
 }
 
-std::vector<TimedPose> AddNavigationErrors(const std::vector<TimedPose>& truth,
-                                           const NavErrorOptions& e, uint64_t seed) {
+std::vector<TimedPose> AddNavigationErrors(const std::vector<TimedPose>& truth, const NavErrorOptions& e,
+                                           uint64_t seed) {
   std::mt19937_64 rng(seed ^ 0x6e6f697365);  // "noise"
   std::normal_distribution<double> gauss(0, 1);
   const double drift_dir = std::uniform_real_distribution<double>(0, 2 * M_PI)(rng);

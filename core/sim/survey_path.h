@@ -36,8 +36,8 @@ class SurveyPath {
  private:
   struct Segment {
     bool arc = false;
-    LocalXY start, end;       // straight segment
-    LocalXY centre;           // arc
+    LocalXY start, end;                     // straight segment
+    LocalXY centre;                         // arc
     double radius = 0, phi0 = 0, phi1 = 0;  // arc angles (radians, from east, counter-clockwise)
     double length = 0;
   };
@@ -66,17 +66,16 @@ struct TimedPose {
 // slow sinusoids with seed-dependent phases (altitude stays within
 // [min, max], |pitch| <= pitch_amp, |roll| <= roll_amp); heading follows the
 // path. Stops early (fewer frames) when the path ends.
-std::vector<TimedPose> MakeTrajectory(const SurveyPath& path, const TrajectoryOptions& options,
-                                      uint64_t seed);
+std::vector<TimedPose> MakeTrajectory(const SurveyPath& path, const TrajectoryOptions& options, uint64_t seed);
 
 struct NavErrorOptions {
-  double position_sigma_m = 0;  // white noise on east and north
-  double heading_sigma_deg = 0; // white noise on heading
-  double drift_m_per_min = 0;   // position bias growing linearly in a random direction
+  double position_sigma_m = 0;   // white noise on east and north
+  double heading_sigma_deg = 0;  // white noise on heading
+  double drift_m_per_min = 0;    // position bias growing linearly in a random direction
 };
 
 // The poses a navigation system would report: truth plus the errors.
-std::vector<TimedPose> AddNavigationErrors(const std::vector<TimedPose>& truth,
-                                           const NavErrorOptions& errors, uint64_t seed);
+std::vector<TimedPose> AddNavigationErrors(const std::vector<TimedPose>& truth, const NavErrorOptions& errors,
+                                           uint64_t seed);
 
 }  // namespace seamap

@@ -20,7 +20,7 @@ namespace seamap {
 namespace fs = std::filesystem;
 namespace {
 
-constexpr double kTextureMargin_m = 0.25;   // around the union of footprints
+constexpr double kTextureMargin_m = 0.25;  // around the union of footprints
 constexpr double kMaxTexturePixels = 1.5e9;
 
 void Require(bool ok, const std::string& param, const std::string& expected) {
@@ -60,8 +60,7 @@ void Validate(const SimulationOptions& o) {
 // Refuses a non-empty folder unless forced.
 void CheckOutput(const SimulationOptions& o) {
   const fs::path out(o.out_dir);
-  if (fs::exists(out) && !fs::is_directory(out))
-    throw InputError(o.out_dir, 0, "--out", "exists and is not a folder");
+  if (fs::exists(out) && !fs::is_directory(out)) throw InputError(o.out_dir, 0, "--out", "exists and is not a folder");
   if (fs::exists(out) && !fs::is_empty(out) && !o.force)
     throw InputError(o.out_dir, 0, "--out", "folder is not empty; use --force to overwrite it");
 }
@@ -72,8 +71,7 @@ void PrepareOutput(const SimulationOptions& o) {
   std::error_code ec;
   if (fs::exists(out) && !fs::is_empty(out)) {
     for (const char* name : {"photo", "truth"}) fs::remove_all(out / name, ec);
-    for (const char* name : {"nav.csv", "nav_truth.csv", "camera.json", "survey.json"})
-      fs::remove(out / name, ec);
+    for (const char* name : {"nav.csv", "nav_truth.csv", "camera.json", "survey.json"}) fs::remove(out / name, ec);
   }
   fs::create_directories(out / "photo", ec);
   fs::create_directories(out / "truth", ec);
@@ -93,9 +91,8 @@ void WriteNav(const std::string& path, const std::vector<TimedPose>& poses, cons
   std::fprintf(f, "image,time_s,x_m,y_m,altitude_m,depth_m,heading_deg,pitch_deg,roll_deg\n");
   for (size_t i = 0; i < poses.size(); ++i) {
     const VehiclePose& p = poses[i].pose;
-    std::fprintf(f, "%s,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f\n",
-                 FrameName(static_cast<int>(i), ext).c_str(), poses[i].time_s, p.east_m, p.north_m,
-                 p.altitude_m, p.depth_m, p.heading_deg, p.pitch_deg, p.roll_deg);
+    std::fprintf(f, "%s,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f\n", FrameName(static_cast<int>(i), ext).c_str(),
+                 poses[i].time_s, p.east_m, p.north_m, p.altitude_m, p.depth_m, p.heading_deg, p.pitch_deg, p.roll_deg);
   }
   if (std::fclose(f) != 0) throw InputError(path, 0, "", "cannot write the navigation file");
 }
@@ -111,29 +108,47 @@ nlohmann::json SurveyJson(const SimulationOptions& o, const SimulationSummary& s
   const TrajectoryOptions& t = o.trajectory;
   const Degradations& d = o.degradations;
   const NavErrorOptions& n = o.nav_errors;
-  return {{"origin", {o.origin.lat, o.origin.lon}},
-          {"seed", o.seed},
-          {"frames", s.frames},
-          {"camera", {{"width", c.width}, {"height", c.height}, {"fx", c.fx}, {"fy", c.fy},
-                      {"cx", c.cx}, {"cy", c.cy}, {"distortion", c.distortion}}},
-          {"image", {{"format", o.image_format}, {"jpeg_quality", o.jpeg_quality},
-                     {"bit_depth", o.bit_depth}, {"color", o.color}}},
-          {"path", {{"type", o.path_file.empty() ? "lawnmower" : "file"}, {"file", o.path_file},
-                    {"line_length_m", o.line_length_m}, {"line_spacing_m", s.line_spacing_m},
-                    {"length_m", s.path_length_m}}},
-          {"trajectory", {{"speed_mps", t.speed_mps}, {"fps", t.fps}, {"frames_requested", t.frames},
-                          {"altitude_min_m", t.altitude_min_m}, {"altitude_max_m", t.altitude_max_m},
-                          {"pitch_amp_deg", t.pitch_amp_deg}, {"roll_amp_deg", t.roll_amp_deg},
-                          {"sea_depth_m", t.sea_depth_m}}},
-          {"texture", {{"source", o.texture_file.empty() ? "procedural" : o.texture_file},
-                       {"res_m", s.texture_res_m}, {"width", s.texture_size.width},
-                       {"height", s.texture_size.height}}},
-          {"degradations", {{"vignetting", d.vignetting}, {"color_cast", d.color_cast},
-                            {"haze", d.haze}, {"noise_sigma", d.noise_sigma}}},
-          {"nav_errors", {{"position_sigma_m", n.position_sigma_m},
-                          {"heading_sigma_deg", n.heading_sigma_deg},
-                          {"drift_m_per_min", n.drift_m_per_min}}},
-          {"area_m2", s.area_m2}};
+  return {
+      {"origin", {o.origin.lat, o.origin.lon}},
+      {"seed", o.seed},
+      {"frames", s.frames},
+      {"camera",
+       {{"width", c.width},
+        {"height", c.height},
+        {"fx", c.fx},
+        {"fy", c.fy},
+        {"cx", c.cx},
+        {"cy", c.cy},
+        {"distortion", c.distortion}}},
+      {"image",
+       {{"format", o.image_format}, {"jpeg_quality", o.jpeg_quality}, {"bit_depth", o.bit_depth}, {"color", o.color}}},
+      {"path",
+       {{"type", o.path_file.empty() ? "lawnmower" : "file"},
+        {"file", o.path_file},
+        {"line_length_m", o.line_length_m},
+        {"line_spacing_m", s.line_spacing_m},
+        {"length_m", s.path_length_m}}},
+      {"trajectory",
+       {{"speed_mps", t.speed_mps},
+        {"fps", t.fps},
+        {"frames_requested", t.frames},
+        {"altitude_min_m", t.altitude_min_m},
+        {"altitude_max_m", t.altitude_max_m},
+        {"pitch_amp_deg", t.pitch_amp_deg},
+        {"roll_amp_deg", t.roll_amp_deg},
+        {"sea_depth_m", t.sea_depth_m}}},
+      {"texture",
+       {{"source", o.texture_file.empty() ? "procedural" : o.texture_file},
+        {"res_m", s.texture_res_m},
+        {"width", s.texture_size.width},
+        {"height", s.texture_size.height}}},
+      {"degradations",
+       {{"vignetting", d.vignetting}, {"color_cast", d.color_cast}, {"haze", d.haze}, {"noise_sigma", d.noise_sigma}}},
+      {"nav_errors",
+       {{"position_sigma_m", n.position_sigma_m},
+        {"heading_sigma_deg", n.heading_sigma_deg},
+        {"drift_m_per_min", n.drift_m_per_min}}},
+      {"area_m2", s.area_m2}};
 }
 
 }  // namespace
@@ -144,8 +159,7 @@ CameraModel DefaultSimCamera() {
   return c;
 }
 
-SimulationSummary SimulateSurvey(const SimulationOptions& o,
-                                 const std::function<void(int, int)>& progress) {
+SimulationSummary SimulateSurvey(const SimulationOptions& o, const std::function<void(int, int)>& progress) {
   const auto start = std::chrono::steady_clock::now();
   Validate(o);
   CheckOutput(o);
@@ -157,9 +171,7 @@ SimulationSummary SimulateSurvey(const SimulationOptions& o,
   const double needed_m = (traj.frames - 1) * traj.speed_mps / traj.fps;
   SurveyPath path = SurveyPath::FromWaypoints({{0, 0}, {0, 1}});
   if (o.path_file.empty()) {
-    summary.line_spacing_m = o.line_spacing_m > 0
-                                 ? o.line_spacing_m
-                                 : 0.7 * cam.width / cam.fx * traj.altitude_min_m;
+    summary.line_spacing_m = o.line_spacing_m > 0 ? o.line_spacing_m : 0.7 * cam.width / cam.fx * traj.altitude_min_m;
     path = SurveyPath::Lawnmower(o.line_length_m, summary.line_spacing_m, needed_m);
   } else {
     path = SurveyPath::LoadCsv(o.path_file);
@@ -176,8 +188,9 @@ SimulationSummary SimulateSurvey(const SimulationOptions& o,
   for (const TimedPose& tp : truth) {
     cv::Rect2d b;
     if (!renderer.GroundBounds(tp.pose, &b))
-      throw InputError("", 0, "--pitch-amp", "a frame's view does not reach the seabed; reduce "
-                                              "--pitch-amp/--roll-amp");
+      throw InputError("", 0, "--pitch-amp",
+                       "a frame's view does not reach the seabed; reduce "
+                       "--pitch-amp/--roll-amp");
     area = first_bounds ? b : (area | b);
     first_bounds = false;
   }
@@ -256,8 +269,7 @@ SimulationSummary SimulateSurvey(const SimulationOptions& o,
   if (frame_error) std::rethrow_exception(frame_error);
   if (truth_error) std::rethrow_exception(truth_error);
 
-  summary.seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   WriteJson((out / "survey.json").string(), SurveyJson(o, summary));
   return summary;
 }

@@ -32,12 +32,12 @@ struct SimulationOptions {
   bool color = false;
   std::string image_format = "png";  // png | jpg
   int jpeg_quality = 92;
-  int bit_depth = 8;                 // 8 | 16 (png only)
-  std::string texture_file;          // empty: procedural seabed
-  double texture_res_m = 0;          // 0: 0.55 x the frame GSD at the lowest altitude
-  std::string path_file;             // empty: lawnmower
+  int bit_depth = 8;         // 8 | 16 (png only)
+  std::string texture_file;  // empty: procedural seabed
+  double texture_res_m = 0;  // 0: 0.55 x the frame GSD at the lowest altitude
+  std::string path_file;     // empty: lawnmower
   double line_length_m = 10;
-  double line_spacing_m = 0;         // 0: 0.7 x the footprint width at the lowest altitude
+  double line_spacing_m = 0;  // 0: 0.7 x the footprint width at the lowest altitude
   TrajectoryOptions trajectory;
   NavErrorOptions nav_errors;
   Degradations degradations;
@@ -56,7 +56,6 @@ struct SimulationSummary {
 // Throws InputError naming the parameter (or file) for invalid options, a
 // non-empty output folder without `force`, or files that cannot be written.
 // `progress(done, total)` is called from the calling thread as frames are written.
-SimulationSummary SimulateSurvey(const SimulationOptions& options,
-                                 const std::function<void(int, int)>& progress = {});
+SimulationSummary SimulateSurvey(const SimulationOptions& options, const std::function<void(int, int)>& progress = {});
 
 }  // namespace seamap

@@ -87,11 +87,8 @@ std::optional<std::vector<double>> ParseNumbers(const std::string& text, size_t 
 
 }  // namespace
 
-nlohmann::json MetadataToTileJson(const std::map<std::string, std::string>& metadata,
-                                  const std::string& extension) {
-  nlohmann::json j = {{"tilejson", "3.0.0"},
-                      {"tiles", {"{z}/{x}/{y}." + extension}},
-                      {"scheme", "xyz"}};
+nlohmann::json MetadataToTileJson(const std::map<std::string, std::string>& metadata, const std::string& extension) {
+  nlohmann::json j = {{"tilejson", "3.0.0"}, {"tiles", {"{z}/{x}/{y}." + extension}}, {"scheme", "xyz"}};
   for (const auto& [key, value] : metadata) {
     std::optional<std::vector<double>> numbers;
     if (key == "bounds") numbers = ParseNumbers(value, 4);
@@ -131,8 +128,7 @@ std::map<std::string, std::string> MetadataFromTileJson(const nlohmann::json& ti
 FolderStore::FolderStore(const std::string& root, const std::string& extension, Mode mode)
     : root_(root), extension_(extension), mode_(mode) {
   if (mode == Mode::kReadOnly) {
-    if (!fs::is_directory(root_))
-      throw InputError(root, 0, "", "cannot open tile folder: no such folder");
+    if (!fs::is_directory(root_)) throw InputError(root, 0, "", "cannot open tile folder: no such folder");
     Load();
     return;
   }
@@ -158,8 +154,7 @@ FolderStore::~FolderStore() {
 }
 
 void FolderStore::Load() {
-  if (fs::exists(root_ / kMetadataFile))
-    metadata_ = MetadataFromTileJson(ReadJsonFile(root_ / kMetadataFile));
+  if (fs::exists(root_ / kMetadataFile)) metadata_ = MetadataFromTileJson(ReadJsonFile(root_ / kMetadataFile));
   // Records are keyed by id / seq, so a later Put replaces an earlier one.
   const auto load = [this](const char* name, const auto& add) {
     const fs::path path = root_ / name;
@@ -185,8 +180,7 @@ void FolderStore::Load() {
   // Tiles are the files two folders down: {z}/{x}/{y}.ext.
   int64_t count = 0;
   for (auto it = fs::recursive_directory_iterator(root_); it != fs::end(it); ++it)
-    if (it.depth() == 2 && it->is_regular_file() && it->path().extension() == "." + extension_)
-      ++count;
+    if (it.depth() == 2 && it->is_regular_file() && it->path().extension() == "." + extension_) ++count;
   tile_count_ = count;
 }
 
@@ -195,8 +189,7 @@ void FolderStore::CheckWritable() const {
 }
 
 fs::path FolderStore::TilePath(const TileId& id) const {
-  return root_ / std::to_string(id.z) / std::to_string(id.x) /
-         (std::to_string(id.y) + "." + extension_);
+  return root_ / std::to_string(id.z) / std::to_string(id.x) / (std::to_string(id.y) + "." + extension_);
 }
 
 void FolderStore::PutTile(const TileId& id, const std::vector<uint8_t>& bytes) {
@@ -214,7 +207,9 @@ std::optional<std::vector<uint8_t>> FolderStore::GetTile(const TileId& id) const
   return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), {});
 }
 
-int64_t FolderStore::TileCount() const { return tile_count_; }
+int64_t FolderStore::TileCount() const {
+  return tile_count_;
+}
 
 std::vector<TileId> FolderStore::TileIds() const {
   std::vector<TileId> out;

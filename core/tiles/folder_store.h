@@ -67,15 +67,14 @@ class FolderStore : public TileStore {
   std::atomic<int64_t> tile_count_{0};
   bool dirty_ = false;
   std::map<std::string, std::string> metadata_;
-  std::map<int, FrameRecord> frames_;  // by id: Put replaces
-  std::map<int, TrackPoint> track_;    // by seq
+  std::map<int, FrameRecord> frames_;        // by id: Put replaces
+  std::map<int, TrackPoint> track_;          // by seq
   std::map<int64_t, Detection> detections_;  // by id
 };
 
 // TileJSON 3.0.0 document for MBTiles-style string metadata: "bounds",
 // "center", "minzoom", "maxzoom" become numbers, other keys stay strings.
-nlohmann::json MetadataToTileJson(const std::map<std::string, std::string>& metadata,
-                                  const std::string& extension);
+nlohmann::json MetadataToTileJson(const std::map<std::string, std::string>& metadata, const std::string& extension);
 // The inverse (numbers back to MBTiles strings "w,s,e,n", "lon,lat,z").
 std::map<std::string, std::string> MetadataFromTileJson(const nlohmann::json& tilejson);
 

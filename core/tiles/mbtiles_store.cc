@@ -71,8 +71,7 @@ MBTilesStore::MBTilesStore(const std::string& path, Mode mode) : path_(path), mo
   const bool read_only = mode == Mode::kReadOnly;
   const std::string field = read_only ? "" : "--out";
   const std::string action = read_only ? "cannot open MBTiles file: " : "cannot create MBTiles file: ";
-  if (read_only && !std::filesystem::is_regular_file(path))
-    throw InputError(path, 0, field, action + "no such file");
+  if (read_only && !std::filesystem::is_regular_file(path)) throw InputError(path, 0, field, action + "no such file");
   const int flags = read_only ? SQLITE_OPEN_READONLY : SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE;
   int rc = sqlite3_open_v2(path.c_str(), &db_, flags | SQLITE_OPEN_NOMUTEX, nullptr);
   try {
@@ -100,13 +99,11 @@ MBTilesStore::MBTilesStore(const std::string& path, Mode mode) : path_(path), mo
           "INSERT OR REPLACE INTO track (seq, time_s, lat, lon, altitude_m, depth_m, "
           "heading_deg) VALUES (?, ?, ?, ?, ?, ?, ?)");
     }
-    get_tile_ = Prepare(
-        "SELECT tile_data FROM tiles WHERE zoom_level = ? AND tile_column = ? AND tile_row = ?");
+    get_tile_ = Prepare("SELECT tile_data FROM tiles WHERE zoom_level = ? AND tile_column = ? AND tile_row = ?");
     opened_ = true;
   } catch (const std::exception& e) {
     std::string message = e.what();
-    for (sqlite3_stmt* s : {put_tile_, get_tile_, put_meta_, put_frame_, put_track_})
-      sqlite3_finalize(s);
+    for (sqlite3_stmt* s : {put_tile_, get_tile_, put_meta_, put_frame_, put_track_}) sqlite3_finalize(s);
     sqlite3_close(db_);
     db_ = nullptr;
     throw InputError(path, 0, field, action + message);
@@ -118,8 +115,7 @@ MBTilesStore::~MBTilesStore() {
     Flush();
   } catch (...) {  // destructors must not throw; Flush() explicitly to see errors
   }
-  for (sqlite3_stmt* s : {put_tile_, get_tile_, put_meta_, put_frame_, put_track_})
-    sqlite3_finalize(s);
+  for (sqlite3_stmt* s : {put_tile_, get_tile_, put_meta_, put_frame_, put_track_}) sqlite3_finalize(s);
   sqlite3_close(db_);
 }
 
@@ -203,9 +199,13 @@ std::optional<std::vector<uint8_t>> MBTilesStore::GetTileLocked(sqlite3_stmt* ge
   return std::vector<uint8_t>(data, data + sqlite3_column_bytes(get, 0));
 }
 
-int64_t MBTilesStore::TileCount() const { return CountRows("tiles"); }
+int64_t MBTilesStore::TileCount() const {
+  return CountRows("tiles");
+}
 
-std::vector<TileId> MBTilesStore::TileIds() const { return ReadTileIds("tiles"); }
+std::vector<TileId> MBTilesStore::TileIds() const {
+  return ReadTileIds("tiles");
+}
 
 std::vector<TileId> MBTilesStore::ReadTileIds(const std::string& table) const {
   std::lock_guard<std::mutex> lock(mutex_);
@@ -239,13 +239,15 @@ class MBTilesStore::Layer : public TileStore {
     if (parent_->mode_ != Mode::kReadOnly) {
       parent_->Exec(("CREATE TABLE IF NOT EXISTS " + table +
                      " (zoom_level integer, tile_column integer, tile_row integer, tile_data blob);"
-                     "CREATE UNIQUE INDEX IF NOT EXISTS " + table + "_index ON " + table +
-                     " (zoom_level, tile_column, tile_row);").c_str());
-      put_ = parent_->Prepare(("INSERT OR REPLACE INTO " + table +
-                               " (zoom_level, tile_column, tile_row, tile_data) VALUES (?, ?, ?, ?)").c_str());
+                     "CREATE UNIQUE INDEX IF NOT EXISTS " +
+                     table + "_index ON " + table + " (zoom_level, tile_column, tile_row);")
+                        .c_str());
+      put_ = parent_->Prepare(
+          ("INSERT OR REPLACE INTO " + table + " (zoom_level, tile_column, tile_row, tile_data) VALUES (?, ?, ?, ?)")
+              .c_str());
     }
-    get_ = parent_->Prepare(("SELECT tile_data FROM " + table +
-                             " WHERE zoom_level = ? AND tile_column = ? AND tile_row = ?").c_str());
+    get_ = parent_->Prepare(
+        ("SELECT tile_data FROM " + table + " WHERE zoom_level = ? AND tile_column = ? AND tile_row = ?").c_str());
   }
   ~Layer() override {
     sqlite3_finalize(put_);
@@ -354,8 +356,7 @@ void MBTilesStore::PutTrackPoint(const TrackPoint& p) {
 }
 
 template <typename Row>
-std::vector<Row> MBTilesStore::ReadRows(const char* sql, const char* what,
-                                        Row (*read_row)(sqlite3_stmt*)) const {
+std::vector<Row> MBTilesStore::ReadRows(const char* sql, const char* what, Row (*read_row)(sqlite3_stmt*)) const {
   std::lock_guard<std::mutex> lock(mutex_);
   std::vector<Row> out;
   sqlite3_stmt* s = nullptr;
@@ -395,26 +396,25 @@ std::vector<FrameRecord> MBTilesStore::Frames() const {
 }
 
 std::vector<TrackPoint> MBTilesStore::Track() const {
-  return ReadRows<TrackPoint>(
-      "SELECT seq, time_s, lat, lon, altitude_m, depth_m, heading_deg FROM track ORDER BY seq",
-      "read track", [](sqlite3_stmt* s) {
-        TrackPoint p;
-        p.seq = sqlite3_column_int(s, 0);
-        p.time_s = ColumnOptional(s, 1);
-        p.position = {sqlite3_column_double(s, 2), sqlite3_column_double(s, 3)};
-        p.altitude_m = sqlite3_column_double(s, 4);
-        p.depth_m = sqlite3_column_double(s, 5);
-        p.heading_deg = sqlite3_column_double(s, 6);
-        return p;
-      });
+  return ReadRows<TrackPoint>("SELECT seq, time_s, lat, lon, altitude_m, depth_m, heading_deg FROM track ORDER BY seq",
+                              "read track", [](sqlite3_stmt* s) {
+                                TrackPoint p;
+                                p.seq = sqlite3_column_int(s, 0);
+                                p.time_s = ColumnOptional(s, 1);
+                                p.position = {sqlite3_column_double(s, 2), sqlite3_column_double(s, 3)};
+                                p.altitude_m = sqlite3_column_double(s, 4);
+                                p.depth_m = sqlite3_column_double(s, 5);
+                                p.heading_deg = sqlite3_column_double(s, 6);
+                                return p;
+                              });
 }
 
 void MBTilesStore::PutDetection(const Detection& d) {
   std::lock_guard<std::mutex> lock(mutex_);
   BeginWrite();
-  OneShot q{Prepare(
-      "INSERT OR REPLACE INTO detections (id, class, score, lat, lon, note, source, frame_id, "
-      "time_s, created, updated, seq) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)")};
+  OneShot q{
+      Prepare("INSERT OR REPLACE INTO detections (id, class, score, lat, lon, note, source, frame_id, "
+              "time_s, created, updated, seq) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)")};
   sqlite3_stmt* s = q.s;
   sqlite3_bind_int64(s, 1, d.id);
   sqlite3_bind_text(s, 2, d.class_name.c_str(), -1, SQLITE_STATIC);
@@ -423,7 +423,10 @@ void MBTilesStore::PutDetection(const Detection& d) {
   sqlite3_bind_double(s, 5, d.position.lon);
   sqlite3_bind_text(s, 6, d.note.c_str(), -1, SQLITE_STATIC);
   sqlite3_bind_text(s, 7, d.source.c_str(), -1, SQLITE_STATIC);
-  if (d.frame_id) sqlite3_bind_int(s, 8, *d.frame_id); else sqlite3_bind_null(s, 8);
+  if (d.frame_id)
+    sqlite3_bind_int(s, 8, *d.frame_id);
+  else
+    sqlite3_bind_null(s, 8);
   BindOptional(s, 9, d.time_s);
   sqlite3_bind_text(s, 10, d.created.c_str(), -1, SQLITE_STATIC);
   sqlite3_bind_text(s, 11, d.updated.c_str(), -1, SQLITE_STATIC);

@@ -11,14 +11,14 @@
 namespace seamap {
 
 struct FrameRecord {
-  int id = 0;                    // frame index
-  std::string image;             // file name as in the navigation
-  std::string image_path;        // path used to read it
+  int id = 0;              // frame index
+  std::string image;       // file name as in the navigation
+  std::string image_path;  // path used to read it
   std::optional<double> time_s;
-  LatLon position;               // vehicle
+  LatLon position;  // vehicle
   double altitude_m = 0, depth_m = 0, heading_deg = 0, pitch_deg = 0, roll_deg = 0;
   std::array<LatLon, 4> footprint{};  // image corners on the seabed (TL, TR, BR, BL)
-  std::string status;            // "used" or the rejection reason
+  std::string status;                 // "used" or the rejection reason
 };
 
 struct TrackPoint {
@@ -38,8 +38,8 @@ struct Detection {
   std::string source = "operator";  // "operator" or the recogniser's name
   std::optional<int> frame_id;      // the photo it was found in
   std::optional<double> time_s;
-  std::string created, updated;     // ISO 8601 UTC
-  int64_t seq = 0;                  // change number: grows with every change
+  std::string created, updated;  // ISO 8601 UTC
+  int64_t seq = 0;               // change number: grows with every change
 };
 
 }  // namespace seamap

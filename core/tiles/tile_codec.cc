@@ -82,10 +82,10 @@ cv::Mat CompositeOver(const cv::Mat& tile, const cv::Scalar& background) {
 
 // PNG colour type of a tile with 1 (gray), 2 (gray, alpha), 3 or 4 (colour, alpha) channels.
 int PngColorTypeOf(int channels) {
-  return channels == 2 ? PNG_COLOR_TYPE_GRAY_ALPHA
-       : channels == 3 ? PNG_COLOR_TYPE_RGB
-       : channels == 4 ? PNG_COLOR_TYPE_RGB_ALPHA
-                       : PNG_COLOR_TYPE_GRAY;
+  return channels == 2   ? PNG_COLOR_TYPE_GRAY_ALPHA
+         : channels == 3 ? PNG_COLOR_TYPE_RGB
+         : channels == 4 ? PNG_COLOR_TYPE_RGB_ALPHA
+                         : PNG_COLOR_TYPE_GRAY;
 }
 
 // The tile in PNG's channel order: gray, gray+alpha, RGB or RGBA (alpha
@@ -124,8 +124,8 @@ std::vector<uint8_t> EncodePng(const cv::Mat& tile, int level) {
       },
       nullptr);
   png_set_compression_level(png, level);
-  png_set_IHDR(png, info, rows.cols, rows.rows, 8, color_type, PNG_INTERLACE_NONE,
-               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_set_IHDR(png, info, rows.cols, rows.rows, 8, color_type, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
+               PNG_FILTER_TYPE_DEFAULT);
   png_set_rows(png, info, row_ptrs.data());
   png_write_png(png, info, PNG_TRANSFORM_IDENTITY, nullptr);
   png_destroy_write_struct(&png, &info);
@@ -174,8 +174,10 @@ std::vector<uint8_t> EncodePngFast(const cv::Mat& tile, int level) {
   const size_t idat = libdeflate_zlib_compress(compressor, filtered.data(), filtered.size(), &out[8 + 25 + 8], bound);
   if (idat == 0) throw std::runtime_error("libdeflate: cannot compress tile");
   auto put32 = [](uint8_t* p, uint32_t v) {
-    p[0] = static_cast<uint8_t>(v >> 24); p[1] = static_cast<uint8_t>(v >> 16);
-    p[2] = static_cast<uint8_t>(v >> 8); p[3] = static_cast<uint8_t>(v);
+    p[0] = static_cast<uint8_t>(v >> 24);
+    p[1] = static_cast<uint8_t>(v >> 16);
+    p[2] = static_cast<uint8_t>(v >> 8);
+    p[3] = static_cast<uint8_t>(v);
   };
   // A chunk at p: length, type, data (already in place), CRC of type and data.
   auto chunk = [&](uint8_t* p, const char* type, uint32_t length) {
@@ -198,11 +200,9 @@ std::vector<uint8_t> EncodePngFast(const cv::Mat& tile, int level) {
   return out;
 }
 
-std::vector<uint8_t> Encode(const std::string& ext, const cv::Mat& img,
-                            const std::vector<int>& params) {
+std::vector<uint8_t> Encode(const std::string& ext, const cv::Mat& img, const std::vector<int>& params) {
   std::vector<uint8_t> out;
-  if (!cv::imencode(ext, img, out, params))
-    throw std::runtime_error("cannot encode tile as " + ext.substr(1));
+  if (!cv::imencode(ext, img, out, params)) throw std::runtime_error("cannot encode tile as " + ext.substr(1));
   return out;
 }
 
@@ -230,23 +230,28 @@ TileFormat ParseTileFormat(const std::string& name, const std::string& source) {
   if (lower == "png") return TileFormat::kPng;
   if (lower == "jpg" || lower == "jpeg") return TileFormat::kJpeg;
   if (lower == "webp") return TileFormat::kWebp;
-  throw InputError(source, 0, "tile_format",
-                   "unknown tile format '" + name + "', expected png, jpg, jpeg or webp");
+  throw InputError(source, 0, "tile_format", "unknown tile format '" + name + "', expected png, jpg, jpeg or webp");
 }
 
 std::string TileExtension(TileFormat f) {
   switch (f) {
-    case TileFormat::kJpeg: return "jpg";
-    case TileFormat::kWebp: return "webp";
-    default: return "png";
+    case TileFormat::kJpeg:
+      return "jpg";
+    case TileFormat::kWebp:
+      return "webp";
+    default:
+      return "png";
   }
 }
 
 std::string TileMimeType(TileFormat f) {
   switch (f) {
-    case TileFormat::kJpeg: return "image/jpeg";
-    case TileFormat::kWebp: return "image/webp";
-    default: return "image/png";
+    case TileFormat::kJpeg:
+      return "image/jpeg";
+    case TileFormat::kWebp:
+      return "image/webp";
+    default:
+      return "image/png";
   }
 }
 
@@ -255,8 +260,7 @@ std::vector<uint8_t> EncodeTile(const cv::Mat& tile, const TileEncoding& enc) {
     throw std::invalid_argument("EncodeTile expects CV_8UC2 or CV_8UC4");
   switch (enc.format) {
     case TileFormat::kJpeg:
-      return Encode(".jpg", CompositeOver(tile, enc.background),
-                    {cv::IMWRITE_JPEG_QUALITY, enc.jpeg_quality});
+      return Encode(".jpg", CompositeOver(tile, enc.background), {cv::IMWRITE_JPEG_QUALITY, enc.jpeg_quality});
     case TileFormat::kWebp: {
       // Opaque tiles drop alpha: smaller, and WebP decodes them as opaque.
       cv::Mat img = FullyOpaque(tile) ? WithoutAlpha(tile) : WithColourChannels(tile, 3);
@@ -265,7 +269,8 @@ std::vector<uint8_t> EncodeTile(const cv::Mat& tile, const TileEncoding& enc) {
     }
     default: {
       const cv::Mat img = InPngOrder(tile, FullyOpaque(tile));
-      return enc.png_level >= 1 && enc.png_level <= 5 ? EncodePngFast(img, enc.png_level) : EncodePng(img, enc.png_level);
+      return enc.png_level >= 1 && enc.png_level <= 5 ? EncodePngFast(img, enc.png_level)
+                                                      : EncodePng(img, enc.png_level);
     }
   }
 }
@@ -282,8 +287,12 @@ cv::Mat DecodeTile(const std::vector<uint8_t>& bytes) {
       cv::merge(std::vector<cv::Mat>{img, opaque}, out);
       return out;
     }
-    case 3: cv::cvtColor(img, out, cv::COLOR_BGR2BGRA); break;
-    default: out = img; break;
+    case 3:
+      cv::cvtColor(img, out, cv::COLOR_BGR2BGRA);
+      break;
+    default:
+      out = img;
+      break;
   }
   // Gray data (a gray PNG, or colour channels all equal) comes back as gray+alpha.
   if (color_type == PNG_COLOR_TYPE_GRAY_ALPHA || ColoursEqual(out)) {

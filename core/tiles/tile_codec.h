@@ -19,9 +19,9 @@ std::string TileMimeType(TileFormat f);   // "image/png", ...
 
 struct TileEncoding {
   TileFormat format = TileFormat::kPng;
-  int png_level = 1;       // zlib level 0..9
-  int jpeg_quality = 85;   // 1..100
-  int webp_quality = 85;   // 1..100 (101 = lossless)
+  int png_level = 1;               // zlib level 0..9
+  int jpeg_quality = 85;           // 1..100
+  int webp_quality = 85;           // 1..100 (101 = lossless)
   cv::Scalar background{0, 0, 0};  // BGR used under transparent pixels in JPEG
 };
 

@@ -70,7 +70,6 @@ void RemoveMap(const std::string& path, const std::string& param);
 // anything else a folder pyramid {z}/{x}/{y}.{ext} with metadata.json.
 // `extension` is the tile file extension used by folder stores ("png"...).
 // Throws InputError naming the path when it cannot be created or written.
-std::unique_ptr<TileStore> OpenTileStore(const std::string& path, const std::string& extension,
-                                         bool create);
+std::unique_ptr<TileStore> OpenTileStore(const std::string& path, const std::string& extension, bool create);
 
 }  // namespace seamap

@@ -2,8 +2,7 @@
 
 namespace seamap {
 namespace {
-std::string Compose(const std::string& file, int line, const std::string& field,
-                    const std::string& message) {
+std::string Compose(const std::string& file, int line, const std::string& field, const std::string& message) {
   std::string out = file;
   if (line > 0) out += ":" + std::to_string(line);
   // A bare parameter ("--origin") names itself; inside a file we say which field.

@@ -37,15 +37,15 @@ void ProgressBar::Draw(bool force, const std::string& extra) {
     if (!force && now - last_draw_ < std::chrono::milliseconds(100)) return;
     const int width = 30;
     int filled = total_ > 0 ? static_cast<int>(std::min<long>(width, done_ * width / total_)) : 0;
-    std::fprintf(stderr, "\r[%s%s] %ld/%ld %s  %.1f %s/s  %s\x1b[K",
-                 std::string(filled, '#').c_str(), std::string(width - filled, '.').c_str(),
-                 done_, total_, unit_.c_str(), Rate(), unit_.c_str(), extra.c_str());
+    std::fprintf(stderr, "\r[%s%s] %ld/%ld %s  %.1f %s/s  %s\x1b[K", std::string(filled, '#').c_str(),
+                 std::string(width - filled, '.').c_str(), done_, total_, unit_.c_str(), Rate(), unit_.c_str(),
+                 extra.c_str());
   } else {
     // Logs (CI, pipes): one line per 10 %.
     if (percent / 10 == last_logged_percent_ / 10 && (!force || percent == last_logged_percent_)) return;
     last_logged_percent_ = percent;
-    std::fprintf(stderr, "%3ld%% %ld/%ld %s  %.1f %s/s  %s\n", percent, done_, total_,
-                 unit_.c_str(), Rate(), unit_.c_str(), extra.c_str());
+    std::fprintf(stderr, "%3ld%% %ld/%ld %s  %.1f %s/s  %s\n", percent, done_, total_, unit_.c_str(), Rate(),
+                 unit_.c_str(), extra.c_str());
   }
   std::fflush(stderr);
   last_draw_ = now;

@@ -32,8 +32,8 @@ struct DamagedSurvey {
     camera = (dir.path() / "s/camera.json").string();
   }
   std::string Args(const std::string& out) const {
-    return "build --quiet --images " + photo + " --nav " + nav + " --camera " + camera +
-           " --origin 43.1,131.9 --out " + out;
+    return "build --quiet --images " + photo + " --nav " + nav + " --camera " + camera + " --origin 43.1,131.9 --out " +
+           out;
   }
   std::vector<std::string> NavLines() const {
     std::ifstream in(nav);
@@ -85,10 +85,12 @@ TEST(BadInput, BadNavigationLinesAreSkippedWithFileLineAndField) {
     size_t end = line.find(',', start);
     return line.substr(0, start) + value + (end == std::string::npos ? "" : line.substr(end));
   };
-  lines[2] = replace_field(lines[2], 4, "-1.5");        // altitude <= 0 (file line 3)
-  lines[3] = replace_field(lines[3], 6, "nan");         // heading not finite (line 4)
+  lines[2] = replace_field(lines[2], 4, "-1.5");                              // altitude <= 0 (file line 3)
+  lines[3] = replace_field(lines[3], 6, "nan");                               // heading not finite (line 4)
   lines[4] = lines[4].substr(0, lines[4].find(',', lines[4].find(',') + 1));  // missing columns (line 5)
-  lines[5] = replace_field(lines[5], 2, "\xE2\x88\x92" "0.25");  // Unicode minus: accepted (line 6)
+  lines[5] = replace_field(lines[5], 2,
+                           "\xE2\x88\x92"
+                           "0.25");  // Unicode minus: accepted (line 6)
   s.WriteNav(lines);
   const std::string out = (s.dir / "m.mbtiles").string();
   std::string log;

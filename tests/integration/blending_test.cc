@@ -26,8 +26,9 @@ struct Built {
 
 Built Build(const testing::TempDir& dir, const std::string& name, const std::string& config,
             const std::string& extra_args = "") {
-  const auto& survey = SharedSurvey("blending", "--frames 120 --line-length 5 --seed 3 --degrade "
-                                                "--nav-noise 0.01 --heading-noise 0.5 --image-format jpg");
+  const auto& survey = SharedSurvey("blending",
+                                    "--frames 120 --line-length 5 --seed 3 --degrade "
+                                    "--nav-noise 0.01 --heading-noise 0.5 --image-format jpg");
   const std::string cfg = (dir / (name + ".json")).string(), out = (dir / (name + ".mbtiles")).string();
   std::ofstream(cfg) << config;
   std::string log;

@@ -60,8 +60,8 @@ std::vector<SseEvent> ParseEvents(std::string* buffer) {
 }
 
 std::vector<std::string> ReplayArgs(const SimulatedSurvey& s, const std::string& out, const std::string& speed) {
-  return {SeamapBinary(), "replay", s.dir, "--out", out, "--speed", speed, "--host", "127.0.0.1", "--port", "0",
-          "--web", kWeb, "--token", "secret", "--quiet"};
+  return {SeamapBinary(), "replay", s.dir, "--out", out,  "--speed", speed,    "--host",
+          "127.0.0.1",    "--port", "0",   "--web", kWeb, "--token", "secret", "--quiet"};
 }
 
 TEST(LiveServer, ReplayStreamsEventsForTilesPosesTrackAndProgressAndKeepsMarks) {
@@ -169,7 +169,8 @@ TEST(LiveServer, ServesAnExportedFolderTileForTileLikeTheMbtiles) {
   ASSERT_TRUE(line) << serve.output();
   httplib::Client api("127.0.0.1", PortFromServingLine(*line));
   for (const TileId& id : ids) {
-    auto res = api.Get("/tiles/" + std::to_string(id.z) + "/" + std::to_string(id.x) + "/" + std::to_string(id.y) + ".png");
+    auto res =
+        api.Get("/tiles/" + std::to_string(id.z) + "/" + std::to_string(id.x) + "/" + std::to_string(id.y) + ".png");
     ASSERT_TRUE(res);
     ASSERT_EQ(res->status, 200);
     auto bytes = store.GetTile(id);
@@ -242,8 +243,8 @@ TEST(LiveServer, ReplayTakesTheSurveysOriginWithEveryDigit) {
   const SimulatedSurvey& survey = SharedSurvey("origin", "--frames 10 --origin 43.12345678,131.98765432");
   TempDir tmp;
   const std::string mission = (tmp / "m.mbtiles").string();
-  ChildProcess replay({SeamapBinary(), "replay", survey.dir, "--out", mission, "--speed", "max", "--host",
-                       "127.0.0.1", "--port", "0", "--web", kWeb, "--quiet", "--exit-when-done"});
+  ChildProcess replay({SeamapBinary(), "replay", survey.dir, "--out", mission, "--speed", "max", "--host", "127.0.0.1",
+                       "--port", "0", "--web", kWeb, "--quiet", "--exit-when-done"});
   auto code = replay.Wait(seconds(120));
   ASSERT_TRUE(code);
   ASSERT_EQ(*code, 0) << replay.output();

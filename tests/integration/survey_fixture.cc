@@ -9,8 +9,7 @@
 namespace seamap::testing {
 
 std::string SimulatedSurvey::BuildArgs() const {
-  return "build --images " + photo + " --nav " + nav + " --camera " + camera + " --origin " +
-         origin + " --quiet";
+  return "build --images " + photo + " --nav " + nav + " --camera " + camera + " --origin " + origin + " --quiet";
 }
 
 int Seamap(const std::string& args, std::string* out) {
@@ -20,15 +19,13 @@ int Seamap(const std::string& args, std::string* out) {
 const SimulatedSurvey& SharedSurvey(const std::string& name, const std::string& extra) {
   static std::map<std::string, std::unique_ptr<SimulatedSurvey>> cache;
   static std::filesystem::path root = [] {
-    auto p = std::filesystem::temp_directory_path() /
-             ("seamap_it_" + std::to_string(::getpid()));
+    auto p = std::filesystem::temp_directory_path() / ("seamap_it_" + std::to_string(::getpid()));
     std::filesystem::create_directories(p);
     std::atexit([] {
       std::error_code ec;
       if (!std::getenv("SEAMAP_KEEP_TEST_FILES"))
-        std::filesystem::remove_all(std::filesystem::temp_directory_path() /
-                                        ("seamap_it_" + std::to_string(::getpid())),
-                                    ec);
+        std::filesystem::remove_all(
+            std::filesystem::temp_directory_path() / ("seamap_it_" + std::to_string(::getpid())), ec);
     });
     return p;
   }();

@@ -10,10 +10,10 @@
 namespace seamap::testing {
 
 struct SimulatedSurvey {
-  std::string dir;      // simulate --out
-  std::string photo;    // dir/photo
-  std::string nav;      // dir/nav.csv
-  std::string camera;   // dir/camera.json
+  std::string dir;     // simulate --out
+  std::string photo;   // dir/photo
+  std::string nav;     // dir/nav.csv
+  std::string camera;  // dir/camera.json
   std::string origin = "43.1,131.9";
   // "seamap build" arguments for this survey, without --out.
   std::string BuildArgs() const;

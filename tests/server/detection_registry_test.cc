@@ -22,10 +22,10 @@ std::pair<int, std::string> ErrorOf(F f) {
   return {0, ""};
 }
 
-#define EXPECT_API_ERROR(call, status, needle)                                           \
-  do {                                                                                   \
-    auto err = ErrorOf([&] { call; });                                                   \
-    EXPECT_EQ(err.first, status) << err.second;                                          \
+#define EXPECT_API_ERROR(call, status, needle)                                          \
+  do {                                                                                  \
+    auto err = ErrorOf([&] { call; });                                                  \
+    EXPECT_EQ(err.first, status) << err.second;                                         \
     EXPECT_NE(err.second.find(needle), std::string::npos) << "message: " << err.second; \
   } while (0)
 
@@ -345,7 +345,7 @@ TEST_F(DetectionRegistryTest, IdsAreNeverReusedAfterADelete) {
 }
 
 TEST_F(DetectionRegistryTest, ContinuesNumberingAfterReload) {
-  registry_->Create(Mark(5, 43, "a"));  // id 3, seq 3
+  registry_->Create(Mark(5, 43, "a"));             // id 3, seq 3
   DetectionRegistry again(store_.get(), nullptr);  // no event hub: nothing announced
   again.Load(*store_);
   EXPECT_EQ(again.Query({})["last_seq"], 3);

@@ -97,8 +97,8 @@ TEST_F(HttpServerTest, FramesCoveringAPointNearestFirst) {
   const json both = GetJson("/api/frames?lat=43.00002&lon=5.00002");
   EXPECT_EQ(FrameIds(both), (std::vector<int>{0, 1})) << "rejected frame 2 also covers it, but is not listed";
   const json f = both["frames"][0];
-  for (const char* key : {"id", "image", "time_s", "lat", "lon", "heading_deg", "pitch_deg", "roll_deg",
-                          "altitude_m", "depth_m", "footprint", "image_url", "thumb_url"})
+  for (const char* key : {"id", "image", "time_s", "lat", "lon", "heading_deg", "pitch_deg", "roll_deg", "altitude_m",
+                          "depth_m", "footprint", "image_url", "thumb_url"})
     EXPECT_TRUE(f.contains(key)) << key;
   EXPECT_EQ(f["image"], "frame_0.png");
   EXPECT_EQ(f["footprint"].size(), 4u);
@@ -236,8 +236,8 @@ TEST_F(HttpServerTest, AMarkIsCreatedChangedAndDeletedAndTheFileFollows) {
   ASSERT_TRUE(StoredDetections().count(3)) << "written through to the MBTiles file";
   EXPECT_EQ(StoredDetections().at(3).note, "bow section");
 
-  auto patched = client->Patch("/api/detections/3", json{{"note", "stern too"}, {"score", 0.7}}.dump(),
-                               "application/json");
+  auto patched =
+      client->Patch("/api/detections/3", json{{"note", "stern too"}, {"score", 0.7}}.dump(), "application/json");
   ASSERT_TRUE(patched);
   ASSERT_EQ(patched->status, 200) << patched->body;
   EXPECT_EQ(json::parse(patched->body)["properties"]["note"], "stern too");
@@ -306,8 +306,8 @@ TEST_F(HttpServerTest, WritesNeedTheTokenWhenTheServerHasOne) {
               "Bearer", "wrong token");
   ExpectError(client->Post("/api/detections", {{"Authorization", "Bearer s3cre"}}, body, "application/json"), 401,
               "Bearer", "prefix of the token");
-  ExpectError(client->Post("/api/detections", {{"Authorization", "s3cret"}}, body, "application/json"), 401,
-              "Bearer", "no scheme");
+  ExpectError(client->Post("/api/detections", {{"Authorization", "s3cret"}}, body, "application/json"), 401, "Bearer",
+              "no scheme");
   ExpectError(client->Patch("/api/detections/2", json{{"note", "x"}}.dump(), "application/json"), 401, "Bearer",
               "patch without token");
   ExpectError(client->Delete("/api/detections/2"), 401, "Bearer", "delete without token");
@@ -332,8 +332,8 @@ TEST_F(HttpServerTest, WritesNeedTheTokenWhenTheServerHasOne) {
 TEST_F(HttpServerTest, TheRecognisersDetectionsCannotBeChangedOrDeleted) {
   Start();
   auto client = Client();
-  ExpectError(client->Patch("/api/detections/1", json{{"class", "bin"}}.dump(), "application/json"), 403,
-              "recogniser", "patch");
+  ExpectError(client->Patch("/api/detections/1", json{{"class", "bin"}}.dump(), "application/json"), 403, "recogniser",
+              "patch");
   ExpectError(client->Delete("/api/detections/1"), 403, "recogniser", "delete");
   EXPECT_EQ(GetJson("/api/detections/1")["properties"]["class"], "tyre");
   EXPECT_EQ(StoredDetections().at(1).class_name, "tyre");
@@ -341,8 +341,7 @@ TEST_F(HttpServerTest, TheRecognisersDetectionsCannotBeChangedOrDeleted) {
 
 TEST_F(HttpServerTest, AReadOnlyMissionRefusesWrites) {
   Start(Options(), /*writable=*/false);
-  ExpectError(Client()->Post("/api/detections", Mark(5, 43, "x").dump(), "application/json"), 403, "read-only",
-              "post");
+  ExpectError(Client()->Post("/api/detections", Mark(5, 43, "x").dump(), "application/json"), 403, "read-only", "post");
   ExpectError(Client()->Delete("/api/detections/2"), 403, "read-only", "delete");
   EXPECT_EQ(StoredDetections().size(), 2u);
 }

@@ -190,9 +190,9 @@ TEST_F(HttpServerTest, NoPathEscapesTheWebDir) {
   Start();
   // Sent byte for byte, as an attacker would; the secret sits next to the web dir.
   for (const std::string target :
-       {"/../secret.txt", "/js/../../secret.txt", "/%2e%2e/secret.txt", "/%2E%2E/secret.txt", "/js/%2e%2e/%2e%2e/secret.txt",
-        "/..%2fsecret.txt", "/%2e%2e%2fsecret.txt", "/js/..%2f..%2fsecret.txt", "/..\\secret.txt",
-        "/%2e%2e%5csecret.txt", "//../secret.txt", "/./../secret.txt", "/js/./../../secret.txt"}) {
+       {"/../secret.txt", "/js/../../secret.txt", "/%2e%2e/secret.txt", "/%2E%2E/secret.txt",
+        "/js/%2e%2e/%2e%2e/secret.txt", "/..%2fsecret.txt", "/%2e%2e%2fsecret.txt", "/js/..%2f..%2fsecret.txt",
+        "/..\\secret.txt", "/%2e%2e%5csecret.txt", "//../secret.txt", "/./../secret.txt", "/js/./../../secret.txt"}) {
     RawResponse res = RawGet(server_->port(), target);
     EXPECT_EQ(res.text.find("TOP SECRET"), std::string::npos) << target;
     EXPECT_GE(res.status, 400) << target << "\n" << res.text.substr(0, 200);

@@ -15,8 +15,8 @@
 #include <iterator>
 #include <thread>
 
-#include <httplib.h>
 #include <gtest/gtest.h>
+#include <httplib.h>
 #include <opencv2/imgcodecs.hpp>
 
 #include "core/tiles/folder_store.h"
@@ -179,7 +179,9 @@ class EventStream {
   bool stop_ = false, ended_ = false;
 };
 
-inline bool Greeted(const std::string& text) { return text.find(": seamap events") != std::string::npos; }
+inline bool Greeted(const std::string& text) {
+  return text.find(": seamap events") != std::string::npos;
+}
 
 class HttpServerTest : public ::testing::Test {
  protected:
@@ -204,8 +206,8 @@ class HttpServerTest : public ::testing::Test {
   // Serves the test mission as `seamap serve` does; `writable` false: a read-only mission.
   void Start(ServerOptions options, bool writable = true) {
     tiles_ = std::make_unique<TileSource>(mission_.path.string(), readers_);
-    writer_ = std::make_unique<MBTilesStore>(mission_.path.string(), writable ? MBTilesStore::Mode::kCreate
-                                                                              : MBTilesStore::Mode::kReadOnly);
+    writer_ = std::make_unique<MBTilesStore>(mission_.path.string(),
+                                             writable ? MBTilesStore::Mode::kCreate : MBTilesStore::Mode::kReadOnly);
     state_.Load(*writer_);
     state_.SetLayers(tiles_->Layers(), tiles_->Format());
     registry_ = std::make_unique<DetectionRegistry>(writable ? writer_.get() : nullptr, &events_);
@@ -276,6 +278,5 @@ class HttpServerTest : public ::testing::Test {
 };
 
 // --- tiles -------------------------------------------------------------------
-
 
 }  // namespace seamap::server::http_test

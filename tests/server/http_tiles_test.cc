@@ -80,13 +80,18 @@ TEST_F(HttpServerTest, AMissingTileIs204WithoutBody) {
 
 TEST_F(HttpServerTest, MalformedOrOutOfRangeTilePathsAre400WithAJsonError) {
   Start();
-  const std::vector<std::pair<std::string, std::string>> cases = {
-      {"/tiles/31/0/0.png", "zoom"},        {"/tiles/3/8/0.png", "2^z"},
-      {"/tiles/3/0/8.png", "2^z"},          {"/tiles/a/0/0.png", "non-negative integers"},
-      {"/tiles/3/-1/2.png", "non-negative"}, {"/tiles/3/4/2", "{y}.{ext}"},
-      {"/tiles/3/4.png", "tile path"},      {"/tiles/enhanced/3/4/5/6.png", "tile path"},
-      {"/tiles/3/4/.png", "tile path"},     {"/tiles/99999999999/0/0.png", "tile path"},
-      {"/tiles/", "tile path"},             {"/tiles/3/4/2.png/", "tile path"}};
+  const std::vector<std::pair<std::string, std::string>> cases = {{"/tiles/31/0/0.png", "zoom"},
+                                                                  {"/tiles/3/8/0.png", "2^z"},
+                                                                  {"/tiles/3/0/8.png", "2^z"},
+                                                                  {"/tiles/a/0/0.png", "non-negative integers"},
+                                                                  {"/tiles/3/-1/2.png", "non-negative"},
+                                                                  {"/tiles/3/4/2", "{y}.{ext}"},
+                                                                  {"/tiles/3/4.png", "tile path"},
+                                                                  {"/tiles/enhanced/3/4/5/6.png", "tile path"},
+                                                                  {"/tiles/3/4/.png", "tile path"},
+                                                                  {"/tiles/99999999999/0/0.png", "tile path"},
+                                                                  {"/tiles/", "tile path"},
+                                                                  {"/tiles/3/4/2.png/", "tile path"}};
   for (const auto& [path, needle] : cases) ExpectError(Get(path), 400, needle, path);
 }
 
@@ -153,8 +158,7 @@ TEST_F(HttpServerTest, LayerTileJson) {
   Start();
   const json tj = GetJson("/tiles/enhanced.json");
   EXPECT_EQ(tj["tilejson"], "3.0.0");
-  EXPECT_EQ(tj["tiles"][0],
-            "http://127.0.0.1:" + std::to_string(server_->port()) + "/tiles/enhanced/{z}/{x}/{y}.png");
+  EXPECT_EQ(tj["tiles"][0], "http://127.0.0.1:" + std::to_string(server_->port()) + "/tiles/enhanced/{z}/{x}/{y}.png");
   EXPECT_EQ(tj["name"], "Test mission (enhanced)");
   EXPECT_EQ(tj["bounds"], json::array({4.999, 42.999, 5.011, 43.011}));
   EXPECT_EQ(tj["minzoom"], 15);

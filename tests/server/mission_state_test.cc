@@ -180,7 +180,7 @@ TEST(MissionState, AFramePaintedAgainReplacesItsRecordAndKeepsTheTrack) {
   MissionState state;
   state.AddFrame(MakeFrame(0, {43, 5}, 0.0002, "used", "a.png"), Point(0));
   state.AddFrame(MakeFrame(2, {43, 5}, 0.0002, "used", "c.png"), Point(1));
-  state.AddFrame(MakeFrame(1, {43, 5}, 0.0002, "used", "b.png"), Point(1));  // inserted in id order
+  state.AddFrame(MakeFrame(1, {43, 5}, 0.0002, "used", "b.png"), Point(1));   // inserted in id order
   state.AddFrame(MakeFrame(2, {43, 5}, 0.0002, "used", "c2.png"), Point(0));  // replaced
   ASSERT_TRUE(state.Frame(1));
   EXPECT_EQ(state.Frame(1)->image, "b.png");

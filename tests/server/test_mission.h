@@ -25,7 +25,9 @@ inline std::vector<uint8_t> Png(int w, int h, int shade) {
   return out;
 }
 
-inline std::string Text(const std::vector<uint8_t>& bytes) { return std::string(bytes.begin(), bytes.end()); }
+inline std::string Text(const std::vector<uint8_t>& bytes) {
+  return std::string(bytes.begin(), bytes.end());
+}
 
 // The strong ETag the server must send for these bytes.
 inline std::string QuotedVersion(const std::vector<uint8_t>& bytes) {
@@ -53,10 +55,10 @@ inline FrameRecord MakeFrame(int id, LatLon centre, double half, const std::stri
 }
 
 struct TestMission {
-  std::filesystem::path path;                     // the .mbtiles file
-  std::map<TileId, std::vector<uint8_t>> tiles;   // main map
+  std::filesystem::path path;                    // the .mbtiles file
+  std::map<TileId, std::vector<uint8_t>> tiles;  // main map
   std::map<TileId, std::vector<uint8_t>> enhanced;
-  std::filesystem::path photo0, photo1;           // photos of frames 0 (PNG) and 1 (JPEG)
+  std::filesystem::path photo0, photo1;  // photos of frames 0 (PNG) and 1 (JPEG)
 };
 
 // Frames: 0 at (43, 5) and 1 at (43.0001, 5.0001), both used, footprints

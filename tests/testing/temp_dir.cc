@@ -2,12 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
 #include <array>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <random>
-#include <sys/wait.h>
 
 namespace seamap::testing {
 
@@ -17,8 +17,7 @@ TempDir::TempDir() {
   std::string name = info ? std::string(info->test_suite_name()) + "_" + info->name() : "seamap";
   for (char& c : name)
     if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-  path_ = std::filesystem::temp_directory_path() /
-          ("seamap_" + name + "_" + std::to_string(rd()));
+  path_ = std::filesystem::temp_directory_path() / ("seamap_" + name + "_" + std::to_string(rd()));
   std::filesystem::create_directories(path_);
 }
 

@@ -64,8 +64,7 @@ TEST(CameraModelTest, JsonDistortionLengthsArePaddedOrTruncated) {
   c = LoadCamera(eight.string());
   EXPECT_EQ(c.distortion, (std::array<double, 5>{0.1, 0.2, 0.3, 0.4, 0.5}));
 
-  const auto none = WriteFile(dir / "none.json",
-                              R"({"width": 10, "height": 8, "fx": 5, "fy": 5, "cx": 5, "cy": 4})");
+  const auto none = WriteFile(dir / "none.json", R"({"width": 10, "height": 8, "fx": 5, "fy": 5, "cx": 5, "cy": 4})");
   c = LoadCamera(none.string());
   EXPECT_FALSE(c.HasDistortion());
   EXPECT_EQ(c.mount_rpy_deg, Eigen::Vector3d::Zero());
@@ -97,8 +96,8 @@ TEST(CameraModelTest, FocalShortcutMatchesSeedPaperNumbers) {
 
 TEST(CameraModelTest, LoadsFocalShortcutJson) {
   TempDir dir;
-  const auto path = WriteFile(dir / "seed.json",
-                              R"({"width": 696, "height": 520, "focal_mm": 8, "pixel_pitch_um": 12.9})");
+  const auto path =
+      WriteFile(dir / "seed.json", R"({"width": 696, "height": 520, "focal_mm": 8, "pixel_pitch_um": 12.9})");
   const CameraModel c = LoadCamera(path.string());
   EXPECT_NEAR(c.fx, 620.155, 1e-3);
   EXPECT_NEAR(c.fy, 620.155, 1e-3);
@@ -111,8 +110,7 @@ TEST(CameraModelTest, LoadsFocalShortcutJson) {
   EXPECT_DOUBLE_EQ(c2.cx, 340);
   EXPECT_DOUBLE_EQ(c2.cy, 250);
 
-  const auto no_pitch = WriteFile(dir / "seed3.json",
-                                  R"({"width": 696, "height": 520, "focal_mm": 8})");
+  const auto no_pitch = WriteFile(dir / "seed3.json", R"({"width": 696, "height": 520, "focal_mm": 8})");
   EXPECT_EQ(ExpectInputError([&] { LoadCamera(no_pitch.string()); }).field(), "pixel_pitch_um");
 }
 
@@ -257,14 +255,11 @@ TEST(CameraModelTest, JsonErrorsNameFileAndField) {
       {R"({"width": 10, "height": 8, "fx": 5, "fy": 5, "cx": 5, "cy": "4"})", "cy"},
       {R"({"width": 10, "height": 8, "fx": 5, "fy": 5, "cx": 5, "cy": 4, "distortion": [1, 2, 3, 4, 5, 6, 7]})",
        "distortion"},
-      {R"({"width": 10, "height": 8, "fx": 5, "fy": 5, "cx": 5, "cy": 4, "distortion": "none"})",
-       "distortion"},
+      {R"({"width": 10, "height": 8, "fx": 5, "fy": 5, "cx": 5, "cy": 4, "distortion": "none"})", "distortion"},
       {R"({"width": 10, "height": 8, "fx": 5, "fy": 5, "cx": 5, "cy": 4, "mount": {"offset_m": [1, 2]}})",
        "mount.offset_m"},
-      {R"({"width": 10, "height": 8, "fx": 5, "fy": 5, "cx": 5, "cy": 4, "mount": {"pitch": 3}})",
-       "mount.pitch"},
-      {R"({"width": 10, "height": 8, "fx": 5, "fy": 5, "cx": 5, "cy": 4, "distorsion": [0.1]})",
-       "distorsion"},
+      {R"({"width": 10, "height": 8, "fx": 5, "fy": 5, "cx": 5, "cy": 4, "mount": {"pitch": 3}})", "mount.pitch"},
+      {R"({"width": 10, "height": 8, "fx": 5, "fy": 5, "cx": 5, "cy": 4, "distorsion": [0.1]})", "distorsion"},
   };
   for (const Case& c : cases) {
     const std::string path = WriteFile(dir / "bad.json", c.json).string();

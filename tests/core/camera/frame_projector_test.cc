@@ -10,7 +10,9 @@ namespace {
 constexpr double kDeg = M_PI / 180.0;
 constexpr double kTol = 1e-9;
 
-CameraModel SeedCamera() { return CameraFromFocalLength(8.0, 12.9, 696, 520); }
+CameraModel SeedCamera() {
+  return CameraFromFocalLength(8.0, 12.9, 696, 520);
+}
 
 VehiclePose Pose(double altitude, double heading = 0, double pitch = 0, double roll = 0) {
   VehiclePose p;
@@ -37,14 +39,14 @@ TEST(FrameProjectorTest, BodyToNedFollowsAerospaceConvention) {
   // body down axis tilts forward: (sin, 0, cos).
   const Eigen::Matrix3d pitch = BodyToNed(Pose(1, 0, 10));
   EXPECT_LT((pitch * Eigen::Vector3d::UnitX()).z(), 0);
-  EXPECT_TRUE((pitch * Eigen::Vector3d::UnitZ())
-                  .isApprox(Eigen::Vector3d(std::sin(10 * kDeg), 0, std::cos(10 * kDeg))));
+  EXPECT_TRUE(
+      (pitch * Eigen::Vector3d::UnitZ()).isApprox(Eigen::Vector3d(std::sin(10 * kDeg), 0, std::cos(10 * kDeg))));
   // Roll +10 (starboard down): starboard gains a downward component, and the
   // body down axis tilts to port: (0, -sin, cos).
   const Eigen::Matrix3d roll = BodyToNed(Pose(1, 0, 0, 10));
   EXPECT_GT((roll * Eigen::Vector3d::UnitY()).z(), 0);
-  EXPECT_TRUE((roll * Eigen::Vector3d::UnitZ())
-                  .isApprox(Eigen::Vector3d(0, -std::sin(10 * kDeg), std::cos(10 * kDeg))));
+  EXPECT_TRUE(
+      (roll * Eigen::Vector3d::UnitZ()).isApprox(Eigen::Vector3d(0, -std::sin(10 * kDeg), std::cos(10 * kDeg))));
 }
 
 TEST(FrameProjectorTest, NadirFootprintHasPinholeSize) {

@@ -37,13 +37,14 @@ TEST(BrightnessRecovery, EqualisesWindowMeansUnderIlluminationGradient) {
     ASSERT_LT(StripEvenness(testing::ToUnit(img)), 0.45);
     cv::Mat out = RecoverBrightness(img, {});
     ASSERT_EQ(out.type(), img.type());
-    EXPECT_GT(StripEvenness(testing::ToUnit(out)), 0.85) << "depth " << depth << " texture alone "
-                                                          << StripEvenness(testing::Texture({320, 240}, 3));
+    EXPECT_GT(StripEvenness(testing::ToUnit(out)), 0.85)
+        << "depth " << depth << " texture alone " << StripEvenness(testing::Texture({320, 240}, 3));
   }
 }
 
 TEST(BrightnessRecovery, EqualisesLocalContrastToo) {
-  cv::Mat unit = testing::ToUnit(RecoverBrightness(testing::ToType(LitByRamp(testing::Texture({320, 240}, 4), 0.3), CV_8U), {}));
+  cv::Mat unit =
+      testing::ToUnit(RecoverBrightness(testing::ToType(LitByRamp(testing::Texture({320, 240}, 4), 0.3), CV_8U), {}));
   cv::Scalar m, s_left, s_right;
   cv::meanStdDev(unit(cv::Rect(0, 0, 80, 240)), m, s_left);
   cv::meanStdDev(unit(cv::Rect(240, 0, 80, 240)), m, s_right);

@@ -114,7 +114,8 @@ TEST(EnhanceChain, SeedAndApplyFromTwoThreads) {
   EnhanceChain c = EnhanceChain::FromOpList("flatfield:seed_frames=4,clahe", "test");
   cv::Mat lamp = testing::RadialFalloff({160, 120}, 0.5);
   std::vector<cv::Mat> frames;
-  for (int i = 0; i < 12; ++i) frames.push_back(testing::ToType(testing::Multiply(testing::Texture({160, 120}, 30 + i), lamp), CV_8U));
+  for (int i = 0; i < 12; ++i)
+    frames.push_back(testing::ToType(testing::Multiply(testing::Texture({160, 120}, 30 + i), lamp), CV_8U));
   c.Seed(std::vector<cv::Mat>(frames.begin(), frames.begin() + c.SeedFrames()));
   std::vector<cv::Mat> out(frames.size());
   auto worker = [&](size_t start) {

@@ -37,7 +37,8 @@ double CornerToCentre(const std::vector<cv::Mat>& frames) {
   double centre = MeanIn(sum, cv::Rect(kSize.width / 2 - s / 2, kSize.height / 2 - s / 2, s, s));
   double corners = (MeanIn(sum, cv::Rect(0, 0, s, s)) + MeanIn(sum, cv::Rect(kSize.width - s, 0, s, s)) +
                     MeanIn(sum, cv::Rect(0, kSize.height - s, s, s)) +
-                    MeanIn(sum, cv::Rect(kSize.width - s, kSize.height - s, s, s))) / 4;
+                    MeanIn(sum, cv::Rect(kSize.width - s, kSize.height - s, s, s))) /
+                   4;
   return corners / centre;
 }
 

@@ -25,7 +25,9 @@ TEST(PixelFormat, RejectsFloatAndFourChannelsSayingWhatWasExpected) {
   }
 }
 
-TEST(PixelFormat, RejectsEmptyImage) { EXPECT_THROW(RequireSupportedImage(cv::Mat(), "gamma"), InputError); }
+TEST(PixelFormat, RejectsEmptyImage) {
+  EXPECT_THROW(RequireSupportedImage(cv::Mat(), "gamma"), InputError);
+}
 
 TEST(PixelFormat, UnitFloatRoundTripsBothDepths) {
   cv::Mat a8(2, 2, CV_8UC3, cv::Scalar(0, 128, 255));

@@ -70,6 +70,8 @@ inline cv::Mat Multiply(const cv::Mat& image, const cv::Mat& gain1) {
   return image.mul(g);
 }
 
-inline double MeanIn(const cv::Mat& m, const cv::Rect& r) { return cv::mean(m(r))[0]; }
+inline double MeanIn(const cv::Mat& m, const cv::Rect& r) {
+  return cv::mean(m(r))[0];
+}
 
 }  // namespace seamap::testing

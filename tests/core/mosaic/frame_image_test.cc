@@ -49,7 +49,8 @@ TEST(FrameImage, JpegRowRangesDecodedInOnePassEqualTheFullDecode) {
   const std::string gray_path = (dir / "gray.jpg").string(), colour_path = (dir / "colour.jpg").string();
   cv::imwrite(gray_path, Texture(200, 150, CV_8UC1), {cv::IMWRITE_JPEG_QUALITY, 90});
   cv::imwrite(colour_path, Texture(200, 150, CV_8UC3), {cv::IMWRITE_JPEG_QUALITY, 90});  // 4:2:0, libjpeg's default
-  for (const auto& [path, channels] : std::vector<std::pair<std::string, int>>{{gray_path, 1}, {colour_path, 1}, {colour_path, 3}}) {
+  for (const auto& [path, channels] :
+       std::vector<std::pair<std::string, int>>{{gray_path, 1}, {colour_path, 1}, {colour_path, 3}}) {
     std::string problem;
     auto image = FrameImage::Read(path, channels, 65535, &problem);
     ASSERT_TRUE(image) << problem;

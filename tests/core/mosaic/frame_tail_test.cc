@@ -36,12 +36,12 @@ TEST(FrameTail, DecodedLaterTheTailIsSampledAsFromTheWholeFrame) {
     ahead.north_m = 0.03;
     behind.north_m = -0.03;
     std::vector<TailPixel> tail;
-    ASSERT_TRUE(warper.Warp([&](int a, int b) -> const cv::Mat& { return image->Rows(a, b); }, pose,
-                            {behind, ahead}, &tail));
+    ASSERT_TRUE(
+        warper.Warp([&](int a, int b) -> const cv::Mat& { return image->Rows(a, b); }, pose, {behind, ahead}, &tail));
     ASSERT_FALSE(tail.empty());
     // Upper and lower tails, so decoding skips the rows between them.
-    const auto [lowest, highest] = std::minmax_element(
-        tail.begin(), tail.end(), [](const TailPixel& a, const TailPixel& b) { return a.v < b.v; });
+    const auto [lowest, highest] =
+        std::minmax_element(tail.begin(), tail.end(), [](const TailPixel& a, const TailPixel& b) { return a.v < b.v; });
     ASSERT_LT(lowest->v, cam.height / 3);
     ASSERT_GT(highest->v, 2 * cam.height / 3);
     image->ReleasePixels();

@@ -117,14 +117,15 @@ TEST(FrameWarper, WeightIsHighestInTheCentreAndZeroOutside) {
   EXPECT_GT(weight.at<uint8_t>(weight.rows / 2, weight.cols / 2), 240);
 }
 
-
 }  // namespace
 }  // namespace seamap
 
 namespace seamap {
 namespace {
 
-int Covered(const WarpedFrame& f) { return cv::countNonZero(f.weight); }
+int Covered(const WarpedFrame& f) {
+  return cv::countNonZero(f.weight);
+}
 
 TEST(FrameWarper, HandsOverToCloserNeighboursWithAFeatheredSeam) {
   LocalFrame frame({43.1, 131.9});
@@ -193,8 +194,8 @@ TEST(FrameWarper, RunsHoldEveryPaintedPixelAndSkipTheGaps) {
   const CameraModel& cam = wider.cam;
   LocalFrame frame({43.1, 131.9});
   FrameWarper banded(cam, frame, 25, 256, 1, 1.0, 0.5);
-  auto own = banded.Warp(cv::Mat(cam.height, cam.width, CV_8U, cv::Scalar(80)), wider.pose,
-                         {wider.behind, wider.ahead});
+  auto own =
+      banded.Warp(cv::Mat(cam.height, cam.width, CV_8U, cv::Scalar(80)), wider.pose, {wider.behind, wider.ahead});
   ASSERT_TRUE(own);
   ASSERT_EQ(own->run_offset.size(), static_cast<size_t>(own->weight.rows) + 1);
   int64_t in_runs = 0, split_rows = 0;
@@ -349,8 +350,8 @@ TEST(FrameWarper, TailIsTheSideSliverAboveAndBelowTheRestAndIsSampledLater) {
   ASSERT_GT(tail.size(), 20u);
   EXPECT_LT(last_asked, whole_last - cam.height / 4) << "rows below the band are still decoded";
   EXPECT_GT(first_asked, whole_first + cam.height / 4) << "rows above the band are still decoded";
-  const auto [lowest, highest] = std::minmax_element(tail.begin(), tail.end(),
-                                                     [](const TailPixel& a, const TailPixel& b) { return a.v < b.v; });
+  const auto [lowest, highest] =
+      std::minmax_element(tail.begin(), tail.end(), [](const TailPixel& a, const TailPixel& b) { return a.v < b.v; });
   // An upper tail and a lower one, each needing rows the rest does not
   // (rows are asked for with one to spare).
   EXPECT_LT(std::floor(lowest->v), first_asked + 1);
@@ -405,8 +406,8 @@ TEST(FrameWarper, TailIsTheSideSliverAboveAndBelowTheRestAndIsSampledLater) {
   std::vector<TailPixel> upper;
   first_asked = INT_MAX;
   last_asked = -1;
-  ASSERT_TRUE(banded.Warp(rows, pose, {behind, ahead}, &upper,
-                          FrameWarper::kTailUpperLeft | FrameWarper::kTailUpperRight));
+  ASSERT_TRUE(
+      banded.Warp(rows, pose, {behind, ahead}, &upper, FrameWarper::kTailUpperLeft | FrameWarper::kTailUpperRight));
   EXPECT_EQ(last_asked, whole_last);
   EXPECT_GT(first_asked, whole_first + cam.height / 4);
   ASSERT_FALSE(upper.empty());

@@ -9,7 +9,8 @@ namespace {
 
 // A north-up frame 100 x 80 map pixels with its top-left corner at (x, y).
 MapFootprint Frame(double x, double y) {
-  return MapFootprint({cv::Point2d(x, y), cv::Point2d(x + 100, y), cv::Point2d(x + 100, y + 80), cv::Point2d(x, y + 80)});
+  return MapFootprint(
+      {cv::Point2d(x, y), cv::Point2d(x + 100, y), cv::Point2d(x + 100, y + 80), cv::Point2d(x, y + 80)});
 }
 
 TEST(TailCover, SideHalvesAreCoveredWhereOtherFramesHoldThem) {

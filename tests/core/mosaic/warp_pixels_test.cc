@@ -13,8 +13,8 @@ namespace {
 // (shaped by the table), times for each rival that sees the pixel by half a
 // pixel the ramp clamped to [0, 1]. (Where the tent is 0 or below, the
 // kernel's weight is too.)
-float ReferenceWeight(const ImageShape& sh, const BlockRow& r, int rivals, const float* inv_seam,
-                      const float* lut, int i) {
+float ReferenceWeight(const ImageShape& sh, const BlockRow& r, int rivals, const float* inv_seam, const float* lut,
+                      int i) {
   const float f = static_cast<float>(i);
   const float u = r.u0 + r.du * f, v = r.v0 + r.dv * f;
   float w = sh.Tent(u, v);
@@ -39,12 +39,16 @@ TEST(WarpPixels, RowWeightsFollowTheScalarRule) {
   int compared = 0, positive = 0, ramped = 0;
   for (int trial = 0; trial < 400; ++trial) {
     BlockRow r;
-    r.u0 = pos(rng); r.du = slope(rng);
-    r.v0 = pos(rng) * 0.7f; r.dv = slope(rng) * 0.3f;
+    r.u0 = pos(rng);
+    r.du = slope(rng);
+    r.v0 = pos(rng) * 0.7f;
+    r.dv = slope(rng) * 0.3f;
     for (int k = 0; k < kMaxRivals; ++k) {
       r.rival[k] = trial % 3 != k;
-      r.ru0[k] = r.u0 + pos(rng) * 0.2f - 16; r.rdu[k] = r.du + slope(rng) * 0.01f;
-      r.rv0[k] = r.v0 + pos(rng) * 0.2f - 16; r.rdv[k] = r.dv + slope(rng) * 0.01f;
+      r.ru0[k] = r.u0 + pos(rng) * 0.2f - 16;
+      r.rdu[k] = r.du + slope(rng) * 0.01f;
+      r.rv0[k] = r.v0 + pos(rng) * 0.2f - 16;
+      r.rdv[k] = r.dv + slope(rng) * 0.01f;
     }
     if (trial % 5 == 1) r.dv = r.rdv[0] = r.rdv[1] = 0;  // a north-up row: v constant along it
     if (trial % 7 == 2) r.du = r.rdu[0] = 0;
@@ -56,8 +60,10 @@ TEST(WarpPixels, RowWeightsFollowTheScalarRule) {
     for (int i = 0; i < n; ++i, ++compared) {
       const float expected = ReferenceWeight(sh, r, rivals, inv_seam, table, i);
       // The kernel evaluates the ramp as a quadratic in i: the same to rounding.
-      if (expected > 0) ASSERT_NEAR(w[i], expected, 1e-4f) << "trial " << trial << " pixel " << i;
-      else ASSERT_LE(w[i], 1e-4f) << "trial " << trial << " pixel " << i;
+      if (expected > 0)
+        ASSERT_NEAR(w[i], expected, 1e-4f) << "trial " << trial << " pixel " << i;
+      else
+        ASSERT_LE(w[i], 1e-4f) << "trial " << trial << " pixel " << i;
       positive += expected > 0;
       ramped += !table && expected > 0 && expected < sh.Tent(r.u0 + r.du * i, r.v0 + r.dv * i) * 0.99f;
     }

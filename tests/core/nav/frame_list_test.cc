@@ -64,9 +64,7 @@ class FrameListTest : public ::testing::Test {
     nav_path_ = WriteFile(dir_ / "nav.csv", text).string();
     return ReadNavigation(nav_path_, {});
   }
-  std::string Write(const std::string& name, const std::string& text) {
-    return WriteFile(dir_ / name, text).string();
-  }
+  std::string Write(const std::string& name, const std::string& text) { return WriteFile(dir_ / name, text).string(); }
   TempDir dir_;
   std::string nav_path_;
 };
@@ -90,7 +88,8 @@ TEST_F(FrameListTest, NamedImagesAreFramesInTimeOrderWithoutDuplicates) {
   ASSERT_EQ(list.rejected.size(), 1u);
   EXPECT_EQ(list.rejected[0].line, 5);
   EXPECT_EQ(list.rejected[0].field, "image");
-  EXPECT_TRUE(Contains(list.rejected[0].Message(), nav_path_ + ":5: field 'image': duplicate image 'b.jpg' (first at line 2)"))
+  EXPECT_TRUE(
+      Contains(list.rejected[0].Message(), nav_path_ + ":5: field 'image': duplicate image 'b.jpg' (first at line 2)"))
       << list.rejected[0].Message();
 }
 

@@ -54,11 +54,11 @@ class NavReaderTest : public ::testing::Test {
 
 TEST_F(NavReaderTest, ReadsAliasesWithEverySeparator) {
   for (const std::string sep : {",", ";", "\t", "  "}) {
-    const std::string text = "FileName" + sep + "Latitude" + sep + "LONGITUDE" + sep + "Altitude" + sep + "Yaw" +
-                             sep + "Pitch_deg" + sep + "roll" + sep + "Depth" + sep + "Timestamp\n" +
-                             "a.jpg" + sep + "43.1" + sep + "131.9" + sep + "1.6" + sep + "30" + sep + "2" + sep +
-                             "-3" + sep + "25" + sep + "100\n" + "b.jpg" + sep + "43.1001" + sep + "131.9" + sep +
-                             "1.8" + sep + "40" + sep + "0" + sep + "0" + sep + "25.5" + sep + "100.2\n";
+    const std::string text = "FileName" + sep + "Latitude" + sep + "LONGITUDE" + sep + "Altitude" + sep + "Yaw" + sep +
+                             "Pitch_deg" + sep + "roll" + sep + "Depth" + sep + "Timestamp\n" + "a.jpg" + sep + "43.1" +
+                             sep + "131.9" + sep + "1.6" + sep + "30" + sep + "2" + sep + "-3" + sep + "25" + sep +
+                             "100\n" + "b.jpg" + sep + "43.1001" + sep + "131.9" + sep + "1.8" + sep + "40" + sep +
+                             "0" + sep + "0" + sep + "25.5" + sep + "100.2\n";
     const NavTable table = Read(text);
     ASSERT_EQ(table.records.size(), 2u) << "separator '" << sep << "'";
     EXPECT_TRUE(table.rejected.empty());
@@ -79,8 +79,10 @@ TEST_F(NavReaderTest, ReadsAliasesWithEverySeparator) {
 }
 
 TEST_F(NavReaderTest, ReadsSemicolonFilesWithDecimalCommasAndQuotes) {
-  const NavTable table = Read("\xEF\xBB\xBFimage;x_m;y_m;alt\r\n\"my photo, 1.jpg\";1,5;\xE2\x88\x92" "2,25;1,75\r\n",
-                              WithOrigin(43.1, 131.9));
+  const NavTable table = Read(
+      "\xEF\xBB\xBFimage;x_m;y_m;alt\r\n\"my photo, 1.jpg\";1,5;\xE2\x88\x92"
+      "2,25;1,75\r\n",
+      WithOrigin(43.1, 131.9));
   ASSERT_EQ(table.records.size(), 1u);
   EXPECT_EQ(table.records[0].image, "my photo, 1.jpg");
   EXPECT_DOUBLE_EQ(table.records[0].pose.east_m, 1.5);
@@ -125,9 +127,10 @@ TEST_F(NavReaderTest, LocalPositionsNeedAnOrigin) {
 
 TEST_F(NavReaderTest, UtmWithZoneColumn) {
   // Reference from PROJ's cs2cs: UTM 52N (500000, 4000000) = 36.144718099 N, 129 E.
-  const NavTable table = Read("image,easting,northing,zone,alt\n"
-                              "a.jpg,500000,4000000,52N,2\n"
-                              "b.jpg,500100,4000000,52N,2\n");
+  const NavTable table = Read(
+      "image,easting,northing,zone,alt\n"
+      "a.jpg,500000,4000000,52N,2\n"
+      "b.jpg,500100,4000000,52N,2\n");
   ASSERT_EQ(table.records.size(), 2u) << table.rejected.front().Message();
   EXPECT_NEAR(table.origin.lat, 36.144718099, 1e-8);
   EXPECT_NEAR(table.origin.lon, 129.0, 1e-8);
@@ -153,7 +156,8 @@ TEST_F(NavReaderTest, UtmWithoutZoneIsFatal) {
 }
 
 TEST_F(NavReaderTest, UtmBadZoneRejectsTheLine) {
-  const NavTable table = Read("image,easting,northing,zone,alt\na.jpg,500000,4000000,52N,2\nb.jpg,500000,4000000,75,2\n");
+  const NavTable table =
+      Read("image,easting,northing,zone,alt\na.jpg,500000,4000000,52N,2\nb.jpg,500000,4000000,75,2\n");
   ASSERT_EQ(table.records.size(), 1u);
   const Rejection r = RejectionAt(table, 3);
   EXPECT_EQ(r.field, "utm_zone");
@@ -164,7 +168,9 @@ TEST_F(NavReaderTest, ReadsTheSeedTextFormat) {
   const NavTable table = Read(
       "09204051.jpg X(m): 1.0, Y(m): 2.0, Alt(m): 1.6, Heading(deg): 30.0,\n"
       "\n"
-      "09204052.jpg X (m): \xE2\x88\x92" "1.5, Y (m): 2.5, Alt (m): 1.7, Heading (deg): -10, Pitch(deg): 3, Roll(deg): -4, Depth(m): 20, Time(s): 7.5, Temp(C): 4,\n"
+      "09204052.jpg X (m): \xE2\x88\x92"
+      "1.5, Y (m): 2.5, Alt (m): 1.7, Heading (deg): -10, Pitch(deg): 3, Roll(deg): -4, Depth(m): 20, Time(s): 7.5, "
+      "Temp(C): 4,\n"
       "09204053.jpg X(m): 1.0, Y(m): 2.0, Heading(deg): 30.0,\n",
       WithOrigin(43.1, 131.9));
   ASSERT_EQ(table.records.size(), 2u);
@@ -196,21 +202,22 @@ TEST_F(NavReaderTest, ReadsTheSeedTextFormat) {
 
 TEST_F(NavReaderTest, BadValuesRejectTheLineNamingFileLineAndField) {
   const std::string path = Write(
-      "image,lat,lon,alt,heading,pitch,roll\n"   // 1
-      "a.jpg,43.1,131.9,1.6,30,0,0\n"            // 2 good
-      "b.jpg,NaN,131.9,1.6,30,0,0\n"             // 3
-      "c.jpg,95,131.9,1.6,30,0,0\n"              // 4
-      "d.jpg,43.1,131.9,-1.2,30,0,0\n"           // 5
-      "e.jpg,43.1,131.9,0,30,0,0\n"              // 6
-      "f.jpg,43.1,131.9,1.6,inf,0,0\n"           // 7
-      "g.jpg,43.1,131.9\n"                       // 8
-      "h.jpg,43.1,131.9,1.6,\xE2\x88\x92" "30,0,0\n"  // 9 good: Unicode minus
-      "i.jpg,43.1,131.9,1.6,30,95,0\n"           // 10
-      "j.jpg,43.1,131.9,1.6,,0,0\n"              // 11
-      "k.jpg,43.1,131.9,abc,30,0,0\n"            // 12
-      "l.jpg,43.1,-181,1.6,30,0,0\n"             // 13
-      "m.jpg,43.1,131.9,1.6,30,0,0,7\n"          // 14 too many fields
-      "n.jpg,43.1,131.9,1.6,30,0,0,\n");         // 15 good: trailing separator
+      "image,lat,lon,alt,heading,pitch,roll\n"  // 1
+      "a.jpg,43.1,131.9,1.6,30,0,0\n"           // 2 good
+      "b.jpg,NaN,131.9,1.6,30,0,0\n"            // 3
+      "c.jpg,95,131.9,1.6,30,0,0\n"             // 4
+      "d.jpg,43.1,131.9,-1.2,30,0,0\n"          // 5
+      "e.jpg,43.1,131.9,0,30,0,0\n"             // 6
+      "f.jpg,43.1,131.9,1.6,inf,0,0\n"          // 7
+      "g.jpg,43.1,131.9\n"                      // 8
+      "h.jpg,43.1,131.9,1.6,\xE2\x88\x92"
+      "30,0,0\n"                          // 9 good: Unicode minus
+      "i.jpg,43.1,131.9,1.6,30,95,0\n"    // 10
+      "j.jpg,43.1,131.9,1.6,,0,0\n"       // 11
+      "k.jpg,43.1,131.9,abc,30,0,0\n"     // 12
+      "l.jpg,43.1,-181,1.6,30,0,0\n"      // 13
+      "m.jpg,43.1,131.9,1.6,30,0,0,7\n"   // 14 too many fields
+      "n.jpg,43.1,131.9,1.6,30,0,0,\n");  // 15 good: trailing separator
   const NavTable table = ReadNavigation(path, {});
   ASSERT_EQ(table.records.size(), 3u);
   EXPECT_EQ(table.records[1].image, "h.jpg");
@@ -316,8 +323,8 @@ TEST_F(NavReaderTest, ExtraColumnNamesFromOptions) {
 }
 
 TEST_F(NavReaderTest, HeadingIsNormalised) {
-  const NavTable table = Read("image,x,y,alt,hdg\na,0,0,1,-90\nb,0,0,1,720\nc,0,0,1,360\nd,0,0,1,359.5\n",
-                              WithOrigin(0, 0));
+  const NavTable table =
+      Read("image,x,y,alt,hdg\na,0,0,1,-90\nb,0,0,1,720\nc,0,0,1,360\nd,0,0,1,359.5\n", WithOrigin(0, 0));
   ASSERT_EQ(table.records.size(), 4u);
   EXPECT_DOUBLE_EQ(table.records[0].pose.heading_deg, 270);
   EXPECT_DOUBLE_EQ(table.records[1].pose.heading_deg, 0);

@@ -28,10 +28,18 @@ TEST(NavValues, ParsesPlainNumbers) {
 }
 
 TEST(NavValues, AcceptsNonAsciiMinusSigns) {
-  EXPECT_DOUBLE_EQ(Number("\xE2\x88\x92" "1.2"), -1.2);  // U+2212 minus sign
-  EXPECT_DOUBLE_EQ(Number("\xE2\x80\x93" "4"), -4);      // en dash
-  EXPECT_DOUBLE_EQ(Number("\xEF\xBC\x8D" "5"), -5);      // full-width hyphen-minus
-  EXPECT_DOUBLE_EQ(Number("1e\xE2\x88\x92" "2"), 0.01);
+  EXPECT_DOUBLE_EQ(Number("\xE2\x88\x92"
+                          "1.2"),
+                   -1.2);  // U+2212 minus sign
+  EXPECT_DOUBLE_EQ(Number("\xE2\x80\x93"
+                          "4"),
+                   -4);  // en dash
+  EXPECT_DOUBLE_EQ(Number("\xEF\xBC\x8D"
+                          "5"),
+                   -5);  // full-width hyphen-minus
+  EXPECT_DOUBLE_EQ(Number("1e\xE2\x88\x92"
+                          "2"),
+                   0.01);
 }
 
 TEST(NavValues, RefusesNanInfEmptyAndGarbage) {

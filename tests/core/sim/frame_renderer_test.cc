@@ -93,8 +93,8 @@ TEST(FrameRendererTest, NadirFrameSeesTheTextureUnderTheVehicle) {
   // The test would notice a one-pixel shift.
   cv::Mat shifted;
   cv::warpAffine(frame, shifted, cv::Matx23d(1, 0, 1, 0, 1, 0), frame.size());
-  EXPECT_GT(cv::norm(shifted(cv::Rect(2, 0, 150, 120)), frame(cv::Rect(2, 0, 150, 120)), cv::NORM_L1) /
-                (150 * 120), 3.0);
+  EXPECT_GT(cv::norm(shifted(cv::Rect(2, 0, 150, 120)), frame(cv::Rect(2, 0, 150, 120)), cv::NORM_L1) / (150 * 120),
+            3.0);
 }
 
 TEST(FrameRendererTest, HeadingEastTurnsTheImage) {
@@ -182,7 +182,9 @@ TEST(FrameRendererTest, DegradationsAreOffByDefault) {
   EXPECT_EQ(cv::norm(a, b, cv::NORM_INF), 0);
 }
 
-double Mean(const cv::Mat& m, int channel = 0) { return cv::mean(m)[channel]; }
+double Mean(const cv::Mat& m, int channel = 0) {
+  return cv::mean(m)[channel];
+}
 
 TEST(FrameRendererTest, VignettingDarkensCornersMoreThanTheCentre) {
   const SeabedTexture t = SmallTexture();

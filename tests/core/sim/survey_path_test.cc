@@ -75,8 +75,7 @@ TEST(SurveyPathTest, TrajectoryIsDeterministicPerSeed) {
   const SurveyPath path = SurveyPath::Lawnmower(10, 1, 10);
   TrajectoryOptions o;
   o.frames = 20;
-  const auto a = MakeTrajectory(path, o, 3), b = MakeTrajectory(path, o, 3),
-             c = MakeTrajectory(path, o, 4);
+  const auto a = MakeTrajectory(path, o, 3), b = MakeTrajectory(path, o, 3), c = MakeTrajectory(path, o, 4);
   for (size_t i = 0; i < a.size(); ++i) {
     EXPECT_EQ(a[i].pose.altitude_m, b[i].pose.altitude_m);
     EXPECT_EQ(a[i].pose.roll_deg, b[i].pose.roll_deg);
@@ -144,8 +143,8 @@ TEST(SurveyPathTest, NavigationErrorsAreOffByDefaultAndHaveTheRequestedSize) {
   drift.drift_m_per_min = 0.6;
   const auto drifted = AddNavigationErrors(truth, drift, 1);
   for (size_t i : {0, 300, 999}) {
-    const double err = std::hypot(drifted[i].pose.east_m - truth[i].pose.east_m,
-                                  drifted[i].pose.north_m - truth[i].pose.north_m);
+    const double err =
+        std::hypot(drifted[i].pose.east_m - truth[i].pose.east_m, drifted[i].pose.north_m - truth[i].pose.north_m);
     EXPECT_NEAR(err, 0.6 * truth[i].time_s / 60, 1e-9);
   }
 }

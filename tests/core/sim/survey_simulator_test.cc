@@ -65,11 +65,10 @@ TEST(SurveySimulatorTest, WritesTheLayout) {
   testing::TempDir dir;
   const fs::path out = dir / "survey";
   int last_progress = 0;
-  const SimulationSummary s =
-      SimulateSurvey(SmallSurvey(out), [&](int done, int total) {
-        last_progress = done;
-        EXPECT_EQ(total, 8);
-      });
+  const SimulationSummary s = SimulateSurvey(SmallSurvey(out), [&](int done, int total) {
+    last_progress = done;
+    EXPECT_EQ(total, 8);
+  });
   EXPECT_EQ(s.frames, 8);
   EXPECT_EQ(last_progress, 8);
   EXPECT_GT(s.area_m2, 1);
@@ -113,8 +112,8 @@ TEST(SurveySimulatorTest, FramesShowTheTruthUnderTheTruePose) {
   const GroundTruth g = GroundTruth::Load(o.out_dir);
   const auto line = Lines(dir / "s" / "nav_truth.csv")[4];  // frame 3
   double t, x, y, alt, depth, heading;
-  ASSERT_EQ(std::sscanf(line.c_str(), "frame_000003.png,%lf,%lf,%lf,%lf,%lf,%lf", &t, &x, &y, &alt,
-                        &depth, &heading), 6);
+  ASSERT_EQ(std::sscanf(line.c_str(), "frame_000003.png,%lf,%lf,%lf,%lf,%lf,%lf", &t, &x, &y, &alt, &depth, &heading),
+            6);
   EXPECT_NEAR(heading, 0, 1e-6);
   const cv::Mat frame = cv::imread((dir / "s" / "photo" / "frame_000003.png").string(), cv::IMREAD_UNCHANGED);
   const CameraModel& c = o.camera;
@@ -209,7 +208,8 @@ TEST(SurveySimulatorTest, CustomPathAndTooSmallTexture) {
   o.path_file = testing::WriteFile(dir / "path.csv", "x_m,y_m\n0,0\n0.5,0\n").string();
   o.trajectory.frames = 50;
   EXPECT_EQ(SimulateSurvey(o).frames, 6);  // 0.5 m at 0.1 m per frame
-  EXPECT_NEAR(std::stod(Lines(dir / "s" / "nav_truth.csv")[6].substr(std::string("frame_000005.png,").size() + 9)), 0.5, 1e-6);
+  EXPECT_NEAR(std::stod(Lines(dir / "s" / "nav_truth.csv")[6].substr(std::string("frame_000005.png,").size() + 9)), 0.5,
+              1e-6);
 
   cv::imwrite((dir / "small.png").string(), cv::Mat(10, 10, CV_8UC1, cv::Scalar(100)));
   SimulationOptions t = SmallSurvey(dir / "t");

@@ -15,14 +15,18 @@ namespace {
 namespace fs = std::filesystem;
 using testing::TempDir;
 
-std::vector<uint8_t> Bytes(const std::string& text) { return {text.begin(), text.end()}; }
+std::vector<uint8_t> Bytes(const std::string& text) {
+  return {text.begin(), text.end()};
+}
 
 std::string ReadText(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
-nlohmann::json ReadJson(const fs::path& path) { return nlohmann::json::parse(ReadText(path)); }
+nlohmann::json ReadJson(const fs::path& path) {
+  return nlohmann::json::parse(ReadText(path));
+}
 
 TEST(FolderStore, TileFilesFollowXyzLayout) {
   TempDir dir;
@@ -146,8 +150,7 @@ TEST(FolderStore, UncreatableFolderIsInputError) {
 
 TEST(FolderStore, ReadOnlyMode) {
   TempDir dir;
-  EXPECT_THROW(FolderStore((dir / "missing").string(), "png", FolderStore::Mode::kReadOnly),
-               InputError);
+  EXPECT_THROW(FolderStore((dir / "missing").string(), "png", FolderStore::Mode::kReadOnly), InputError);
   { FolderStore((dir / "ro").string(), "png").PutTile({0, 0, 0}, Bytes("z")); }
   FolderStore store((dir / "ro").string(), "png", FolderStore::Mode::kReadOnly);
   EXPECT_EQ(store.TileCount(), 1);

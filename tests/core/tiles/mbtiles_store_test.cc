@@ -40,7 +40,9 @@ class RawDb {
   sqlite3* db_ = nullptr;
 };
 
-std::vector<uint8_t> Bytes(const std::string& text) { return {text.begin(), text.end()}; }
+std::vector<uint8_t> Bytes(const std::string& text) {
+  return {text.begin(), text.end()};
+}
 
 FrameRecord SampleFrame(int id) {
   FrameRecord f;
@@ -92,8 +94,7 @@ TEST(MBTilesStore, SchemaAndWalMode) {
   RawDb raw(path);
   EXPECT_EQ(raw.Query("PRAGMA journal_mode"), "wal");
   for (const char* table : {"metadata", "tiles", "frames", "track"})
-    EXPECT_EQ(raw.Query(std::string("SELECT name FROM sqlite_master WHERE type='table' AND name='") +
-                        table + "'"),
+    EXPECT_EQ(raw.Query(std::string("SELECT name FROM sqlite_master WHERE type='table' AND name='") + table + "'"),
               table);
   EXPECT_EQ(raw.Query("SELECT sql FROM sqlite_master WHERE name='tile_index'"),
             "CREATE UNIQUE INDEX tile_index ON tiles (zoom_level, tile_column, tile_row)");
@@ -160,8 +161,7 @@ TEST(MBTilesStore, FramesAndTrackRoundTrip) {
   EXPECT_DOUBLE_EQ(track[1].heading_deg, 90.0);
 
   RawDb raw(path);  // footprint is a JSON array of [lon,lat] pairs
-  EXPECT_EQ(raw.Query("SELECT footprint FROM frames WHERE id=1"),
-            "[[5.1,43.1],[5.2,43.1],[5.2,43.0],[5.1,43.0]]");
+  EXPECT_EQ(raw.Query("SELECT footprint FROM frames WHERE id=1"), "[[5.1,43.1],[5.2,43.1],[5.2,43.0],[5.1,43.0]]");
 }
 
 TEST(MBTilesStore, ReopenContinuesExistingFile) {
@@ -272,14 +272,22 @@ TEST(MBTilesStore, ReadOnlyMode) {
 
 // Web Mercator tile numbering, written out here so the test checks the
 // store against the spec rather than against the geo module.
-int TileX(double lon, int z) { return static_cast<int>(std::floor((lon + 180) / 360 * (1 << z))); }
+int TileX(double lon, int z) {
+  return static_cast<int>(std::floor((lon + 180) / 360 * (1 << z)));
+}
 int TileY(double lat, int z) {
   const double r = lat * M_PI / 180;
   return static_cast<int>(std::floor((1 - std::asinh(std::tan(r)) / M_PI) / 2 * (1 << z)));
 }
-double MercX(int x, int z) { return x * kEarthCircumference / (1 << z) - kEarthCircumference / 2; }
-double MercY(int y, int z) { return kEarthCircumference / 2 - y * kEarthCircumference / (1 << z); }
-double Lon(int x, int z) { return x * 360.0 / (1 << z) - 180; }
+double MercX(int x, int z) {
+  return x * kEarthCircumference / (1 << z) - kEarthCircumference / 2;
+}
+double MercY(int y, int z) {
+  return kEarthCircumference / 2 - y * kEarthCircumference / (1 << z);
+}
+double Lon(int x, int z) {
+  return x * 360.0 / (1 << z) - 180;
+}
 double Lat(int y, int z) {
   return std::atan(std::sinh(M_PI * (1 - 2.0 * y / (1 << z)))) * 180 / M_PI;
 }
@@ -301,10 +309,9 @@ TEST(MBTilesStore, GdalReadsTwoZoomPyramid) {
     const double w = Lon(x0, 20), e = Lon(x0 + 2, 20), n = Lat(y0, 20), s = Lat(y0 + 2, 20);
     store.SetMetadata("name", "gdal test");
     store.SetMetadata("format", "png");
-    store.SetMetadata("bounds", std::to_string(w) + "," + std::to_string(s) + "," +
-                                    std::to_string(e) + "," + std::to_string(n));
-    store.SetMetadata("center", std::to_string((w + e) / 2) + "," + std::to_string((s + n) / 2) +
-                                    ",20");
+    store.SetMetadata("bounds",
+                      std::to_string(w) + "," + std::to_string(s) + "," + std::to_string(e) + "," + std::to_string(n));
+    store.SetMetadata("center", std::to_string((w + e) / 2) + "," + std::to_string((s + n) / 2) + ",20");
     store.SetMetadata("minzoom", "19");
     store.SetMetadata("maxzoom", "20");
     store.Flush();
@@ -350,9 +357,7 @@ TEST(MBTilesStore, GdalReadsGrayAndGrayAlphaTiles) {
   }
   const auto pixel = [&](int x, int y) {
     std::string values;
-    RunCommand("gdallocationinfo -valonly '" + path + "' " + std::to_string(x) + " " +
-                   std::to_string(y),
-               &values);
+    RunCommand("gdallocationinfo -valonly '" + path + "' " + std::to_string(x) + " " + std::to_string(y), &values);
     std::replace(values.begin(), values.end(), '\n', ' ');
     return values;
   };

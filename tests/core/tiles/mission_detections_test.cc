@@ -15,7 +15,9 @@ namespace {
 
 using testing::TempDir;
 
-std::vector<uint8_t> Bytes(const std::string& text) { return {text.begin(), text.end()}; }
+std::vector<uint8_t> Bytes(const std::string& text) {
+  return {text.begin(), text.end()};
+}
 
 Detection Mark(int64_t id, const std::string& cls) {
   Detection d;
@@ -54,8 +56,10 @@ class StoreKinds : public ::testing::TestWithParam<bool> {
   std::string Path() const { return GetParam() ? (dir_ / "m.mbtiles").string() : (dir_ / "tiles").string(); }
   std::unique_ptr<TileStore> Open(bool create) const {
     if (GetParam())
-      return std::make_unique<MBTilesStore>(Path(), create ? MBTilesStore::Mode::kCreate : MBTilesStore::Mode::kReadOnly);
-    return std::make_unique<FolderStore>(Path(), "png", create ? FolderStore::Mode::kCreate : FolderStore::Mode::kReadOnly);
+      return std::make_unique<MBTilesStore>(Path(),
+                                            create ? MBTilesStore::Mode::kCreate : MBTilesStore::Mode::kReadOnly);
+    return std::make_unique<FolderStore>(Path(), "png",
+                                         create ? FolderStore::Mode::kCreate : FolderStore::Mode::kReadOnly);
   }
   TempDir dir_;
 };

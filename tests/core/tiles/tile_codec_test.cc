@@ -24,8 +24,7 @@ cv::Mat BgraTile() {
   cv::Mat tile(256, 256, CV_8UC4);
   for (int r = 0; r < 256; ++r)
     for (int c = 0; c < 256; ++c)
-      tile.at<cv::Vec4b>(r, c) = {static_cast<uint8_t>(r), static_cast<uint8_t>(c),
-                                  static_cast<uint8_t>((r * c) & 255),
+      tile.at<cv::Vec4b>(r, c) = {static_cast<uint8_t>(r), static_cast<uint8_t>(c), static_cast<uint8_t>((r * c) & 255),
                                   static_cast<uint8_t>(c < 64 ? 0 : (c < 128 ? r : 255))};
   return tile;
 }
@@ -34,7 +33,9 @@ bool SameMat(const cv::Mat& a, const cv::Mat& b) {
   return a.type() == b.type() && a.size() == b.size() && cv::norm(a, b, cv::NORM_INF) == 0;
 }
 
-int PngColorType(const std::vector<uint8_t>& png) { return png.at(25); }
+int PngColorType(const std::vector<uint8_t>& png) {
+  return png.at(25);
+}
 
 TEST(TileCodec, ParsesFormatNames) {
   EXPECT_EQ(ParseTileFormat("png", "cfg"), TileFormat::kPng);
@@ -90,7 +91,8 @@ TEST(TileCodec, OpaqueTilesDropAlphaAndDecodeOpaque) {
 TEST(TileCodec, OneTranslucentPixelKeepsAlpha) {
   // White colour bytes must not pass for alpha, and the last pixel of a row
   // of a tile cut from a larger image counts like any other.
-  cv::Mat big_gray(300, 300, CV_8UC2, cv::Scalar(255, 255)), big_bgra(300, 300, CV_8UC4, cv::Scalar(255, 128, 255, 255));
+  cv::Mat big_gray(300, 300, CV_8UC2, cv::Scalar(255, 255)),
+      big_bgra(300, 300, CV_8UC4, cv::Scalar(255, 128, 255, 255));
   cv::Mat gray = big_gray(cv::Rect(20, 20, 256, 256)), bgra = big_bgra(cv::Rect(20, 20, 256, 256));
   gray.at<cv::Vec2b>(100, 255) = {255, 254};
   bgra.at<cv::Vec4b>(255, 0) = {255, 128, 255, 0};
@@ -113,7 +115,8 @@ TEST(TileCodec, EveryPngLevelIsLosslessForEveryLayout) {
     TileEncoding enc;
     enc.png_level = level;
     for (const cv::Mat& tile : {GrayAlphaTile(), BgraTile(), opaque_gray, opaque_bgr})
-      EXPECT_TRUE(SameMat(DecodeTile(EncodeTile(tile, enc)), tile)) << "level " << level << ", " << tile.channels() << " channels";
+      EXPECT_TRUE(SameMat(DecodeTile(EncodeTile(tile, enc)), tile))
+          << "level " << level << ", " << tile.channels() << " channels";
   }
 }
 
@@ -147,7 +150,7 @@ TEST(TileCodec, FastPngIsAtMostAQuarterLargerThanZlibDefault) {
 }
 
 TEST(TileCodec, JpegPaintsBackgroundUnderTransparentPixels) {
-  cv::Mat tile(256, 256, CV_8UC4, cv::Scalar(0, 0, 255, 255));  // opaque red
+  cv::Mat tile(256, 256, CV_8UC4, cv::Scalar(0, 0, 255, 255));     // opaque red
   tile(cv::Rect(0, 0, 128, 256)).setTo(cv::Scalar(0, 0, 255, 0));  // transparent red
   TileEncoding enc;
   enc.format = TileFormat::kJpeg;

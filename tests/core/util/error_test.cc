@@ -14,8 +14,7 @@ TEST(InputError, NamesFileLineAndField) {
 
 TEST(InputError, OmitsWhatIsUnknown) {
   EXPECT_STREQ(InputError("camera.json", 0, "", "not JSON").what(), "camera.json: not JSON");
-  EXPECT_STREQ(InputError("", 0, "--port", "expected a number").what(),
-               "--port: expected a number");
+  EXPECT_STREQ(InputError("", 0, "--port", "expected a number").what(), "--port: expected a number");
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 #include "cli/commands.h"
 #include "core/mosaic/mosaic_builder.h"
 #include "core/util/error.h"
+#include "core/util/process_stats.h"
 #include "core/util/progress.h"
 
 namespace seamap::cli {
@@ -83,9 +84,6 @@ void WriteReport(const std::string& path, const BuildStats& s, const MosaicPlan&
                       {"tile_writes", s.tiles_written},
                       {"tile_bytes", s.tile_bytes},
                       {"readbacks", s.readbacks},
-                      {"tail_frames", s.tail_frames},
-                      {"tail_decodes", s.tail_decodes},
-                      {"tail_failures", s.tail_failures},
                       {"tiles_per_zoom", per_zoom},
                       {"base_zoom", plan.base_zoom},
                       {"min_zoom", plan.min_zoom},
@@ -111,17 +109,17 @@ int RunBuild(int argc, char** argv, int first) {
   args.RejectUnknown();
 
   auto store = OpenOutput(out, in.config, append, overwrite);
-  MosaicPlan plan = PlanMosaic(in.config, in.camera, in.frame, in.frames.frames, in.channels);
+  MosaicPlan plan = PlanMosaic(in.config.map, in.camera, in.frame, in.frames.frames, in.channels);
   std::fprintf(stderr, "seamap build: %zu frames, GSD %.1f mm at %.3f N -> zooms %d..%d, %s tiles of %d px -> %s\n",
                in.frames.frames.size(), plan.gsd_m * 1000, plan.latitude, plan.min_zoom, plan.base_zoom,
-               TileExtension(in.config.encoding.format).c_str(), in.config.tile_size, out.c_str());
+               TileExtension(in.config.map.encoding.format).c_str(), in.config.map.tile_size, out.c_str());
   for (const auto& w : in.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
 
   // The main layer is raw unless only the enhanced map was asked for; with
   // "both", the enhanced map is built alongside as layer "enhanced".
   BuildHooks enhance = MakeHooks(in);
   const bool both = in.config.layers == "both" && enhance.preprocess;
-  if (both) in.config.memory_cap_mb = std::max(16, in.config.memory_cap_mb / 2);  // two builders share the cap
+  if (both) in.config.buffer.memory_cap_mb = std::max(16, in.config.buffer.memory_cap_mb / 2);  // two builders share the cap
   MosaicBuilder builder(in.config, in.camera, in.frame, plan, store.get(), both ? BuildHooks{} : enhance);
   std::unique_ptr<TileStore> enhanced_store;
   std::unique_ptr<MosaicBuilder> enhanced;

@@ -8,6 +8,7 @@
 #include "core/mosaic/frame_image.h"
 #include "core/nav/nav_reader.h"
 #include "core/util/error.h"
+#include "server/server_options.h"
 
 namespace seamap::cli {
 namespace fs = std::filesystem;
@@ -32,6 +33,9 @@ BuildInputs ReadBuildInputs(Args& args) {
   if (auto path = args.Get("config")) {
     in.config = LoadBuildConfig(*path);
     in.config_source = *path;
+    // The "server" object is the server's to read; a mistake in it is
+    // reported whichever command reads the file.
+    if (in.config.server) server::ServerOptions::FromJson(*in.config.server, *path);
   }
   if (auto ops = args.Get("enhance")) {
     in.config.enhance = EnhanceChain::FromOpList(*ops, "--enhance").ToJson();
@@ -81,7 +85,7 @@ std::unique_ptr<TileStore> OpenOutput(const std::string& path, const BuildConfig
                        "already exists; use --append to continue painting it or --overwrite to replace it");
     RemoveMap(path, "--out");
   }
-  return OpenTileStore(path, TileExtension(config.encoding.format), /*create=*/true);
+  return OpenTileStore(path, TileExtension(config.map.encoding.format), /*create=*/true);
 }
 
 BuildHooks MakeHooks(const BuildInputs& in) {
@@ -96,7 +100,7 @@ BuildHooks MakeHooks(const BuildInputs& in) {
     if (!fs::is_regular_file(f.image_path, ec)) continue;
     cv::Mat m = cv::imread(f.image_path, cv::IMREAD_UNCHANGED);
     if (!m.empty() && m.cols == in.camera.width && m.rows == in.camera.height)
-      samples.push_back(ToEightBit(m, in.channels, in.config.sixteen_bit_white));
+      samples.push_back(ToEightBit(m, in.channels, in.config.frames.sixteen_bit_white));
   }
   if (!samples.empty()) chain->Seed(samples);
   hooks.preprocess = [chain](const cv::Mat& frame) { return chain->Apply(frame); };

@@ -69,7 +69,14 @@ std::vector<std::string> SplitLists(const std::string& text) {
 }  // namespace
 
 int RunEnhance(int argc, char** argv, int first) {
-  Args args(argc, argv, first);
+  Args args(argc, argv, first, {"help"});
+  if (args.Flag("help")) {
+    std::puts(
+        "usage: seamap enhance IN OUT [--ops LIST | --config FILE]\n"
+        "  --ops LIST     op[:param=value...],op...  (default: flatfield,dehaze:gate=false,clahe:clip_limit=3)\n"
+        "  --config FILE  {\"ops\": [...]} or a build config with \"enhance\"");
+    return 0;
+  }
   auto ops = args.Get("ops");
   auto config = args.Get("config");
   args.RejectUnknown();
@@ -103,7 +110,14 @@ int RunEnhance(int argc, char** argv, int first) {
 int RunEnhanceReport(int argc, char** argv, int first) {
   // Time the chains on one core, as the build runs them (one frame per worker).
   cv::setNumThreads(1);
-  Args args(argc, argv, first);
+  Args args(argc, argv, first, {"help"});
+  if (args.Flag("help")) {
+    std::puts(
+        "usage: seamap enhance-report DIR [--ops LIST[;LIST...]] [--config FILE] [--max-frames N] "
+        "[--detector sift|orb]\n"
+        "  features, matches and RANSAC inliers between consecutive frames before and after each chain");
+    return 0;
+  }
   auto ops = args.Get("ops");
   auto config = args.Get("config");
   const int max_frames = args.GetInt("max-frames", 50);

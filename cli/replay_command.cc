@@ -159,7 +159,7 @@ int RunReplay(int argc, char** argv, int first) {
   if (interrupted) return 130;
 
   BuildInputs in = ReadBuildInputs(args);
-  server::ServerOptions options = ReadServerOptions(args, in.config.server);
+  server::ServerOptions options = ReadServerOptions(args, in.config.server, in.config_source);
   options.photo_dir = args.GetOr("images", "");
   args.RejectUnknown();
 
@@ -180,10 +180,10 @@ int RunReplay(int argc, char** argv, int first) {
   }
 
   // A live map: publish tiles every few frames (a build batches 25 for speed).
-  in.config.batch_frames = std::min(in.config.batch_frames, 5);
-  in.config.live_tiles = true;
+  in.config.buffer.batch_frames = std::min(in.config.buffer.batch_frames, 5);
+  in.config.buffer.live_tiles = true;
   auto store = OpenOutput(out, in.config, append, overwrite);
-  MosaicPlan plan = PlanMosaic(in.config, in.camera, in.frame, in.frames.frames, in.channels);
+  MosaicPlan plan = PlanMosaic(in.config.map, in.camera, in.frame, in.frames.frames, in.channels);
   for (const auto& w : in.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
 
   server::EventHub events;
@@ -194,9 +194,9 @@ int RunReplay(int argc, char** argv, int first) {
                                                : std::vector<std::string>{enhance.preprocess ? "enhanced" : "raw"};
   std::string layer_list;
   for (const auto& l : layers) layer_list += (layer_list.empty() ? "" : ",") + l;
-  const std::string format = TileExtension(in.config.encoding.format);
+  const std::string format = TileExtension(in.config.map.encoding.format);
   // What a client needs before the first batch lands.
-  store->SetMetadata("name", in.config.name);
+  store->SetMetadata("name", in.config.map.name);
   store->SetMetadata("format", format);
   store->SetMetadata("seamap_layers", layer_list);
   store->SetMetadata("minzoom", std::to_string(plan.min_zoom));
@@ -218,7 +218,7 @@ int RunReplay(int argc, char** argv, int first) {
   });
   tiles = std::make_unique<server::TileSource>(out, 8, 64u << 20, &observed);
   mission.Load(*store);  // an appended mission keeps its frames and track
-  mission.SetName(in.config.name);
+  mission.SetName(in.config.map.name);
   mission.SetReplay(true);
   mission.SetLayers(layers, format);
   mission.SetOrigin(in.frame.origin().lat, in.frame.origin().lon);
@@ -231,7 +231,7 @@ int RunReplay(int argc, char** argv, int first) {
     if (record.status == "used") events.Publish("pose", server::PoseJson(record).dump());
     events.Publish("track", server::TrackPointJson(point).dump());
   };
-  if (both) in.config.memory_cap_mb = std::max(16, in.config.memory_cap_mb / 2);
+  if (both) in.config.buffer.memory_cap_mb = std::max(16, in.config.buffer.memory_cap_mb / 2);
   MosaicBuilder builder(in.config, in.camera, in.frame, plan, &observed, hooks);
   std::unique_ptr<TileStore> enhanced_store;
   std::unique_ptr<MosaicBuilder> enhanced;

@@ -269,7 +269,7 @@ bool CameraModel::HasDistortion() const {
   return std::any_of(distortion.begin(), distortion.end(), [](double v) { return v != 0; });
 }
 
-Eigen::Matrix3d CameraModel::CameraToBody() const {
+Eigen::Matrix3d CameraModel::BodyFromCamera() const {
   // Columns: camera x, y, z expressed in the body frame (stbd, aft, down).
   Eigen::Matrix3d down_bow_up;
   down_bow_up << 0, -1, 0, 1, 0, 0, 0, 0, 1;

@@ -38,7 +38,7 @@ struct CameraModel {
 
   // Rotation taking camera-frame vectors to the vehicle body frame:
   // R_mount * R_default (see above).
-  Eigen::Matrix3d CameraToBody() const;
+  Eigen::Matrix3d BodyFromCamera() const;
 
   // Raw (distorted) pixels to ideal pinhole pixels and back (same K).
   std::vector<cv::Point2d> Undistort(const std::vector<cv::Point2d>& raw) const;

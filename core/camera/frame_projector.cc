@@ -22,10 +22,10 @@ std::vector<cv::Point2d> UndistortedCorners(const CameraModel& camera) {
 }
 
 // Maps undistorted pixels (u, v, 1) to ray directions in NED.
-Eigen::Matrix3d PixelToNedRay(const CameraModel& camera, const VehiclePose& pose) {
+Eigen::Matrix3d NedRayFromPixel(const CameraModel& camera, const VehiclePose& pose) {
   Eigen::Matrix3d k;
   k << camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1;
-  return CameraToNed(camera, pose) * k.inverse();
+  return NedFromCamera(camera, pose) * k.inverse();
 }
 
 bool PointsDown(const Eigen::Vector3d& ray) {
@@ -34,12 +34,12 @@ bool PointsDown(const Eigen::Vector3d& ray) {
 
 // Camera centre in NED relative to the navigation reference point.
 Eigen::Vector3d CameraOffsetNed(const CameraModel& camera, const VehiclePose& pose) {
-  return BodyToNed(pose) * camera.mount_offset_m;
+  return NedFromBody(pose) * camera.mount_offset_m;
 }
 
 }  // namespace
 
-Eigen::Matrix3d BodyToNed(const VehiclePose& pose) {
+Eigen::Matrix3d NedFromBody(const VehiclePose& pose) {
   using Eigen::AngleAxisd;
   using Eigen::Vector3d;
   return (AngleAxisd(pose.heading_deg * kDegToRad, Vector3d::UnitZ()) *
@@ -48,26 +48,26 @@ Eigen::Matrix3d BodyToNed(const VehiclePose& pose) {
       .toRotationMatrix();
 }
 
-Eigen::Matrix3d CameraToNed(const CameraModel& camera, const VehiclePose& pose) {
-  return BodyToNed(pose) * camera.CameraToBody();
+Eigen::Matrix3d NedFromCamera(const CameraModel& camera, const VehiclePose& pose) {
+  return NedFromBody(pose) * camera.BodyFromCamera();
 }
 
-std::optional<Eigen::Matrix3d> ImageToGround(const CameraModel& camera, const VehiclePose& pose) {
+std::optional<Eigen::Matrix3d> GroundFromImage(const CameraModel& camera, const VehiclePose& pose) {
   const Eigen::Vector3d c = CameraOffsetNed(camera, pose);
   const double height = pose.altitude_m - c.z();  // camera above the seabed
   if (!(height > 0)) return std::nullopt;
 
-  const Eigen::Matrix3d ray = PixelToNedRay(camera, pose);
+  const Eigen::Matrix3d ray = NedRayFromPixel(camera, pose);
   for (const auto& p : UndistortedCorners(camera))
     if (!PointsDown(ray * Eigen::Vector3d(p.x, p.y, 1))) return std::nullopt;
 
   // Ground = c + t q with t = height / q_d. In homogeneous (east, north, 1):
   // (e w, n w, w) = A (q_e, q_n, q_d) with w = q_d.
-  Eigen::Matrix3d ned_to_enu_order;
-  ned_to_enu_order << 0, 1, 0, 1, 0, 0, 0, 0, 1;
+  Eigen::Matrix3d enu_from_ned_order;
+  enu_from_ned_order << 0, 1, 0, 1, 0, 0, 0, 0, 1;
   Eigen::Matrix3d a;
   a << height, 0, pose.east_m + c.y(), 0, height, pose.north_m + c.x(), 0, 0, 1;
-  Eigen::Matrix3d h = a * ned_to_enu_order * ray;
+  Eigen::Matrix3d h = a * enu_from_ned_order * ray;
 
   // w at the principal point is the optical axis' down component; make it 1.
   const double w_centre = h.row(2).dot(Eigen::Vector3d(camera.cx, camera.cy, 1));
@@ -80,14 +80,14 @@ std::optional<LocalXY> PixelToGround(const CameraModel& camera, const VehiclePos
   const double height = pose.altitude_m - c.z();
   if (!(height > 0)) return std::nullopt;
   const cv::Point2d p = camera.Undistort({{u, v}}).front();
-  const Eigen::Vector3d q = PixelToNedRay(camera, pose) * Eigen::Vector3d(p.x, p.y, 1);
+  const Eigen::Vector3d q = NedRayFromPixel(camera, pose) * Eigen::Vector3d(p.x, p.y, 1);
   if (!PointsDown(q)) return std::nullopt;
   const double t = height / q.z();
   return LocalXY{pose.east_m + c.y() + t * q.y(), pose.north_m + c.x() + t * q.x()};
 }
 
 std::optional<std::array<LocalXY, 4>> Footprint(const CameraModel& camera, const VehiclePose& pose) {
-  const auto h = ImageToGround(camera, pose);
+  const auto h = GroundFromImage(camera, pose);
   if (!h) return std::nullopt;
   const auto corners = UndistortedCorners(camera);
   std::array<LocalXY, 4> out;

@@ -15,19 +15,19 @@
 namespace seamap {
 
 // Conventions (standard aerospace ZYX):
-//   BodyToNed = Rz(heading) * Ry(pitch) * Rx(roll), with body x fwd, y stbd,
+//   NedFromBody = Rz(heading) * Ry(pitch) * Rx(roll), with body x fwd, y stbd,
 //   z down. Heading 90 points the bow east; pitch +10 (bow up) tilts the body
 //   down axis FORWARD, so a nadir camera's centre lands alt*tan(10 deg) ahead
 //   of the vehicle; roll +10 (starboard down) tilts it to PORT.
-//   The camera sits at BodyToNed * mount_offset_m from the navigation
+//   The camera sits at NedFromBody * mount_offset_m from the navigation
 //   reference point; the seabed is the plane down = altitude_m.
 
 // Rotation taking body-frame vectors (x fwd, y stbd, z down) to the local
 // NED-like frame used here: rows are (north, east, down) components.
-Eigen::Matrix3d BodyToNed(const VehiclePose& pose);
+Eigen::Matrix3d NedFromBody(const VehiclePose& pose);
 
-// Rotation taking camera-frame vectors (OpenCV) to NED: BodyToNed * CameraToBody.
-Eigen::Matrix3d CameraToNed(const CameraModel& camera, const VehiclePose& pose);
+// Rotation taking camera-frame vectors (OpenCV) to NED: NedFromBody * BodyFromCamera.
+Eigen::Matrix3d NedFromCamera(const CameraModel& camera, const VehiclePose& pose);
 
 // H maps homogeneous undistorted pixel (u, v, 1) to (east, north, 1) in local
 // metres (absolute, including the vehicle position). Empty when the image
@@ -35,7 +35,7 @@ Eigen::Matrix3d CameraToNed(const CameraModel& camera, const VehiclePose& pose);
 // than ~0.06 deg below the horizon) or the camera is not above the seabed.
 // Scaled so that w = 1 at the principal point; w > 0 for every pixel whose
 // ray hits the seabed.
-std::optional<Eigen::Matrix3d> ImageToGround(const CameraModel& camera, const VehiclePose& pose);
+std::optional<Eigen::Matrix3d> GroundFromImage(const CameraModel& camera, const VehiclePose& pose);
 
 // Where the ray of one raw (distorted) pixel hits the seabed; empty when it
 // does not (points at or above the horizon, or the camera is below the seabed).

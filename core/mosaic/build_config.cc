@@ -1,7 +1,6 @@
 #include "core/mosaic/build_config.h"
 
 #include <fstream>
-#include <set>
 
 #include "core/util/error.h"
 
@@ -10,56 +9,59 @@ namespace {
 
 using nlohmann::json;
 
-template <typename T>
-T Get(const json& value, const std::string& source, const std::string& key) {
-  try {
-    return value.get<T>();
-  } catch (const json::exception&) {
-    throw InputError(source, 0, key,
-                     "expected a " +
-                         std::string(std::is_same_v<T, std::string> ? "string"
-                                     : std::is_same_v<T, bool>      ? "boolean"
-                                                                    : "number") +
-                         ", got " + value.dump());
-  }
+// Typed reads: the value's JSON type is checked here, its range by Check().
+std::string String(const json& v, const std::string& source, const std::string& key) {
+  if (!v.is_string()) throw InputError(source, 0, key, "expected a string, got " + v.dump());
+  return v.get<std::string>();
 }
 
-int GetInt(const json& v, const std::string& source, const std::string& key, int lo, int hi) {
-  if (!v.is_number_integer()) throw InputError(source, 0, key, "expected a whole number, got " + v.dump());
-  int x = v.get<int>();
-  if (x < lo || x > hi)
-    throw InputError(source, 0, key,
-                     "expected " + std::to_string(lo) + ".." + std::to_string(hi) + ", got " + std::to_string(x));
-  return x;
+bool Bool(const json& v, const std::string& source, const std::string& key) {
+  if (!v.is_boolean()) throw InputError(source, 0, key, "expected a boolean, got " + v.dump());
+  return v.get<bool>();
 }
 
-double GetPositive(const json& v, const std::string& source, const std::string& key) {
+int Int(const json& v, const std::string& source, const std::string& key) {
+  if (!v.is_number_integer() || v.get<int64_t>() < INT32_MIN || v.get<int64_t>() > INT32_MAX)
+    throw InputError(source, 0, key, "expected a whole number, got " + v.dump());
+  return v.get<int>();
+}
+
+double Number(const json& v, const std::string& source, const std::string& key) {
   if (!v.is_number()) throw InputError(source, 0, key, "expected a number, got " + v.dump());
-  double x = v.get<double>();
-  if (!(x > 0)) throw InputError(source, 0, key, "expected a number > 0, got " + v.dump());
-  return x;
+  return v.get<double>();
 }
 
-cv::Scalar ParseColor(const json& v, const std::string& source, const std::string& key) {
+void CheckRange(int value, int lo, int hi, const std::string& source, const std::string& key) {
+  if (value < lo || value > hi)
+    throw InputError(source, 0, key,
+                     "expected " + std::to_string(lo) + ".." + std::to_string(hi) + ", got " + std::to_string(value));
+}
+
+void CheckPositive(double value, const std::string& source, const std::string& key) {
+  if (!(value > 0)) throw InputError(source, 0, key, "expected a number > 0, got " + std::to_string(value));
+}
+
+cv::Scalar Colour(const json& v, const std::string& source, const std::string& key) {
   // "#rrggbb" -> BGR scalar
-  std::string s = Get<std::string>(v, source, key);
+  const std::string s = String(v, source, key);
   unsigned rgb = 0;
   if (s.size() != 7 || s[0] != '#' || std::sscanf(s.c_str() + 1, "%6x", &rgb) != 1)
     throw InputError(source, 0, key, "expected a colour like \"#1a2b3c\", got \"" + s + "\"");
   return cv::Scalar(rgb & 0xff, (rgb >> 8) & 0xff, (rgb >> 16) & 0xff);
 }
 
-void ApplyNav(const json& nav, const std::string& source, NavReadOptions* out) {
+void ApplyNavigation(const json& nav, const std::string& source, NavReadOptions* out) {
   if (!nav.is_object()) throw InputError(source, 0, "navigation", "expected an object");
   for (auto& [key, v] : nav.items()) {
     const std::string k = "navigation." + key;
     if (key == "columns") {
       if (!v.is_object()) throw InputError(source, 0, k, "expected an object {canonical: name}");
-      for (auto& [canon, name] : v.items()) out->columns[canon] = Get<std::string>(name, source, k + "." + canon);
+      for (auto& [canon, name] : v.items()) out->columns[canon] = String(name, source, k + "." + canon);
     } else if (key == "utm_zone") {
-      out->utm_zone = GetInt(v, source, k, 1, 60);
+      out->utm_zone = Int(v, source, k);
+      CheckRange(*out->utm_zone, 1, 60, source, k);
     } else if (key == "utm_north") {
-      out->utm_north = Get<bool>(v, source, k);
+      out->utm_north = Bool(v, source, k);
     } else if (key == "origin") {
       if (!v.is_array() || v.size() != 2 || !v[0].is_number() || !v[1].is_number())
         throw InputError(source, 0, k, "expected [lat, lon]");
@@ -70,99 +72,116 @@ void ApplyNav(const json& nav, const std::string& source, NavReadOptions* out) {
   }
 }
 
-void ApplyServer(const json& server, const std::string& source, ServerSettings* out) {
-  if (!server.is_object()) throw InputError(source, 0, "server", "expected an object");
-  for (auto& [key, v] : server.items()) {
-    const std::string k = "server." + key;
-    if (key == "host")
-      out->host = Get<std::string>(v, source, k);
-    else if (key == "port")
-      out->port = GetInt(v, source, k, 0, 65535);
-    else if (key == "token")
-      out->token = Get<std::string>(v, source, k);
-    else if (key == "threads")
-      out->threads = GetInt(v, source, k, 2, 1024);
-    else if (key == "max_streams")
-      out->max_streams = GetInt(v, source, k, 1, 1024);
-    else
-      throw InputError(source, 0, k, "unknown key (known: host, port, token, threads, max_streams)");
-  }
+}  // namespace
+
+void MapSettings::Check(const std::string& source) const {
+  if (tile_size != 256 && tile_size != 512)
+    throw InputError(source, 0, "tile_size", "expected 256 or 512, got " + std::to_string(tile_size));
+  if (base_zoom) CheckRange(*base_zoom, 0, 30, source, "base_zoom");
+  if (min_zoom) CheckRange(*min_zoom, 0, 30, source, "min_zoom");
+  if (base_zoom && min_zoom && *min_zoom > *base_zoom)
+    throw InputError(source, 0, "min_zoom", "must not exceed base_zoom");
+  CheckRange(encoding.png_level, 0, 9, source, "png_level");
+  CheckRange(encoding.jpeg_quality, 1, 100, source, "jpeg_quality");
+  CheckRange(encoding.webp_quality, 1, 101, source, "webp_quality");
 }
 
-}  // namespace
+void BlendSettings::Check(const std::string& source) const {
+  CheckPositive(feather_power, source, "feather_power");
+  if (!(seam_band > 0 && seam_band <= 1))
+    throw InputError(source, 0, "seam_band", "expected a number in (0, 1], got " + std::to_string(seam_band));
+}
+
+void BufferSettings::Check(const std::string& source) const {
+  CheckRange(linger_frames, 1, 100000, source, "linger_frames");
+  CheckRange(lookahead_frames, 0, 1000000, source, "lookahead_frames");
+  CheckRange(memory_cap_mb, 16, 1 << 20, source, "memory_cap_mb");
+  CheckRange(batch_frames, 1, 100000, source, "batch_frames");
+  if (!(batch_seconds >= 0))
+    throw InputError(source, 0, "batch_seconds", "expected a number >= 0, got " + std::to_string(batch_seconds));
+}
+
+void FrameSettings::Check(const std::string& source) const {
+  CheckPositive(max_footprint_ratio, source, "max_footprint_ratio");
+  CheckRange(sixteen_bit_white, 1, 65535, source, "sixteen_bit_white");
+}
+
+void BuildConfig::Check(const std::string& source) const {
+  map.Check(source);
+  blend.Check(source);
+  buffer.Check(source);
+  frames.Check(source);
+  CheckRange(threads, 0, 256, source, "threads");
+  if (layers != "raw" && layers != "enhanced" && layers != "both")
+    throw InputError(source, 0, "layers", "expected \"raw\", \"enhanced\" or \"both\", got \"" + layers + "\"");
+}
+
+MemoryBudget MemoryBudget::Of(int memory_cap_mb) {
+  const size_t cap = static_cast<size_t>(memory_cap_mb) << 20;
+  return {cap / 8, cap / 8 * 5, cap / 16 * 3, cap / 16};
+}
 
 void ApplyBuildConfig(const json& s, const std::string& source, BuildConfig* c) {
   if (!s.is_object()) throw InputError(source, 0, "", "expected a JSON object at the top level");
   for (auto& [key, v] : s.items()) {
     if (key == "name")
-      c->name = Get<std::string>(v, source, key);
+      c->map.name = String(v, source, key);
     else if (key == "attribution")
-      c->attribution = Get<std::string>(v, source, key);
-    else if (key == "tile_size") {
-      c->tile_size = GetInt(v, source, key, 256, 512);
-      if (c->tile_size != 256 && c->tile_size != 512) throw InputError(source, 0, key, "expected 256 or 512");
-    } else if (key == "base_zoom")
-      c->base_zoom = GetInt(v, source, key, 0, 30);
+      c->map.attribution = String(v, source, key);
+    else if (key == "tile_size")
+      c->map.tile_size = Int(v, source, key);
+    else if (key == "base_zoom")
+      c->map.base_zoom = Int(v, source, key);
     else if (key == "min_zoom")
-      c->min_zoom = GetInt(v, source, key, 0, 30);
+      c->map.min_zoom = Int(v, source, key);
     else if (key == "tile_format")
-      c->encoding.format = ParseTileFormat(Get<std::string>(v, source, key), source);
+      c->map.encoding.format = ParseTileFormat(String(v, source, key), source);
     else if (key == "png_level")
-      c->encoding.png_level = GetInt(v, source, key, 0, 9);
+      c->map.encoding.png_level = Int(v, source, key);
     else if (key == "jpeg_quality")
-      c->encoding.jpeg_quality = GetInt(v, source, key, 1, 100);
+      c->map.encoding.jpeg_quality = Int(v, source, key);
     else if (key == "webp_quality")
-      c->encoding.webp_quality = GetInt(v, source, key, 1, 101);
+      c->map.encoding.webp_quality = Int(v, source, key);
     else if (key == "background")
-      c->encoding.background = ParseColor(v, source, key);
+      c->map.encoding.background = Colour(v, source, key);
     else if (key == "feather_power")
-      c->feather_power = GetPositive(v, source, key);
-    else if (key == "seam_band") {
-      if (!v.is_number() || !(v.get<double>() > 0 && v.get<double>() <= 1))
-        throw InputError(source, 0, key, "expected a number in (0, 1], got " + v.dump());
-      c->seam_band = v.get<double>();
-    } else if (key == "blend_all_overlaps")
-      c->blend_all_overlaps = Get<bool>(v, source, key);
+      c->blend.feather_power = Number(v, source, key);
+    else if (key == "seam_band")
+      c->blend.seam_band = Number(v, source, key);
+    else if (key == "blend_all_overlaps")
+      c->blend.blend_all_overlaps = Bool(v, source, key);
     else if (key == "linger_frames")
-      c->linger_frames = GetInt(v, source, key, 1, 100000);
+      c->buffer.linger_frames = Int(v, source, key);
     else if (key == "lookahead_frames")
-      c->lookahead_frames = GetInt(v, source, key, 0, 1000000);
-    else if (key == "defer_edge_tails")
-      c->defer_edge_tails = Get<bool>(v, source, key);
+      c->buffer.lookahead_frames = Int(v, source, key);
     else if (key == "memory_cap_mb")
-      c->memory_cap_mb = GetInt(v, source, key, 16, 1 << 20);
+      c->buffer.memory_cap_mb = Int(v, source, key);
     else if (key == "batch_frames")
-      c->batch_frames = GetInt(v, source, key, 1, 100000);
-    else if (key == "batch_seconds") {
-      if (!v.is_number() || v.get<double>() < 0)
-        throw InputError(source, 0, key, "expected a number >= 0, got " + v.dump());
-      c->batch_seconds = v.get<double>();
-    } else if (key == "threads")
-      c->threads = GetInt(v, source, key, 0, 256);
+      c->buffer.batch_frames = Int(v, source, key);
+    else if (key == "batch_seconds")
+      c->buffer.batch_seconds = Number(v, source, key);
     else if (key == "live_tiles")
-      c->live_tiles = Get<bool>(v, source, key);
+      c->buffer.live_tiles = Bool(v, source, key);
     else if (key == "max_footprint_ratio")
-      c->max_footprint_ratio = GetPositive(v, source, key);
+      c->frames.max_footprint_ratio = Number(v, source, key);
     else if (key == "sixteen_bit_white")
-      c->sixteen_bit_white = GetInt(v, source, key, 1, 65535);
+      c->frames.sixteen_bit_white = Int(v, source, key);
+    else if (key == "threads")
+      c->threads = Int(v, source, key);
     else if (key == "navigation")
-      ApplyNav(v, source, &c->nav);
+      ApplyNavigation(v, source, &c->nav);
     else if (key == "enhance")
       c->enhance = v;
+    else if (key == "layers")
+      c->layers = String(v, source, key);
     else if (key == "server")
-      ApplyServer(v, source, &c->server);
-    else if (key == "layers") {
-      c->layers = Get<std::string>(v, source, key);
-      if (c->layers != "raw" && c->layers != "enhanced" && c->layers != "both")
-        throw InputError(source, 0, key, "expected \"raw\", \"enhanced\" or \"both\", got \"" + c->layers + "\"");
-    } else if (key.rfind("_", 0) == 0 || key == "comment") {
+      c->server = v;  // the server's to read (server/server_options.h)
+    else if (key == "comment" || key.rfind("_", 0) == 0) {
       // comments
-    } else {
+    } else
       throw InputError(source, 0, key, "unknown key");
-    }
   }
-  if (c->base_zoom && c->min_zoom && *c->min_zoom > *c->base_zoom)
-    throw InputError(source, 0, "min_zoom", "must not exceed base_zoom");
+  c->Check(source);
 }
 
 BuildConfig LoadBuildConfig(const std::string& path) {

@@ -155,38 +155,15 @@ const cv::Mat& FrameImage::Rows(int first, int last) {
     first = std::min(first, decoded_first_);
     last = std::max(last, decoded_last_);
   }
-  DecodeJpegRows({{first, last}});
+  DecodeJpegRows(first, last);
   decoded_first_ = first;
   decoded_last_ = last;
   return pixels_;
 }
 
-const cv::Mat& FrameImage::RowRanges(const std::vector<std::array<int, 2>>& ranges) {
-  if (jpeg_.empty()) {  // decoded in full when read
-    if (decoded_last_ < decoded_first_)
-      throw std::logic_error("FrameImage " + path_ + ": rows asked of a released frame");
-    return pixels_;
-  }
-  std::vector<std::array<int, 2>> sorted = ranges, clamped;
-  std::sort(sorted.begin(), sorted.end());
-  for (const auto& [first, last] : sorted) {
-    const int a = std::max(first, 0), b = std::min(last, height_ - 1);
-    if (a > b) continue;
-    if (!clamped.empty() && a <= clamped.back()[1] + 1)
-      clamped.back()[1] = std::max(clamped.back()[1], b);
-    else
-      clamped.push_back({a, b});
-  }
-  DecodeJpegRows(clamped);
-  decoded_first_ = 0;  // what was decoded is not one range: Rows decodes again
-  decoded_last_ = -1;
-  return pixels_;
-}
-
-void FrameImage::DecodeJpegRows(const std::vector<std::array<int, 2>>& ranges) {
+void FrameImage::DecodeJpegRows(int first, int last) {
   if (jpeg_.empty()) throw std::logic_error("FrameImage " + path_ + ": rows asked of a released frame");
   pixels_.create(height_, width_, channels_ == 1 ? CV_8UC1 : CV_8UC3);
-  if (ranges.empty()) return;
   JpegReader reader(jpeg_);
   jpeg_decompress_struct& c = reader.cinfo_;
   if (setjmp(reader.errors_.jump))
@@ -204,25 +181,12 @@ void FrameImage::DecodeJpegRows(const std::vector<std::array<int, 2>>& ranges) {
                          "unreadable image: JPEG data stops at row " + std::to_string(c.output_scanline));
     }
   };
-  // libjpeg-turbo 2.1 skips wrongly from inside a row group (8 rows, 16
-  // with vertically subsampled chroma): it hands back rows from before the
-  // skip. So a skip starts on a group boundary, reading up to it first.
-  const int group = c.max_v_samp_factor * DCTSIZE;
-  for (const auto& [first, last] : ranges) {
-    int at = static_cast<int>(c.output_scanline);
-    if (first > at && at % group != 0) read_to(std::min(first, (at / group + 1) * group) - 1);
-    at = static_cast<int>(c.output_scanline);
-    if (first > at) jpeg_skip_scanlines(&c, static_cast<JDIMENSION>(first - at));
-    read_to(last);
-  }
+  // Rows above the band are skipped without the inverse DCT (a third of the
+  // cost of decoding them). The skip starts at row 0: libjpeg-turbo 2.1
+  // hands back wrong rows after a skip that starts inside a row group.
+  if (first > 0) jpeg_skip_scanlines(&c, static_cast<JDIMENSION>(first));
+  read_to(last);
   jpeg_abort_decompress(&c);  // the rows below are not needed
-}
-
-void FrameImage::ReleasePixels() {
-  if (jpeg_.empty()) return;
-  pixels_.release();
-  decoded_first_ = 0;
-  decoded_last_ = -1;
 }
 
 void FrameImage::Release() {

@@ -6,7 +6,6 @@
 // neighbours samples a band of rows, so this saves most of the decoding.
 // Other formats (and JPEGs libjpeg cannot decode by rows) are decoded in
 // full by OpenCV when read.
-#include <array>
 #include <optional>
 #include <string>
 #include <vector>
@@ -34,24 +33,11 @@ class FrameImage {
   // Not thread-safe: one job at a time.
   const cv::Mat& Rows(int first, int last);
   const cv::Mat& Full() { return Rows(0, height_ - 1); }
-  // The frame with at least the rows of each range {first, last} decoded,
-  // in one pass: a JPEG's rows between the ranges are skipped without the
-  // inverse DCT. A later Rows decodes afresh.
-  const cv::Mat& RowRanges(const std::vector<std::array<int, 2>>& ranges);
-
-  // Whether rows are decoded on demand (a JPEG kept compressed).
-  bool DecodesByRows() const { return !jpeg_.empty(); }
-  // Bytes held: the compressed frame and the decoded pixels.
-  size_t Bytes() const { return jpeg_.size() + pixels_.total() * pixels_.elemSize(); }
-
-  // Releases the decoded pixels of a frame decoded by rows; Rows decodes
-  // again from the compressed data. Other frames keep theirs.
-  void ReleasePixels();
   // Releases the pixels and the compressed data.
   void Release();
 
  private:
-  void DecodeJpegRows(const std::vector<std::array<int, 2>>& ranges);
+  void DecodeJpegRows(int first, int last);
 
   std::string path_;
   std::vector<unsigned char> jpeg_;  // compressed frame, when decoding by rows

@@ -7,7 +7,7 @@
 
 #include <opencv2/core.hpp>
 
-#include "core/mosaic/frame_warper.h"
+#include "core/mosaic/warped_frame.h"
 
 namespace seamap {
 

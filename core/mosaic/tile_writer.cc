@@ -1,19 +1,20 @@
 #include "core/mosaic/tile_writer.h"
 
+#include <cstdlib>
 #include <exception>
 
 namespace seamap {
 
 TileWriter::TileWriter(TileStore* store, ThreadPool* pool, TileEncoding encoding,
-                       std::function<void(const TileId&, uint64_t)> on_written)
-    : store_(store), pool_(pool), encoding_(encoding), on_written_(std::move(on_written)) {}
+                       std::vector<TileConsumer*> consumers)
+    : store_(store), pool_(pool), encoding_(encoding), consumers_(std::move(consumers)) {}
 
 TileWriter::~TileWriter() {
   for (auto& f : in_flight_)
     if (f.valid()) f.wait();
 }
 
-void TileWriter::Submit(const TileId& id, const cv::Mat& tile) {
+void TileWriter::Submit(const TileId& id, const cv::Mat& tile, bool final) {
   uint64_t version;
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -33,12 +34,12 @@ void TileWriter::Submit(const TileId& id, const cv::Mat& tile) {
       in_flight_.swap(still);
     }
   }
-  auto job = pool_->Submit([this, id, tile, version] { Encode(id, tile, version); });
+  auto job = pool_->Submit([this, id, tile, version, final] { Encode(id, tile, version, final); });
   std::lock_guard<std::mutex> lock(mutex_);
   in_flight_.push_back(std::move(job));
 }
 
-void TileWriter::Encode(TileId id, cv::Mat tile, uint64_t version) {
+void TileWriter::Encode(TileId id, cv::Mat tile, uint64_t version, bool final) {
   std::vector<uint8_t> bytes = EncodeTile(tile, encoding_);
   std::lock_guard<std::mutex> order(store_mutex_);
   {
@@ -54,7 +55,7 @@ void TileWriter::Encode(TileId id, cv::Mat tile, uint64_t version) {
     auto it = pending_.find(id);
     if (it != pending_.end() && it->second.version == version) pending_.erase(it);
   }
-  if (on_written_) on_written_(id, version);
+  for (TileConsumer* c : consumers_) c->OnTileWritten(id, tile, version, final);
 }
 
 std::optional<cv::Mat> TileWriter::Read(const TileId& id) const {
@@ -66,6 +67,26 @@ std::optional<cv::Mat> TileWriter::Read(const TileId& id) const {
   auto bytes = store_->GetTile(id);
   if (!bytes) return std::nullopt;
   return DecodeTile(*bytes);
+}
+
+cv::Mat TileWriter::ReadToPaint(const TileId& id, int channels, int tile_size) const {
+  auto tile = Read(id);
+  if (!tile || tile->rows != tile_size) return {};
+  cv::Mat t = WithColourChannels(*tile, channels);
+  if (encoding_.format == TileFormat::kJpeg) {
+    // JPEG has no alpha: pixels that still show the background colour are empty.
+    const cv::Scalar& bg = encoding_.background;
+    for (int y = 0; y < t.rows; ++y) {
+      uint8_t* p = t.ptr<uint8_t>(y);
+      for (int x = 0; x < t.cols; ++x, p += t.channels()) {
+        bool is_bg = true;
+        for (int c = 0; c < channels; ++c)
+          is_bg &= std::abs(p[c] - static_cast<int>(channels == 1 ? bg[0] : bg[c])) <= 3;
+        if (is_bg) p[channels] = 0;
+      }
+    }
+  }
+  return t;
 }
 
 void TileWriter::Flush() {

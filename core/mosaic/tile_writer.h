@@ -1,10 +1,10 @@
 #pragma once
-// Encodes finished tiles on the thread pool and writes them to the store,
-// newest version wins. Until a tile is in the store its raw pixels stay in
-// `pending_`, so reading a tile back always sees the latest version.
+// Encodes tiles on the thread pool and writes them to the store, newest
+// version wins, then hands them to the tile consumers. Until a tile is in the
+// store its raw pixels stay in `pending_`, so reading a tile back always sees
+// the latest version.
 #include <atomic>
 #include <cstdint>
-#include <functional>
 #include <future>
 #include <map>
 #include <mutex>
@@ -16,6 +16,7 @@
 #include <opencv2/core.hpp>
 
 #include "core/geo/web_mercator.h"
+#include "core/mosaic/tile_consumer.h"
 #include "core/tiles/tile_codec.h"
 #include "core/tiles/tile_store.h"
 #include "core/util/thread_pool.h"
@@ -24,16 +25,20 @@ namespace seamap {
 
 class TileWriter {
  public:
-  // on_written(id, version) runs on a worker thread after each store write.
-  TileWriter(TileStore* store, ThreadPool* pool, TileEncoding encoding,
-             std::function<void(const TileId&, uint64_t)> on_written = nullptr);
+  // consumers: each gets every tile written (TileConsumer), after the store.
+  TileWriter(TileStore* store, ThreadPool* pool, TileEncoding encoding, std::vector<TileConsumer*> consumers = {});
   ~TileWriter();
 
-  // tile: CV_8UC2 / CV_8UC4 with alpha; takes a reference, do not modify it later.
-  void Submit(const TileId& id, const cv::Mat& tile);
+  // tile: CV_8UC2 / CV_8UC4 with alpha; takes a reference, do not modify it
+  // later. final: see TileConsumer.
+  void Submit(const TileId& id, const cv::Mat& tile, bool final = true);
 
   // The latest version of a tile (pending or stored), decoded; nullopt if none.
   std::optional<cv::Mat> Read(const TileId& id) const;
+  // The same with `channels` colour channels plus alpha, to paint on: a JPEG
+  // tile's pixels that show the background colour are empty again. An empty
+  // Mat when there is no tile of `tile_size`.
+  cv::Mat ReadToPaint(const TileId& id, int channels, int tile_size) const;
 
   // Waits for every submitted tile to be written, then commits the store.
   void Flush();
@@ -47,12 +52,12 @@ class TileWriter {
     cv::Mat tile;
     uint64_t version;
   };
-  void Encode(TileId id, cv::Mat tile, uint64_t version);
+  void Encode(TileId id, cv::Mat tile, uint64_t version, bool final);
 
   TileStore* store_;
   ThreadPool* pool_;
   TileEncoding encoding_;
-  std::function<void(const TileId&, uint64_t)> on_written_;
+  std::vector<TileConsumer*> consumers_;
   mutable std::mutex mutex_;
   std::unordered_map<TileId, Pending, TileIdHash> pending_;
   std::unordered_set<TileId, TileIdHash> seen_;  // every tile ever submitted

@@ -18,9 +18,9 @@ struct RayCaster {
   double height = 0;         // camera above the seabed
 
   RayCaster(const CameraModel& camera, const VehiclePose& pose) {
-    const Eigen::Matrix3d body_to_ned = BodyToNed(pose);
-    rotation = body_to_ned * camera.CameraToBody();
-    const Eigen::Vector3d offset = body_to_ned * camera.mount_offset_m;
+    const Eigen::Matrix3d ned_from_body = NedFromBody(pose);
+    rotation = ned_from_body * camera.BodyFromCamera();
+    const Eigen::Vector3d offset = ned_from_body * camera.mount_offset_m;
     centre = {pose.north_m + offset.x(), pose.east_m + offset.y(), offset.z()};
     height = pose.altitude_m - offset.z();
   }

@@ -81,40 +81,5 @@ TEST(Blending, HandoverCoversWhatAveragingCoversAndIsSharper) {
   EXPECT_GT(sharp_handover, 2 * sharp_averaged) << sharp_handover / tiles << " vs " << sharp_averaged / tiles;
 }
 
-TEST(Blending, DeferredTailsCoverTheSameSeabedAndMostAreNeverDecoded) {
-  // A frame's side-edge tail waits for the next survey line (defer_edge_tails,
-  // on by default): the map covers exactly what it covers with every tail
-  // painted at once, differs only where the tails' small edge weights were
-  // blended in, and most tails are never decoded.
-  testing::TempDir dir;
-  const std::string report = (dir / "report.json").string();
-  Built now = Build(dir, "now", R"({"tile_format": "png", "defer_edge_tails": false})");
-  Built deferred = Build(dir, "deferred", R"({"tile_format": "png"})", " --report " + report);
-  int64_t covered = 0, coverage_differs = 0, changed = 0;
-  double worst = 0;
-  for (const TileId& id : now.store->TileIds()) {
-    if (id.z != now.base_zoom) continue;
-    auto mine = deferred.store->GetTile(id);
-    ASSERT_TRUE(mine) << "tile " << id.x << "/" << id.y;
-    std::vector<cv::Mat> a, b;
-    cv::split(DecodeTile(*now.store->GetTile(id)), a);
-    cv::split(DecodeTile(*mine), b);
-    covered += cv::countNonZero(a[1]);
-    coverage_differs += cv::countNonZero(a[1] != b[1]);
-    changed += cv::countNonZero(a[0] != b[0]);
-    worst = std::max(worst, cv::norm(a[0], b[0], cv::NORM_INF));
-  }
-  EXPECT_EQ(deferred.store->TileIds().size(), now.store->TileIds().size());
-  EXPECT_GT(covered, 500000);
-  EXPECT_EQ(coverage_differs, 0);
-  EXPECT_LT(changed, covered / 100);
-  EXPECT_LE(worst, 32);
-  const auto stats = nlohmann::json::parse(std::ifstream(report));
-  const int tails = stats.at("tail_frames"), decoded = stats.at("tail_decodes");
-  EXPECT_GT(tails, 20);
-  EXPECT_LT(decoded * 4, tails) << decoded << " of " << tails << " tails decoded later";
-  EXPECT_EQ(stats.at("tail_failures"), 0);
-}
-
 }  // namespace
 }  // namespace seamap

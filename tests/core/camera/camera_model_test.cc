@@ -292,7 +292,7 @@ TEST(CameraModelTest, MissingFileAndUnknownExtension) {
 
 TEST(CameraModelTest, DefaultMountingLooksDownWithImageTopToBow) {
   CameraModel c = CameraFromFocalLength(8, 12.9, 696, 520);
-  const Eigen::Matrix3d r = c.CameraToBody();
+  const Eigen::Matrix3d r = c.BodyFromCamera();
   EXPECT_TRUE(r.col(0).isApprox(Eigen::Vector3d(0, 1, 0)));   // image right -> starboard
   EXPECT_TRUE(r.col(1).isApprox(Eigen::Vector3d(-1, 0, 0)));  // image down -> aft
   EXPECT_TRUE(r.col(2).isApprox(Eigen::Vector3d(0, 0, 1)));   // optical axis -> down
@@ -300,7 +300,7 @@ TEST(CameraModelTest, DefaultMountingLooksDownWithImageTopToBow) {
 
   // Mount pitch +10 (about body y) tilts the optical axis forward.
   c.mount_rpy_deg = {0, 10, 0};
-  const Eigen::Vector3d axis = c.CameraToBody().col(2);
+  const Eigen::Vector3d axis = c.BodyFromCamera().col(2);
   EXPECT_NEAR(axis.x(), std::sin(10 * M_PI / 180), 1e-12);
   EXPECT_NEAR(axis.z(), std::cos(10 * M_PI / 180), 1e-12);
 }

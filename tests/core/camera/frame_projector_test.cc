@@ -32,18 +32,18 @@ LocalXY Centre(const CameraModel& c, const VehiclePose& pose) {
   return *PixelToGround(c, pose, c.cx, c.cy);
 }
 
-TEST(FrameProjectorTest, BodyToNedFollowsAerospaceConvention) {
+TEST(FrameProjectorTest, NedFromBodyFollowsAerospaceConvention) {
   // Heading 90: bow points east.
-  EXPECT_TRUE((BodyToNed(Pose(1, 90)) * Eigen::Vector3d::UnitX()).isApprox(Eigen::Vector3d(0, 1, 0)));
+  EXPECT_TRUE((NedFromBody(Pose(1, 90)) * Eigen::Vector3d::UnitX()).isApprox(Eigen::Vector3d(0, 1, 0)));
   // Pitch +10 (bow up): bow gains an upward (negative down) component, and the
   // body down axis tilts forward: (sin, 0, cos).
-  const Eigen::Matrix3d pitch = BodyToNed(Pose(1, 0, 10));
+  const Eigen::Matrix3d pitch = NedFromBody(Pose(1, 0, 10));
   EXPECT_LT((pitch * Eigen::Vector3d::UnitX()).z(), 0);
   EXPECT_TRUE(
       (pitch * Eigen::Vector3d::UnitZ()).isApprox(Eigen::Vector3d(std::sin(10 * kDeg), 0, std::cos(10 * kDeg))));
   // Roll +10 (starboard down): starboard gains a downward component, and the
   // body down axis tilts to port: (0, -sin, cos).
-  const Eigen::Matrix3d roll = BodyToNed(Pose(1, 0, 0, 10));
+  const Eigen::Matrix3d roll = NedFromBody(Pose(1, 0, 0, 10));
   EXPECT_GT((roll * Eigen::Vector3d::UnitY()).z(), 0);
   EXPECT_TRUE(
       (roll * Eigen::Vector3d::UnitZ()).isApprox(Eigen::Vector3d(0, -std::sin(10 * kDeg), std::cos(10 * kDeg))));
@@ -110,7 +110,7 @@ TEST(FrameProjectorTest, BowUpPitchMovesCentreAhead) {
   EXPECT_NEAR(centre.east, alt * std::tan(10 * kDeg), kTol);
   EXPECT_NEAR(centre.north, 0, kTol);
   // Same through the homography.
-  const auto h = ImageToGround(c, Pose(alt, 0, 10));
+  const auto h = GroundFromImage(c, Pose(alt, 0, 10));
   ASSERT_TRUE(h);
   EXPECT_NEAR(Apply(*h, c.cx, c.cy).north, alt * std::tan(10 * kDeg), kTol);
 }
@@ -177,7 +177,7 @@ TEST(FrameProjectorTest, DistortedPixelLandsWhereItsUndistortedPixelDoes) {
   VehiclePose pose = Pose(7, 33, 4, -6);
   pose.east_m = 12;
   pose.north_m = 34;
-  const auto h = ImageToGround(c, pose);
+  const auto h = GroundFromImage(c, pose);
   ASSERT_TRUE(h);
   for (const cv::Point2d ideal : {cv::Point2d(30, 40), cv::Point2d(650, 480), cv::Point2d(347.5, 10)}) {
     const cv::Point2d raw = c.Distort({ideal}).front();
@@ -209,7 +209,7 @@ TEST(FrameProjectorTest, HomographyAgreesWithPerPixelRays) {
   VehiclePose pose = Pose(9, 217, 6, -4);
   pose.east_m = -20;
   pose.north_m = 7;
-  const auto h = ImageToGround(c, pose);
+  const auto h = GroundFromImage(c, pose);
   ASSERT_TRUE(h);
   EXPECT_NEAR((*h * Eigen::Vector3d(c.cx, c.cy, 1)).z(), 1.0, 1e-12);  // normalised
   for (double u : {-0.5, 100.0, 347.5, 695.5})
@@ -227,18 +227,18 @@ TEST(FrameProjectorTest, HorizonAndBuriedCameraGiveNothing) {
   const CameraModel c = SeedCamera();  // vertical half field of view ~22.8 deg
   const double alt = 4;
   // Bow up 80 deg: the optical axis is 10 deg below the horizon, the image top above it.
-  EXPECT_FALSE(ImageToGround(c, Pose(alt, 0, 80)));
+  EXPECT_FALSE(GroundFromImage(c, Pose(alt, 0, 80)));
   EXPECT_FALSE(Footprint(c, Pose(alt, 0, 80)));
   EXPECT_FALSE(PixelToGround(c, Pose(alt, 0, 80), c.cx, 0));
   const auto centre = PixelToGround(c, Pose(alt, 0, 80), c.cx, c.cy);
   ASSERT_TRUE(centre);
   EXPECT_NEAR(centre->north, alt / std::tan(10 * kDeg), 1e-9);
   // A 60 deg pitch still sees the seabed with the whole frame.
-  EXPECT_TRUE(ImageToGround(c, Pose(alt, 0, 60)));
+  EXPECT_TRUE(GroundFromImage(c, Pose(alt, 0, 60)));
 
   CameraModel buried = c;
   buried.mount_offset_m = {0, 0, 5};  // camera 5 m below the reference, seabed at 3 m
-  EXPECT_FALSE(ImageToGround(buried, Pose(3)));
+  EXPECT_FALSE(GroundFromImage(buried, Pose(3)));
   EXPECT_FALSE(PixelToGround(buried, Pose(3), c.cx, c.cy));
 }
 

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <functional>
+
 #include "core/util/error.h"
 #include "tests/testing/temp_dir.h"
 
@@ -18,41 +20,60 @@ TEST(BuildConfig, ReadsEveryKey) {
     "batch_frames":10,"threads":2,"background":"#102030",
     "navigation":{"columns":{"altitude_m":"alt2"},"utm_zone":52,"origin":[43.1,131.9]}})");
   BuildConfig c = LoadBuildConfig(path.string());
-  EXPECT_EQ(c.name, "m");
-  EXPECT_EQ(c.tile_size, 512);
-  EXPECT_EQ(*c.base_zoom, 24);
-  EXPECT_EQ(*c.min_zoom, 14);
-  EXPECT_EQ(c.encoding.format, TileFormat::kWebp);
-  EXPECT_EQ(c.encoding.webp_quality, 90);
-  EXPECT_EQ(c.linger_frames, 3);
-  EXPECT_EQ(c.lookahead_frames, 50);
-  EXPECT_EQ(c.encoding.background, cv::Scalar(0x30, 0x20, 0x10));
+  EXPECT_EQ(c.map.name, "m");
+  EXPECT_EQ(c.map.tile_size, 512);
+  EXPECT_EQ(*c.map.base_zoom, 24);
+  EXPECT_EQ(*c.map.min_zoom, 14);
+  EXPECT_EQ(c.map.encoding.format, TileFormat::kWebp);
+  EXPECT_EQ(c.map.encoding.webp_quality, 90);
+  EXPECT_EQ(c.buffer.linger_frames, 3);
+  EXPECT_EQ(c.buffer.lookahead_frames, 50);
+  EXPECT_EQ(c.map.encoding.background, cv::Scalar(0x30, 0x20, 0x10));
   EXPECT_EQ(c.nav.columns.at("altitude_m"), "alt2");
   EXPECT_EQ(*c.nav.utm_zone, 52);
   EXPECT_DOUBLE_EQ(c.nav.origin->lon, 131.9);
 }
 
-TEST(BuildConfig, ReadsServerSettingsAndNamesBadOnes) {
+TEST(BuildConfig, KeepsTheServerObjectForTheServerToRead) {
   BuildConfig c;
-  ApplyBuildConfig(nlohmann::json::parse(R"({"server": {"host": "127.0.0.1", "port": 9000, "token": "t",
-                                                         "threads": 8, "max_streams": 4}})"),
-                   "cfg.json", &c);
-  EXPECT_EQ(c.server.host, "127.0.0.1");
-  EXPECT_EQ(c.server.port, 9000);
-  EXPECT_EQ(c.server.token, "t");
-  EXPECT_EQ(c.server.threads, 8);
-  EXPECT_EQ(c.server.max_streams, 4);
-  try {
-    ApplyBuildConfig(nlohmann::json::parse(R"({"server": {"port": 70000}})"), "cfg.json", &c);
-    FAIL() << "port 70000 accepted";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("server.port"), std::string::npos) << e.what();
-  }
-  try {
-    ApplyBuildConfig(nlohmann::json::parse(R"({"server": {"tokn": "x"}})"), "cfg.json", &c);
-    FAIL() << "unknown key accepted";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("server.tokn"), std::string::npos) << e.what();
+  EXPECT_FALSE(c.server.has_value());
+  const auto server = nlohmann::json::parse(R"({"port": 9000, "tokn": "x"})");
+  ApplyBuildConfig(nlohmann::json{{"server", server}}, "cfg.json", &c);
+  ASSERT_TRUE(c.server.has_value());
+  EXPECT_EQ(*c.server, server) << "checked by server::ServerOptions::FromJson, not here";
+}
+
+TEST(BuildConfig, CheckNamesTheKeyOfEachConcern) {
+  // Each option struct checks its own values; ApplyBuildConfig runs them all.
+  auto key_of = [](const std::function<void(BuildConfig&)>& change) {
+    BuildConfig c;
+    change(c);
+    try {
+      c.Check("cfg.json");
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.file(), "cfg.json");
+      return e.field();
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(key_of([](BuildConfig&) {}), "accepted");
+  EXPECT_EQ(key_of([](BuildConfig& c) { c.map.tile_size = 300; }), "tile_size");
+  EXPECT_EQ(key_of([](BuildConfig& c) { c.map.encoding.jpeg_quality = 0; }), "jpeg_quality");
+  EXPECT_EQ(key_of([](BuildConfig& c) { c.blend.seam_band = 1.5; }), "seam_band");
+  EXPECT_EQ(key_of([](BuildConfig& c) { c.blend.feather_power = 0; }), "feather_power");
+  EXPECT_EQ(key_of([](BuildConfig& c) { c.buffer.memory_cap_mb = 4; }), "memory_cap_mb");
+  EXPECT_EQ(key_of([](BuildConfig& c) { c.buffer.batch_seconds = -1; }), "batch_seconds");
+  EXPECT_EQ(key_of([](BuildConfig& c) { c.frames.sixteen_bit_white = 0; }), "sixteen_bit_white");
+  EXPECT_EQ(key_of([](BuildConfig& c) { c.threads = -2; }), "threads");
+  EXPECT_EQ(key_of([](BuildConfig& c) { c.layers = "all"; }), "layers");
+}
+
+TEST(MemoryBudget, SharesAddUpToTheCap) {
+  for (int cap_mb : {16, 100, 512, 4096}) {
+    const MemoryBudget b = MemoryBudget::Of(cap_mb);
+    const size_t cap = static_cast<size_t>(cap_mb) << 20;
+    EXPECT_EQ(b.frames_bytes + b.tile_buffer_bytes + b.overview_bytes + b.finished_weights_bytes, cap) << cap_mb;
+    EXPECT_GT(b.tile_buffer_bytes, cap / 2);
   }
 }
 

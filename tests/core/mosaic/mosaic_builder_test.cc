@@ -1,6 +1,8 @@
 #include "core/mosaic/mosaic_builder.h"
 
 #include <filesystem>
+#include <map>
+#include <mutex>
 
 #include <gtest/gtest.h>
 
@@ -16,8 +18,8 @@ namespace {
 class MosaicBuilderTest : public ::testing::Test {
  protected:
   MosaicBuilderTest() : camera_(CameraFromFocalLength(8, 12.9, 160, 120)), frame_({43.1, 131.9}) {
-    config_.base_zoom = 25;
-    config_.min_zoom = 22;
+    config_.map.base_zoom = 25;
+    config_.map.min_zoom = 22;
   }
 
   FrameSpec Frame(int index, double east, double north, uint8_t value, int channels = 1) {
@@ -46,7 +48,7 @@ class MosaicBuilderTest : public ::testing::Test {
                                                              const std::vector<FrameSpec>& frames,
                                                              const std::string& name, bool foresee = false) {
     auto store = OpenTileStore((dir_ / name).string(), "png", true);
-    MosaicPlan plan = PlanMosaic(config, camera_, frame_, frames, 1);
+    MosaicPlan plan = PlanMosaic(config.map, camera_, frame_, frames, 1);
     MosaicBuilder builder(config, camera_, frame_, plan, store.get());
     if (foresee) builder.Foresee(frames);
     for (const auto& f : frames) builder.Push(f);
@@ -63,7 +65,7 @@ class MosaicBuilderTest : public ::testing::Test {
 TEST_F(MosaicBuilderTest, RevisitedTileIsReadBackAndBlendedNotOverwritten) {
   auto store = OpenTileStore((dir_ / "m.mbtiles").string(), "png", true);
   std::vector<FrameSpec> frames{Frame(0, 0, 0, 100), Frame(1, 10, 0, 30), Frame(2, 0, 0, 200)};
-  MosaicPlan plan = PlanMosaic(config_, camera_, frame_, frames, 1);
+  MosaicPlan plan = PlanMosaic(config_.map, camera_, frame_, frames, 1);
   MosaicBuilder builder(config_, camera_, frame_, plan, store.get());
   for (const auto& f : frames) builder.Push(f);
   builder.Finish();
@@ -84,7 +86,7 @@ TEST_F(MosaicBuilderTest, ColourMapOfGrayLookingFramesReadsTilesBack) {
   // and must still be read back and blended.
   auto store = OpenTileStore((dir_ / "m.mbtiles").string(), "png", true);
   std::vector<FrameSpec> frames{Frame(0, 0, 0, 100, 3), Frame(1, 10, 0, 30, 3), Frame(2, 0, 0, 200, 3)};
-  MosaicPlan plan = PlanMosaic(config_, camera_, frame_, frames, 3);
+  MosaicPlan plan = PlanMosaic(config_.map, camera_, frame_, frames, 3);
   MosaicBuilder builder(config_, camera_, frame_, plan, store.get());
   for (const auto& f : frames) builder.Push(f);
   builder.Finish();
@@ -97,7 +99,7 @@ TEST_F(MosaicBuilderTest, ColourMapOfGrayLookingFramesReadsTilesBack) {
 TEST_F(MosaicBuilderTest, TileIsWrittenOnceTheFrameMovesOn) {
   auto store = OpenTileStore((dir_ / "m.mbtiles").string(), "png", true);
   std::vector<FrameSpec> frames{Frame(0, 0, 0, 90), Frame(1, 10, 0, 90)};
-  MosaicPlan plan = PlanMosaic(config_, camera_, frame_, frames, 1);
+  MosaicPlan plan = PlanMosaic(config_.map, camera_, frame_, frames, 1);
   MosaicBuilder builder(config_, camera_, frame_, plan, store.get());
   builder.Push(frames[0]);
   builder.Push(frames[1]);
@@ -115,9 +117,9 @@ TEST_F(MosaicBuilderTest, LiveTilesAreWrittenEarlyButTheMapEndsTheSame) {
   for (int i = 0; i < 12; ++i) frames.push_back(Frame(i, 0.05 * i, 0, static_cast<uint8_t>(60 + 10 * i)));
   auto build = [&](bool live, const std::string& name) {
     BuildConfig config = config_;
-    config.live_tiles = live;
-    config.batch_frames = 1;
-    config.batch_seconds = 0;
+    config.buffer.live_tiles = live;
+    config.buffer.batch_frames = 1;
+    config.buffer.batch_seconds = 0;
     return BuildMap(config, frames, name);
   };
   auto [plain, plain_stats] = build(false, "plain.mbtiles");
@@ -172,7 +174,7 @@ TEST_F(MosaicBuilderTest, ASecondLineBlendsAsIfTheFirstHadStayedInMemory) {
   const std::vector<FrameSpec> frames = TwoLines(camera_, dir_.path());
   auto build = [&](int linger, const std::string& name) {
     BuildConfig config = config_;
-    config.linger_frames = linger;
+    config.buffer.linger_frames = linger;
     return BuildMap(config, frames, name);
   };
   auto [read_back, read_back_stats] = build(1, "read_back.mbtiles");
@@ -195,7 +197,7 @@ TEST_F(MosaicBuilderTest, ASecondLineBlendsAsIfTheFirstHadStayedInMemory) {
   // Coverage equals the union of the frames' footprints (all frames blended
   // everywhere paints exactly that).
   BuildConfig all = config_;
-  all.blend_all_overlaps = true;
+  all.blend.blend_all_overlaps = true;
   auto every = BuildMap(all, frames, "all.mbtiles").first;
   int64_t covered_all = 0, covered_handover = 0;
   for (const TileId& id : every->TileIds()) {
@@ -218,7 +220,7 @@ TEST_F(MosaicBuilderTest, ForeseenSurveyWritesEachTileOnceAndTheSameMap) {
   // once, and the map is the one built by reading tiles back.
   const std::vector<FrameSpec> frames = TwoLines(camera_, dir_.path());
   BuildConfig config = config_;
-  config.batch_seconds = 1e6;  // overviews written once, at the end, however slow the machine
+  config.buffer.batch_seconds = 1e6;  // overviews written once, at the end, however slow the machine
   auto [read_back, read_back_stats] = BuildMap(config, frames, "read_back.mbtiles");
   auto [foreseen, foreseen_stats] = BuildMap(config, frames, "foreseen.mbtiles", true);
   EXPECT_GT(read_back_stats.readbacks, 0);
@@ -242,64 +244,61 @@ TEST_F(MosaicBuilderTest, ForeseenSurveyWritesEachTileOnceAndTheSameMap) {
   // lookahead_frames 0 turns it off; a look-ahead shorter than the way back
   // along the line keeps only the tiles revisited soon enough.
   BuildConfig off = config, short_look = config;
-  off.lookahead_frames = 0;
-  short_look.lookahead_frames = 10;
+  off.buffer.lookahead_frames = 0;
+  short_look.buffer.lookahead_frames = 10;
   EXPECT_EQ(BuildMap(off, frames, "off.mbtiles", true).second.readbacks, read_back_stats.readbacks);
   const int64_t short_readbacks = BuildMap(short_look, frames, "short.mbtiles", true).second.readbacks;
   EXPECT_GT(short_readbacks, 0);
   EXPECT_LT(short_readbacks, read_back_stats.readbacks);
 }
 
-TEST_F(MosaicBuilderTest, DeferredTailsCoverWhatPaintingThemAtOnceCovers) {
-  // JPEG frames on two lines, the survey told to the builder: the first
-  // line's tails on the side the second line covers wait for it, and most
-  // are never decoded. Tails settled early (a short look-ahead, a tiny
-  // memory share) and tails whose covering line's images turn out missing
-  // are painted after all. Every way, the map has the tiles and the
-  // coverage it has with every tail painted at once, and does not depend on
-  // the number of threads.
+TEST_F(MosaicBuilderTest, TheMapDoesNotDependOnThreads) {
+  // JPEG frames (decoded by rows) on two lines, the survey told to the
+  // builder: one thread or eight give the same bytes.
   std::vector<FrameSpec> frames = TwoLines(camera_, dir_.path(), ".jpg");
-  auto compare = [&](const std::string& name, BuildConfig config) -> BuildStats {
-    BuildConfig at_once = config;
-    at_once.defer_edge_tails = false;
-    auto [now, now_stats] = BuildMap(at_once, frames, name + "_now.mbtiles", true);
-    config.threads = 1;
-    auto [later, later_stats] = BuildMap(config, frames, name + "_later.mbtiles", true);
-    config.threads = 8;
-    auto again = BuildMap(config, frames, name + "_again.mbtiles", true).first;
-    EXPECT_EQ(now_stats.tail_frames, 0);
-    EXPECT_EQ(later_stats.tail_failures, 0);
-    EXPECT_EQ(later->TileIds(), now->TileIds()) << name;
-    int64_t covered = 0;
-    for (const TileId& id : now->TileIds()) {
-      auto mine = later->GetTile(id);
-      if (!mine) continue;  // reported above
-      EXPECT_EQ(*mine, *again->GetTile(id)) << name << ": threads change tile " << id.z << "/" << id.x << "/" << id.y;
-      if (id.z != 25) continue;
-      std::vector<cv::Mat> a, b;
-      cv::split(DecodeTile(*now->GetTile(id)), a);
-      cv::split(DecodeTile(*mine), b);
-      covered += cv::countNonZero(a[1]);
-      EXPECT_EQ(cv::countNonZero(a[1] != b[1]), 0) << name << " coverage differs in tile " << id.x << "/" << id.y;
-    }
-    EXPECT_GT(covered, 10000);
-    return later_stats;
-  };
-  const BuildStats both_lines = compare("both", config_);
-  EXPECT_GT(both_lines.tail_frames, 5);
-  EXPECT_LT(both_lines.tail_decodes * 2, both_lines.tail_frames);
-  BuildConfig short_look = config_, small_memory = config_;
-  short_look.lookahead_frames = 20;  // only frames near the turn see the other line soon enough
-  small_memory.memory_cap_mb = 1;
-  const BuildStats short_stats = compare("short_look", short_look);
-  EXPECT_GT(short_stats.tail_frames, 0);
-  EXPECT_LT(short_stats.tail_frames, both_lines.tail_frames);
-  EXPECT_GT(compare("small_memory", small_memory).tail_decodes, 0);
+  BuildConfig one = config_, eight = config_;
+  one.threads = 1;
+  eight.threads = 8;
+  auto [a, a_stats] = BuildMap(one, frames, "one.mbtiles", true);
+  auto b = BuildMap(eight, frames, "eight.mbtiles", true).first;
+  EXPECT_EQ(a_stats.frames_used, 80);
+  ASSERT_EQ(a->TileIds(), b->TileIds());
+  for (const TileId& id : a->TileIds()) EXPECT_EQ(*a->GetTile(id), *b->GetTile(id)) << id.z << "/" << id.x << "/" << id.y;
+}
 
-  for (int i = 40; i < 80; ++i) std::filesystem::remove(frames[i].image_path);
-  const BuildStats first_line = compare("second_missing", config_);
-  EXPECT_EQ(first_line.rejections.size(), 40u);
-  EXPECT_GT(first_line.tail_decodes, 0);
+TEST_F(MosaicBuilderTest, TileConsumersGetEveryTileTheStoreGets) {
+  // A consumer sees each tile as it is written, with the pixels the store
+  // holds; only finished tiles are final.
+  struct Recorder : TileConsumer {
+    std::mutex mutex;
+    std::map<TileId, cv::Mat> final_tiles;
+    int live = 0;
+    void OnTileWritten(const TileId& id, const cv::Mat& tile, uint64_t, bool final) override {
+      std::lock_guard<std::mutex> lock(mutex);
+      if (final)
+        final_tiles[id] = tile.clone();
+      else
+        ++live;
+    }
+  } recorder;
+  std::vector<FrameSpec> frames = TwoLines(camera_, dir_.path(), ".png");
+  BuildConfig live = config_;
+  live.buffer.live_tiles = true;
+  live.buffer.batch_frames = 5;
+  live.buffer.batch_seconds = 0;
+  auto store = OpenTileStore((dir_ / "consumed.mbtiles").string(), "png", true);
+  MosaicPlan plan = PlanMosaic(live.map, camera_, frame_, frames, 1);
+  BuildHooks hooks;
+  hooks.tile_consumers = {&recorder};
+  MosaicBuilder builder(live, camera_, frame_, plan, store.get(), hooks);
+  for (const auto& f : frames) builder.Push(f);
+  builder.Finish();
+  EXPECT_GT(recorder.live, 0);
+  ASSERT_EQ(recorder.final_tiles.size(), store->TileIds().size());
+  for (const auto& [id, tile] : recorder.final_tiles) {
+    const cv::Mat stored = DecodeTile(*store->GetTile(id));
+    EXPECT_EQ(cv::norm(WithColourChannels(stored, 1), tile, cv::NORM_INF), 0) << id.z << "/" << id.x << "/" << id.y;
+  }
 }
 
 TEST_F(MosaicBuilderTest, MissingImageIsRejectedAndRecorded) {
@@ -307,7 +306,7 @@ TEST_F(MosaicBuilderTest, MissingImageIsRejectedAndRecorded) {
   FrameSpec missing = Frame(0, 0, 0, 10);
   missing.image_path = (dir_ / "nope.png").string();
   std::vector<FrameSpec> frames{missing, Frame(1, 0, 0, 90)};
-  MosaicPlan plan = PlanMosaic(config_, camera_, frame_, frames, 1);
+  MosaicPlan plan = PlanMosaic(config_.map, camera_, frame_, frames, 1);
   MosaicBuilder builder(config_, camera_, frame_, plan, store.get());
   for (const auto& f : frames) builder.Push(f);
   builder.Finish();
@@ -322,7 +321,7 @@ TEST_F(MosaicBuilderTest, SteepAttitudeIsRejected) {
   FrameSpec steep = Frame(0, 0, 0, 10);
   steep.pose.pitch_deg = 80;
   std::vector<FrameSpec> frames{steep, Frame(1, 0, 0, 90)};
-  MosaicPlan plan = PlanMosaic(config_, camera_, frame_, frames, 1);
+  MosaicPlan plan = PlanMosaic(config_.map, camera_, frame_, frames, 1);
   MosaicBuilder builder(config_, camera_, frame_, plan, store.get());
   for (const auto& f : frames) builder.Push(f);
   builder.Finish();
@@ -337,7 +336,7 @@ TEST(PlanMosaic, ZoomsFollowTheGroundSampleDistance) {
   std::vector<FrameSpec> frames(2);
   frames[0].pose.altitude_m = frames[1].pose.altitude_m = 1.8;
   frames[1].pose.east_m = 50;
-  MosaicPlan plan = PlanMosaic(BuildConfig{}, camera, frame, frames, 1);
+  MosaicPlan plan = PlanMosaic(MapSettings{}, camera, frame, frames, 1);
   EXPECT_NEAR(plan.gsd_m, 1.8 / 620.155, 1e-6);
   EXPECT_EQ(plan.base_zoom, 25);
   // 50 m plus a footprint (52.5 m) fits one tile at zoom 19 (a tile is

@@ -1,0 +1,162 @@
+#include "core/mosaic/frame_pipeline.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "core/util/error.h"
+
+namespace seamap {
+namespace {
+
+const char* kNoSeabed = "the camera does not see the seabed in this attitude";
+
+}  // namespace
+
+std::optional<std::string> TooSteep(const CameraModel& camera, const VehiclePose& pose,
+                                    const std::array<LocalXY, 4>& corners, double max_ratio) {
+  // Nearly horizontal views smear one frame over a huge area: refuse them.
+  const double nadir_area =
+      (camera.width * pose.altitude_m / camera.fx) * (camera.height * pose.altitude_m / camera.fy);
+  double area = 0;  // shoelace formula over the corners in local metres
+  for (int i = 0; i < 4; ++i) {
+    const LocalXY& a = corners[i];
+    const LocalXY& b = corners[(i + 1) % 4];
+    area += a.east * b.north - b.east * a.north;
+  }
+  area = std::fabs(area) / 2;
+  if (area <= max_ratio * nadir_area) return std::nullopt;
+  std::ostringstream s;
+  s << "footprint is " << std::lround(area / nadir_area) << "x the nadir footprint (limit " << max_ratio
+    << "): attitude too steep";
+  return s.str();
+}
+
+FramePipeline::FramePipeline(const FrameWarper* warper, ThreadPool* pool, FramePipelineOptions options,
+                             Deliver deliver)
+    : warper_(warper), pool_(pool), options_(std::move(options)), deliver_(std::move(deliver)) {}
+
+FramePipeline::~FramePipeline() {
+  // Jobs in flight use this object: let them finish (errors were already reported).
+  for (auto& f : loading_)
+    if (f.valid()) f.wait();
+  for (auto& q : queued_)
+    if (q->warp.valid()) q->warp.wait();
+}
+
+FramePipeline::Loaded FramePipeline::Load(const FrameSpec& spec) const {
+  Loaded l;
+  PlacedFrame& p = l.placed;
+  p.spec = spec;
+  const SeabedProjection& projection = warper_->projection();
+  const auto corners = projection.GroundCorners(spec.pose);
+  if (corners) p.footprint = projection.Footprint(spec.pose);
+  auto reject = [&](std::string field, std::string reason) {
+    p.reject_field = std::move(field);
+    p.reject_reason = std::move(reason);
+    return std::move(l);
+  };
+  std::string problem;
+  auto image = FrameImage::Read(spec.image_path, options_.channels, options_.sixteen_bit_white, &problem);
+  if (!image) return reject("image", problem);
+  const CameraModel& camera = projection.camera();
+  if (image->width() != camera.width || image->height() != camera.height) {
+    std::ostringstream s;
+    s << "image is " << image->width() << "x" << image->height() << ", the camera model expects " << camera.width
+      << "x" << camera.height;
+    return reject("image", s.str());
+  }
+  if (!corners) return reject("pitch_deg/roll_deg", kNoSeabed);
+  if (auto steep = TooSteep(camera, spec.pose, *corners, options_.max_footprint_ratio))
+    return reject("pitch_deg/roll_deg", *steep);
+  if (!projection.SeesSeabed(spec.pose)) return reject("pitch_deg/roll_deg", kNoSeabed);
+  l.image = std::move(*image);
+  if (options_.preprocess) {  // the enhancement chain works on whole frames
+    try {
+      l.image = FrameImage::FromMat(options_.preprocess(l.image.Full()), options_.channels,
+                                    options_.sixteen_bit_white);
+    } catch (const InputError& e) {
+      l.image = FrameImage();
+      return reject("image", e.detail());
+    }
+  }
+  return l;
+}
+
+void FramePipeline::Push(const FrameSpec& spec) {
+  loading_.push_back(pool_->Submit([this, spec] { return Load(spec); }));
+  // Keep the pool busy: take finished loads (starting their neighbours'
+  // warps) and deliver finished warps as they come; block only when the
+  // pipeline is full, on its oldest frame.
+  while (true) {
+    while (!loading_.empty() && IsReady(loading_.front())) TakeLoaded();
+    DeliverReady(false);
+    if (loading_.size() + queued_.size() <= options_.depth) return;
+    if (!queued_.empty() && queued_.front()->warp.valid())
+      DeliverReady(true);
+    else if (!loading_.empty())
+      TakeLoaded();
+    else
+      return;  // only the last usable frame waits, for its next neighbour
+  }
+}
+
+void FramePipeline::Finish() {
+  while (!loading_.empty()) TakeLoaded();
+  if (awaiting_next_) {
+    StartWarp(awaiting_next_);  // the last usable frame has no next neighbour
+    awaiting_next_.reset();
+  }
+  while (!queued_.empty()) DeliverReady(true);
+}
+
+void FramePipeline::TakeLoaded() {
+  auto q = std::make_shared<Queued>();
+  q->loaded = loading_.front().get();
+  loading_.pop_front();
+  if (q->Usable()) {
+    if (awaiting_next_) {
+      awaiting_next_->neighbours.push_back(q->loaded.placed.spec.pose);
+      q->neighbours.push_back(awaiting_next_->loaded.placed.spec.pose);
+      StartWarp(awaiting_next_);
+    }
+    awaiting_next_ = q;
+  }
+  queued_.push_back(std::move(q));
+}
+
+void FramePipeline::StartWarp(const std::shared_ptr<Queued>& q) {
+  // The job owns q until it is done; nothing else touches q's frame meanwhile.
+  q->warp = pool_->Submit([this, q]() -> std::optional<WarpedFrame> {
+    FrameImage& image = q->loaded.image;
+    try {
+      return warper_->Warp([&image](int first, int last) -> const cv::Mat& { return image.Rows(first, last); },
+                           q->loaded.placed.spec.pose, q->neighbours);
+    } catch (const InputError& e) {  // JPEG data broken past its header: this frame is rejected
+      q->problem = e.detail();
+      return std::nullopt;
+    }
+  });
+}
+
+void FramePipeline::DeliverReady(bool wait_for_one) {
+  while (!queued_.empty()) {
+    Queued& q = *queued_.front();
+    const bool usable = q.Usable();
+    if (usable && !q.warp.valid()) return;  // waits for its next neighbour
+    if (usable && !wait_for_one && !IsReady(q.warp)) return;
+    wait_for_one = false;
+    PlacedFrame p = std::move(q.loaded.placed);
+    if (usable) {
+      p.warped = q.warp.get();
+      q.loaded.image.Release();
+      if (!p.warped) {
+        p.reject_field = q.problem.empty() ? "pitch_deg/roll_deg" : "image";
+        p.reject_reason = q.problem.empty() ? kNoSeabed : q.problem;
+      }
+    }
+    queued_.pop_front();
+    deliver_(std::move(p));
+  }
+}
+
+}  // namespace seamap

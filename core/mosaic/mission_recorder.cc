@@ -1,0 +1,88 @@
+#include "core/mosaic/mission_recorder.h"
+
+#include <algorithm>
+#include <sstream>
+
+namespace seamap {
+namespace {
+
+std::string Number(double v) {
+  std::ostringstream s;
+  s.precision(10);
+  s << v;
+  return s.str();
+}
+
+}  // namespace
+
+MissionRecorder::MissionRecorder(TileStore* store, const LocalFrame& frame, MapDescription description)
+    : store_(store), frame_(frame), description_(std::move(description)) {
+  for (const FrameRecord& f : store_->Frames()) frame_id_offset_ = std::max(frame_id_offset_, f.id + 1);
+  for (const TrackPoint& p : store_->Track()) track_seq_ = std::max(track_seq_, p.seq + 1);
+}
+
+std::pair<FrameRecord, TrackPoint> MissionRecorder::Record(const PlacedFrame& p) {
+  const VehiclePose& pose = p.spec.pose;
+  FrameRecord record;
+  record.id = frame_id_offset_ + p.spec.index;
+  record.image = p.spec.image;
+  record.image_path = p.spec.image_path;
+  record.time_s = p.spec.time_s;
+  record.position = frame_.ToLatLon({pose.east_m, pose.north_m});
+  record.altitude_m = pose.altitude_m;
+  record.depth_m = pose.depth_m;
+  record.heading_deg = pose.heading_deg;
+  record.pitch_deg = pose.pitch_deg;
+  record.roll_deg = pose.roll_deg;
+  if (p.footprint) record.footprint = *p.footprint;
+  record.status = p.warped ? "used" : p.reject_reason;
+  if (p.warped) {
+    LatLonBounds b = bounds_.value_or(LatLonBounds{180, 90, -180, -90});
+    for (const auto& c : *p.footprint) {
+      b.west = std::min(b.west, c.lon);
+      b.east = std::max(b.east, c.lon);
+      b.south = std::min(b.south, c.lat);
+      b.north = std::max(b.north, c.lat);
+    }
+    bounds_ = b;
+  }
+  store_->PutFrame(record);
+
+  TrackPoint point;
+  point.seq = track_seq_++;
+  point.time_s = p.spec.time_s;
+  point.position = record.position;
+  point.altitude_m = record.altitude_m;
+  point.depth_m = record.depth_m;
+  point.heading_deg = record.heading_deg;
+  store_->PutTrackPoint(point);
+  return {record, point};
+}
+
+void MissionRecorder::WriteState(const std::string& state, int frames_used, int frames_rejected) {
+  const MapDescription& d = description_;
+  store_->SetMetadata("name", d.name);
+  store_->SetMetadata("format", d.format);
+  store_->SetMetadata("type", "overlay");
+  store_->SetMetadata("version", "1");
+  store_->SetMetadata("description", "Seabed photo map built by SeaMap");
+  store_->SetMetadata("attribution", d.attribution);
+  store_->SetMetadata("minzoom", std::to_string(d.min_zoom));
+  store_->SetMetadata("maxzoom", std::to_string(d.base_zoom));
+  store_->SetMetadata("seamap_tile_size", std::to_string(d.tile_size));
+  store_->SetMetadata("seamap_gsd_m", Number(d.gsd_m));
+  store_->SetMetadata("seamap_channels", std::to_string(d.channels));
+  store_->SetMetadata("seamap_origin", Number(frame_.origin().lat) + "," + Number(frame_.origin().lon));
+  store_->SetMetadata("seamap_state", state);
+  store_->SetMetadata("seamap_frames_used", std::to_string(frames_used));
+  store_->SetMetadata("seamap_frames_rejected", std::to_string(frames_rejected));
+  if (bounds_) {
+    const LatLonBounds& b = *bounds_;
+    store_->SetMetadata("bounds", Number(b.west) + "," + Number(b.south) + "," + Number(b.east) + "," + Number(b.north));
+    const int centre_zoom = std::max(d.min_zoom, std::min(d.base_zoom, d.min_zoom + 2));
+    store_->SetMetadata("center", Number((b.west + b.east) / 2) + "," + Number((b.south + b.north) / 2) + "," +
+                                      std::to_string(centre_zoom));
+  }
+}
+
+}  // namespace seamap

@@ -1,0 +1,47 @@
+#pragma once
+// What a mission keeps besides its tiles: every frame with the pose it was
+// placed with and its footprint (the map stays an index into the raw
+// photos), the vehicle's track, and the map's metadata and build state.
+#include <optional>
+#include <string>
+#include <utility>
+
+#include "core/geo/local_frame.h"
+#include "core/geo/web_mercator.h"
+#include "core/mosaic/frame_pipeline.h"
+#include "core/tiles/mission_records.h"
+#include "core/tiles/tile_store.h"
+
+namespace seamap {
+
+// The map's description, written with its state.
+struct MapDescription {
+  std::string name, attribution, format;  // format: the tiles' extension
+  int tile_size = 256, channels = 1, min_zoom = 0, base_zoom = 0;
+  double gsd_m = 0;
+};
+
+class MissionRecorder {
+ public:
+  // Continues a stored mission (--append): frame ids and track points
+  // follow the stored ones instead of replacing them.
+  MissionRecorder(TileStore* store, const LocalFrame& frame, MapDescription description);
+
+  // Stores a frame that went through the pipeline and its track point.
+  std::pair<FrameRecord, TrackPoint> Record(const PlacedFrame& frame);
+  // Metadata: the description, the survey's bounds so far, the frame
+  // counts and the state ("building" or "complete").
+  void WriteState(const std::string& state, int frames_used, int frames_rejected);
+
+  const std::optional<LatLonBounds>& bounds() const { return bounds_; }
+
+ private:
+  TileStore* store_;
+  LocalFrame frame_;
+  MapDescription description_;
+  std::optional<LatLonBounds> bounds_;  // of the used frames' footprints
+  int frame_id_offset_ = 0;
+  int track_seq_ = 0;
+};
+
+}  // namespace seamap

@@ -1,0 +1,36 @@
+#pragma once
+// Offline builds know every pose before the first frame. The forecast lists,
+// for each base tile, the frames whose box will be over it, so the tile
+// buffer can keep a tile that the next survey line comes back to instead of
+// writing it and reading it back (on the bench survey every tile is then
+// written once). Live builds have no forecast.
+#include <array>
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include "core/geo/web_mercator.h"
+
+namespace seamap {
+
+// Base tiles [x0, x1] x [y0, y1] under a box of global pixels, clipped to the
+// tiles that exist at the zoom (a frame may reach past the antimeridian or
+// the Mercator limits; those parts are not mapped). Empty when x0 > x1.
+struct TileRange {
+  int64_t x0 = 0, y0 = 0, x1 = -1, y1 = -1;
+};
+TileRange TilesUnder(int zoom, int tile_size, int64_t x0, int64_t y0, int64_t width, int64_t height);
+
+class TileForecast {
+ public:
+  // Frame `index` (acquisition order) will be over `tiles` at `zoom`.
+  void Add(int index, int zoom, const TileRange& tiles);
+  // Whether a frame with an index in (after, after + horizon] will be over the tile.
+  bool OverSoon(const TileId& id, int after, int horizon) const;
+  bool empty() const { return frames_over_.empty(); }
+
+ private:
+  std::unordered_map<TileId, std::vector<int>, TileIdHash> frames_over_;  // indices, ascending
+};
+
+}  // namespace seamap

@@ -7,6 +7,7 @@ packages=(
   build-essential cmake pkg-config git
   libopencv-dev libeigen3-dev libcpp-httplib-dev libevent-dev nlohmann-json3-dev
   libpng-dev libdeflate-dev libjpeg62-turbo-dev libsqlite3-dev sqlite3 libproj-dev proj-data libgtest-dev
+  libceres-dev   # pose graphs (core/trajectory)
   gdal-bin   # tests open our MBTiles with gdalinfo
 )
 command -v npm >/dev/null 2>&1 || packages+=(nodejs npm)  # the console's Leaflet and the browser test

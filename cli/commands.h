@@ -11,5 +11,6 @@ int RunEnhanceReport(int argc, char** argv, int first);  // cli/enhance_command.
 int RunServe(int argc, char** argv, int first);          // cli/serve_command.cc
 int RunReplay(int argc, char** argv, int first);         // cli/replay_command.cc
 int RunExport(int argc, char** argv, int first);         // cli/export_command.cc
+int RunTrajectory(int argc, char** argv, int first);     // cli/trajectory_command.cc
 
 }  // namespace seamap::cli

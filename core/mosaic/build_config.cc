@@ -1,5 +1,6 @@
 #include "core/mosaic/build_config.h"
 
+#include <cmath>
 #include <fstream>
 
 #include "core/util/error.h"
@@ -50,7 +51,8 @@ cv::Scalar Colour(const json& v, const std::string& source, const std::string& k
   return cv::Scalar(rgb & 0xff, (rgb >> 8) & 0xff, (rgb >> 16) & 0xff);
 }
 
-void ApplyNavigation(const json& nav, const std::string& source, NavReadOptions* out) {
+void ApplyNavigation(const json& nav, const std::string& source, NavReadOptions* out,
+                     NavigationSettings* settings) {
   if (!nav.is_object()) throw InputError(source, 0, "navigation", "expected an object");
   for (auto& [key, v] : nav.items()) {
     const std::string k = "navigation." + key;
@@ -66,8 +68,18 @@ void ApplyNavigation(const json& nav, const std::string& source, NavReadOptions*
       if (!v.is_array() || v.size() != 2 || !v[0].is_number() || !v[1].is_number())
         throw InputError(source, 0, k, "expected [lat, lon]");
       out->origin = LatLon{v[0].get<double>(), v[1].get<double>()};
+    } else if (key == "refine") {
+      settings->refine = Bool(v, source, k);
+    } else if (key == "noise_m") {
+      settings->noise_m = Number(v, source, k);
+    } else if (key == "drift_m_per_min") {
+      settings->drift_m_per_min = Number(v, source, k);
+    } else if (key == "heading_noise_deg") {
+      settings->heading_noise_deg = Number(v, source, k);
     } else {
-      throw InputError(source, 0, k, "unknown key (known: columns, utm_zone, utm_north, origin)");
+      throw InputError(source, 0, k,
+                       "unknown key (known: columns, utm_zone, utm_north, origin, refine, noise_m, drift_m_per_min, "
+                       "heading_noise_deg)");
     }
   }
 }
@@ -106,8 +118,16 @@ void FrameSettings::Check(const std::string& source) const {
   CheckRange(sixteen_bit_white, 1, 65535, source, "sixteen_bit_white");
 }
 
+void NavigationSettings::Check(const std::string& source) const {
+  for (const auto& [value, key] : {std::pair{noise_m, "navigation.noise_m"}, {drift_m_per_min, "navigation.drift_m_per_min"},
+                                   {heading_noise_deg, "navigation.heading_noise_deg"}})
+    if (!(value >= 0) || !std::isfinite(value))
+      throw InputError(source, 0, key, "expected a number >= 0, got " + std::to_string(value));
+}
+
 void BuildConfig::Check(const std::string& source) const {
   map.Check(source);
+  navigation.Check(source);
   blend.Check(source);
   buffer.Check(source);
   frames.Check(source);
@@ -169,7 +189,7 @@ void ApplyBuildConfig(const json& s, const std::string& source, BuildConfig* c) 
     else if (key == "threads")
       c->threads = Int(v, source, key);
     else if (key == "navigation")
-      ApplyNavigation(v, source, &c->nav);
+      ApplyNavigation(v, source, &c->nav, &c->navigation);
     else if (key == "enhance")
       c->enhance = v;
     else if (key == "layers")

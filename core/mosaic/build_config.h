@@ -60,6 +60,16 @@ struct FrameSettings {
   void Check(const std::string& source) const;
 };
 
+// What the navigation is worth, and whether to refine it from the photos
+// before painting (the config's "navigation" object; core/trajectory).
+struct NavigationSettings {
+  bool refine = false;
+  double noise_m = 0.05;          // stated white position noise
+  double drift_m_per_min = 1.0;   // stated drift rate of dead reckoning
+  double heading_noise_deg = 1.0;  // stated heading noise
+  void Check(const std::string& source) const;
+};
+
 struct BuildConfig {
   MapSettings map;
   BlendSettings blend;
@@ -67,6 +77,7 @@ struct BuildConfig {
   FrameSettings frames;
   int threads = 0;     // 0: one per core
   NavReadOptions nav;  // column names, utm zone, origin
+  NavigationSettings navigation;
   std::optional<nlohmann::json> enhance;  // the enhancement chain (core/enhance), if any
   // "raw", "enhanced" (frames pass through `enhance`) or "both" (the
   // enhanced map as the mission's second layer, "enhanced").

@@ -18,7 +18,10 @@ struct FrameSpec {
   std::string image_path;  // images_dir / image
   std::string image;       // name as given
   std::optional<double> time_s;
-  VehiclePose pose;
+  VehiclePose pose;  // where the frame is placed
+  // The navigation's pose when `pose` is a corrected one (a refined or
+  // filtered trajectory); the mission keeps both.
+  std::optional<VehiclePose> nav_pose;
   int nav_line = 0;  // source line (0 when interpolated)
 };
 

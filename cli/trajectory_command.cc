@@ -1,0 +1,90 @@
+// seamap trajectory: a survey's trajectory estimated from its photos.
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+#include "cli/args.h"
+#include "cli/commands.h"
+#include "cli/trajectory_setup.h"
+#include "core/camera/camera_model.h"
+#include "core/mosaic/build_config.h"
+#include "core/nav/frame_list.h"
+#include "core/nav/nav_reader.h"
+#include "core/trajectory/trajectory_csv.h"
+#include "core/util/error.h"
+
+namespace seamap::cli {
+namespace {
+
+const char* kHelp =
+    "usage: seamap trajectory --images DIR --nav FILE --camera FILE --mode vo|ekf|refine --out trajectory.csv\n"
+    "                         [--origin LAT,LON] [--image-times FILE] [--report report.json] [options]\n"
+    "\n"
+    "  --mode refine       the whole survey at once: every overlapping pair of frames registered on the\n"
+    "                      seabed (along the track and across lines and loops), one robust pose graph\n"
+    "  --out FILE          trajectory.csv (image,time_s,lat,lon,x_m,y_m,depth_m,altitude_m,heading_deg,\n"
+    "                      pitch_deg,roll_deg[,flags]), read as is by seamap build --nav\n"
+    "  --report FILE       the run's figures as JSON (pairs, inliers, residuals, seconds per stage)\n"
+    "  --config FILE       a build config: its \"navigation\" object (columns, origin, noise)\n"
+    "  --threads N         worker threads (default: one per core)\n"
+    "  --quiet             no progress bars\n";
+
+}  // namespace
+
+int RunTrajectory(int argc, char** argv, int first) {
+  Args args(argc, argv, first, {"quiet", "help"});
+  if (args.Flag("help")) {
+    std::printf("%s%s", kHelp, kNavigationNoiseHelp);
+    return 0;
+  }
+  BuildConfig config;
+  if (auto path = args.Get("config")) config = LoadBuildConfig(*path);
+  const std::string mode = args.Require("mode");
+  if (mode != "refine" && mode != "vo" && mode != "ekf")
+    throw InputError("", 0, "--mode", "expected vo, ekf or refine, got '" + mode + "'");
+  if (auto v = args.Get("origin")) {
+    const LatLonArg o = ParseLatLon(*v, "--origin");
+    config.nav.origin = LatLon{o.lat, o.lon};
+  }
+  const std::string out = args.Require("out");
+  const std::optional<std::string> report_path = args.Get("report");
+  const bool quiet = args.Flag("quiet");
+  const int threads = args.GetInt("threads", config.threads);
+  const CameraModel camera = LoadCamera(args.Require("camera"));
+  const std::string images = args.Require("images");
+  std::error_code ec;
+  if (!std::filesystem::is_directory(images, ec)) throw InputError(images, 0, "--images", "is not a folder of photos");
+  const NavTable nav = ReadNavigation(args.Require("nav"), config.nav);
+  FrameList frames = MatchFrames(nav, images, args.Get("image-times"));
+  const RefineOptions options = ReadRefineOptions(args, config.navigation, threads);
+  args.RejectUnknown();
+  for (const auto& w : nav.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  for (const auto& r : nav.rejected) std::fprintf(stderr, "skipped: %s\n", r.Message().c_str());
+  for (const auto& r : frames.rejected) std::fprintf(stderr, "skipped: %s\n", r.Message().c_str());
+  if (frames.frames.size() < 2) throw InputError(nav.source, 0, "", "fewer than two frames to estimate a trajectory from");
+
+  nlohmann::json report;
+  const LocalFrame frame(nav.origin);
+  std::vector<TrajectoryRow> rows;
+  if (mode == "refine") {
+    report = RefineFrames(&frames.frames, camera, options, quiet);
+    std::set<std::string> nav_only;
+    for (const auto& image : report["nav_only"]) nav_only.insert(image.get<std::string>());
+    for (const FrameSpec& f : frames.frames)
+      rows.push_back({f.image, f.time_s, f.pose, nav_only.count(f.image) ? "nav_only" : ""});
+  } else {
+    throw InputError("", 0, "--mode", "'" + mode + "' is not available in this build yet");
+  }
+  WriteTrajectoryCsv(out, rows, frame);
+  std::printf("trajectory (%s): %zu frames -> %s\n", mode.c_str(), rows.size(), out.c_str());
+  if (report_path) {
+    report["mode"] = mode;
+    std::ofstream file(*report_path);
+    if (!file) throw InputError(*report_path, 0, "--report", "cannot write the report file");
+    file << report.dump(2) << "\n";
+  }
+  return 0;
+}
+
+}  // namespace seamap::cli

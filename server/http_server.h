@@ -59,12 +59,4 @@ class HttpServer {
   int port_ = 0;
 };
 
-// "z/x/y.ext" or "layer/z/x/y.ext" after "/tiles/": throws ApiError(400) when malformed or out of range.
-struct TilePath {
-  std::string layer;
-  TileId id;
-  std::string ext;
-};
-TilePath ParseTilePath(const std::string& path);
-
 }  // namespace seamap::server

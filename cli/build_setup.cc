@@ -8,6 +8,7 @@
 #include "core/mosaic/frame_image.h"
 #include "core/nav/nav_reader.h"
 #include "core/util/error.h"
+#include "server/server_options.h"
 
 namespace seamap::cli {
 namespace fs = std::filesystem;
@@ -32,6 +33,9 @@ BuildInputs ReadBuildInputs(Args& args) {
   if (auto path = args.Get("config")) {
     in.config = LoadBuildConfig(*path);
     in.config_source = *path;
+    // The "server" object is the server's to read; a mistake in it is
+    // reported whichever command reads the file.
+    if (in.config.server) server::ServerOptions::FromJson(*in.config.server, *path);
   }
   if (auto ops = args.Get("enhance")) {
     in.config.enhance = EnhanceChain::FromOpList(*ops, "--enhance").ToJson();

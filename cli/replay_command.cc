@@ -159,7 +159,7 @@ int RunReplay(int argc, char** argv, int first) {
   if (interrupted) return 130;
 
   BuildInputs in = ReadBuildInputs(args);
-  server::ServerOptions options = ReadServerOptions(args, in.config.server);
+  server::ServerOptions options = ReadServerOptions(args, in.config.server, in.config_source);
   options.photo_dir = args.GetOr("images", "");
   args.RejectUnknown();
 

@@ -51,8 +51,9 @@ int RunServe(int argc, char** argv, int first) {
     throw InputError("", 0, "MAP", "expected exactly one map to serve (NAME.mbtiles or a tile folder)");
   const std::string path = args.positionals()[0];
   BuildConfig config;
-  if (auto c = args.Get("config")) config = LoadBuildConfig(*c);
-  server::ServerOptions options = ReadServerOptions(args, config.server);
+  const std::optional<std::string> config_path = args.Get("config");
+  if (config_path) config = LoadBuildConfig(*config_path);
+  server::ServerOptions options = ReadServerOptions(args, config.server, config_path.value_or(""));
   if (auto images = args.Get("images")) options.photo_dir = *images;
   const bool read_only = args.Flag("read-only");
   args.RejectUnknown();

@@ -16,24 +16,19 @@ const char* kServerOptionsHelp =
     "  --threads N         request threads, one per open connection (default 96)\n"
     "  --max-streams N     live event streams at once (default 32)\n";
 
-server::ServerOptions ReadServerOptions(Args& args, const ServerSettings& settings) {
-  server::ServerOptions o;
-  o.host = args.GetOr("host", settings.host);
-  o.port = args.GetInt("port", settings.port);
-  if (o.port < 0 || o.port > 65535)
-    throw InputError("", 0, "--port", "expected a port number 0..65535, got " + std::to_string(o.port));
-  o.token = args.GetOr("token", settings.token);
-  o.threads = args.GetInt("threads", settings.threads);
-  o.max_streams = args.GetInt("max-streams", settings.max_streams);
-  if (o.threads < 2 || o.threads > 1024)
-    throw InputError("", 0, "--threads", "expected 2..1024, got " + std::to_string(o.threads));
-  if (o.max_streams < 1 || o.max_streams > 1024)
-    throw InputError("", 0, "--max-streams", "expected 1..1024, got " + std::to_string(o.max_streams));
+server::ServerOptions ReadServerOptions(Args& args, const std::optional<nlohmann::json>& config_server,
+                                        const std::string& source) {
+  server::ServerOptions o =
+      config_server ? server::ServerOptions::FromJson(*config_server, source) : server::ServerOptions{};
+  o.host = args.GetOr("host", o.host);
+  o.port = args.GetInt("port", o.port);
+  o.token = args.GetOr("token", o.token);
+  o.threads = args.GetInt("threads", o.threads);
+  o.max_streams = args.GetInt("max-streams", o.max_streams);
   const char* env = std::getenv("SEAMAP_WEB_DIR");
   o.web_dir = args.GetOr("web", env ? env : SEAMAP_WEB_DIR);
+  o.Check();
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(std::filesystem::path(o.web_dir) / "index.html", ec))
-    throw InputError(o.web_dir, 0, "--web", "has no index.html; expected the console's folder (web/ of SeaMap)");
   if (!std::filesystem::exists(std::filesystem::path(o.web_dir) / "vendor" / "leaflet" / "leaflet.js", ec))
     std::fprintf(stderr, "warning: %s/vendor/leaflet is missing; run scripts/setup.sh to vendor Leaflet\n",
                  o.web_dir.c_str());

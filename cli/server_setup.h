@@ -1,18 +1,22 @@
 #pragma once
 // Options shared by `serve` and `replay`: where to listen, the token, the
 // console's folder; and the line that tells the operator where to look.
+#include <optional>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "cli/args.h"
-#include "core/mosaic/build_config.h"
-#include "server/http_server.h"
+#include "server/server_options.h"
 
 namespace seamap::cli {
 
 extern const char* kServerOptionsHelp;
 
-// --host, --port, --token, --web, --threads, --max-streams, --images over the config's "server".
-server::ServerOptions ReadServerOptions(Args& args, const ServerSettings& settings);
+// The config's "server" object (from the file `source`), then --host, --port,
+// --token, --web, --threads, --max-streams on top; Check()ed.
+server::ServerOptions ReadServerOptions(Args& args, const std::optional<nlohmann::json>& config_server,
+                                        const std::string& source);
 
 // "http://127.0.0.1:8080/" for a wildcard host, else the host itself.
 std::string ServerUrl(const server::ServerOptions& options, int port);

@@ -364,8 +364,7 @@ void HttpServer::Routes() {
 }
 
 void HttpServer::Bind() {
-  if (options_.port < 0 || options_.port > 65535)
-    throw InputError("", 0, "--port", "expected a port number 0..65535, got " + std::to_string(options_.port));
+  options_.Check();
   // httplib listens on loopback only; the front end owns the public port.
   const int backend = http_->bind_to_any_port("127.0.0.1");
   if (backend <= 0) throw InputError("", 0, "--port", "cannot open the server's loopback port");

@@ -11,6 +11,7 @@
 #include "server/detection_registry.h"
 #include "server/event_hub.h"
 #include "server/mission_state.h"
+#include "server/server_options.h"
 #include "server/tile_front_end.h"
 #include "server/tile_source.h"
 
@@ -20,23 +21,14 @@ class Server;
 
 namespace seamap::server {
 
-struct ServerOptions {
-  std::string host = "0.0.0.0";
-  int port = 8080;        // 0: any free port
-  std::string web_dir;    // the console's files; empty: no console
-  std::string token;      // required for writes when not empty
-  int threads = 96;       // request threads (one per open connection)
-  int max_streams = 32;   // concurrent /api/events streams, on top of `threads`
-  std::string photo_dir;  // where to find photos whose recorded path is gone
-};
-
 class HttpServer {
  public:
   HttpServer(ServerOptions options, TileSource* tiles, MissionState* mission, DetectionRegistry* detections,
              EventHub* events);
   ~HttpServer();
 
-  // Binds the port; throws InputError naming --port / --host when it cannot.
+  // Checks the options and binds the port; throws InputError naming the
+  // option (--port, --host...) when it cannot.
   void Bind();
   int port() const { return port_; }
   // Serves until Stop(), in the calling thread or in a background thread.

@@ -70,25 +70,6 @@ void ApplyNav(const json& nav, const std::string& source, NavReadOptions* out) {
   }
 }
 
-void ApplyServer(const json& server, const std::string& source, ServerSettings* out) {
-  if (!server.is_object()) throw InputError(source, 0, "server", "expected an object");
-  for (auto& [key, v] : server.items()) {
-    const std::string k = "server." + key;
-    if (key == "host")
-      out->host = Get<std::string>(v, source, k);
-    else if (key == "port")
-      out->port = GetInt(v, source, k, 0, 65535);
-    else if (key == "token")
-      out->token = Get<std::string>(v, source, k);
-    else if (key == "threads")
-      out->threads = GetInt(v, source, k, 2, 1024);
-    else if (key == "max_streams")
-      out->max_streams = GetInt(v, source, k, 1, 1024);
-    else
-      throw InputError(source, 0, k, "unknown key (known: host, port, token, threads, max_streams)");
-  }
-}
-
 }  // namespace
 
 void ApplyBuildConfig(const json& s, const std::string& source, BuildConfig* c) {
@@ -150,7 +131,7 @@ void ApplyBuildConfig(const json& s, const std::string& source, BuildConfig* c) 
     else if (key == "enhance")
       c->enhance = v;
     else if (key == "server")
-      ApplyServer(v, source, &c->server);
+      c->server = v;
     else if (key == "layers") {
       c->layers = Get<std::string>(v, source, key);
       if (c->layers != "raw" && c->layers != "enhanced" && c->layers != "both")

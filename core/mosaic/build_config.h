@@ -11,15 +11,6 @@
 
 namespace seamap {
 
-// How `serve` and `replay` listen (the "server" object of a config file).
-struct ServerSettings {
-  std::string host = "0.0.0.0";
-  int port = 8080;
-  std::string token;     // writes need "Authorization: Bearer <token>" when set
-  int threads = 96;      // request threads: one per open connection
-  int max_streams = 32;  // concurrent live event streams, on top of `threads`
-};
-
 struct BuildConfig {
   std::string name = "seamap mission";
   std::string attribution = "SeaMap";
@@ -58,7 +49,8 @@ struct BuildConfig {
   // "raw", "enhanced" (frames pass through `enhance`) or "both" (the
   // enhanced map as the mission's second layer, "enhanced").
   std::string layers = "raw";
-  ServerSettings server;
+  // The "server" object, kept as written for the commands that serve (cli/server_setup).
+  std::optional<nlohmann::json> server;
 };
 
 // Reads a config file; unknown keys and wrong types are InputErrors naming

@@ -337,7 +337,8 @@ TEST(PlanMosaic, ZoomsFollowTheGroundSampleDistance) {
   std::vector<FrameSpec> frames(2);
   frames[0].pose.altitude_m = frames[1].pose.altitude_m = 1.8;
   frames[1].pose.east_m = 50;
-  MosaicPlan plan = PlanMosaic(BuildConfig{}, camera, frame, frames, 1);
+  const BuildConfig config;  // a named default: GCC 12 warns (wrongly) about the temporary's map
+  MosaicPlan plan = PlanMosaic(config, camera, frame, frames, 1);
   EXPECT_NEAR(plan.gsd_m, 1.8 / 620.155, 1e-6);
   EXPECT_EQ(plan.base_zoom, 25);
   // 50 m plus a footprint (52.5 m) fits one tile at zoom 19 (a tile is

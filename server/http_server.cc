@@ -11,7 +11,6 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <sstream>
 
 #include "core/tiles/folder_store.h"
 #include "core/util/error.h"
@@ -105,39 +104,6 @@ bool Authorized(const httplib::Request& req, const std::string& token) {
 }
 
 }  // namespace
-
-TilePath ParseTilePath(const std::string& path) {
-  std::vector<std::string> parts;
-  std::stringstream in(path);
-  std::string part;
-  while (std::getline(in, part, '/')) parts.push_back(part);
-  if (!path.empty() && path.back() == '/') parts.push_back("");  // "z/x/y.png/" is not a tile
-  if (parts.size() != 3 && parts.size() != 4)
-    throw ApiError(400, "tile path: expected /tiles/{z}/{x}/{y}.{ext} or /tiles/{layer}/{z}/{x}/{y}.{ext}");
-  TilePath t;
-  if (parts.size() == 4) {
-    t.layer = parts[0];
-    parts.erase(parts.begin());
-  }
-  const size_t dot = parts[2].find('.');
-  if (dot == std::string::npos) throw ApiError(400, "tile path: expected {y}.{ext}, e.g. 12.png");
-  t.ext = parts[2].substr(dot + 1);
-  parts[2].resize(dot);
-  int64_t v[3];
-  for (int i = 0; i < 3; ++i) {
-    const std::string& s = parts[i];
-    if (s.empty() || s.size() > 10 || s.find_first_not_of("0123456789") != std::string::npos)
-      throw ApiError(400, "tile path: z, x and y must be non-negative integers, got '" + s + "'");
-    v[i] = std::stoll(s);
-  }
-  if (v[0] > 30) throw ApiError(400, "tile path: zoom " + std::to_string(v[0]) + " is out of range 0..30");
-  const int64_t n = int64_t{1} << v[0];
-  if (v[1] >= n || v[2] >= n)
-    throw ApiError(400,
-                   "tile path: x and y must be below 2^z = " + std::to_string(n) + " at zoom " + std::to_string(v[0]));
-  t.id = TileId{static_cast<int>(v[0]), static_cast<int>(v[1]), static_cast<int>(v[2])};
-  return t;
-}
 
 HttpServer::HttpServer(ServerOptions options, TileSource* tiles, MissionState* mission, DetectionRegistry* detections,
                        EventHub* events)
@@ -398,8 +364,7 @@ void HttpServer::Routes() {
 }
 
 void HttpServer::Bind() {
-  if (options_.port < 0 || options_.port > 65535)
-    throw InputError("", 0, "--port", "expected a port number 0..65535, got " + std::to_string(options_.port));
+  options_.Check();
   // httplib listens on loopback only; the front end owns the public port.
   const int backend = http_->bind_to_any_port("127.0.0.1");
   if (backend <= 0) throw InputError("", 0, "--port", "cannot open the server's loopback port");

@@ -21,14 +21,14 @@ class Server;
 
 namespace seamap::server {
 
-
 class HttpServer {
  public:
   HttpServer(ServerOptions options, TileSource* tiles, MissionState* mission, DetectionRegistry* detections,
              EventHub* events);
   ~HttpServer();
 
-  // Binds the port; throws InputError naming --port / --host when it cannot.
+  // Checks the options and binds the port; throws InputError naming the
+  // option (--port, --host...) when it cannot.
   void Bind();
   int port() const { return port_; }
   // Serves until Stop(), in the calling thread or in a background thread.
@@ -50,13 +50,5 @@ class HttpServer {
   std::atomic<int> streams_{0};
   int port_ = 0;
 };
-
-// "z/x/y.ext" or "layer/z/x/y.ext" after "/tiles/": throws ApiError(400) when malformed or out of range.
-struct TilePath {
-  std::string layer;
-  TileId id;
-  std::string ext;
-};
-TilePath ParseTilePath(const std::string& path);
 
 }  // namespace seamap::server

@@ -1,12 +1,12 @@
 #include "server/tile_answer.h"
 
-#include <sstream>
+#include <algorithm>
 #include <stdexcept>
 
 #include <nlohmann/json.hpp>
 
 #include "server/api_error.h"
-#include "server/http_server.h"
+#include "server/tile_path.h"
 
 namespace seamap::server {
 namespace {
@@ -28,22 +28,21 @@ TileAnswer Error(int status, const std::string& message) {
 
 }  // namespace
 
-bool EtagMatches(const std::string& header, const std::string& etag) {
+bool EtagMatches(std::string_view header, std::string_view etag) {
   if (header == "*") return true;
-  std::stringstream in(header);
-  std::string part;
-  while (std::getline(in, part, ',')) {
-    size_t a = part.find_first_not_of(' ');
-    size_t b = part.find_last_not_of(' ');
-    if (a == std::string::npos) continue;
-    std::string t = part.substr(a, b - a + 1);
-    if (t.rfind("W/", 0) == 0) t = t.substr(2);  // weak comparison is fine for GET
+  while (!header.empty()) {
+    const size_t comma = std::min(header.find(','), header.size());
+    std::string_view t = header.substr(0, comma);
+    header.remove_prefix(std::min(comma + 1, header.size()));
+    while (!t.empty() && (t.front() == ' ' || t.front() == '\t')) t.remove_prefix(1);
+    while (!t.empty() && (t.back() == ' ' || t.back() == '\t')) t.remove_suffix(1);
+    if (t.substr(0, 2) == "W/") t.remove_prefix(2);  // weak comparison is fine for GET
     if (t == etag) return true;
   }
   return false;
 }
 
-TileAnswer AnswerTile(TileSource& tiles, bool building, const std::string& path,
+TileAnswer AnswerTile(TileSource& tiles, bool building, std::string_view path,
                       const std::optional<std::string>& if_none_match) {
   try {
     TilePath t = ParseTilePath(path);

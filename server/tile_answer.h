@@ -5,6 +5,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "server/tile_source.h"
@@ -21,10 +22,10 @@ struct TileAnswer {
 
 // `path` is what follows "/tiles/" ("z/x/y.ext" or "layer/z/x/y.ext").
 // `building`: the map is still growing (browsers must revalidate).
-TileAnswer AnswerTile(TileSource& tiles, bool building, const std::string& path,
+TileAnswer AnswerTile(TileSource& tiles, bool building, std::string_view path,
                       const std::optional<std::string>& if_none_match);
 
 // Does an If-None-Match header list this ETag (or "*")?
-bool EtagMatches(const std::string& header, const std::string& etag);
+bool EtagMatches(std::string_view header, std::string_view etag);
 
 }  // namespace seamap::server

@@ -15,22 +15,26 @@
 
 #include <algorithm>
 #include <atomic>
-#include <cctype>
 #include <chrono>
-#include <cstring>
 #include <mutex>
 #include <optional>
 #include <set>
 #include <thread>
+#include <vector>
 
 #include "core/util/error.h"
 #include "server/mission_state.h"
+#include "server/request_head.h"
+#include "server/response_framer.h"
 #include "server/tile_answer.h"
 
 namespace seamap::server {
 namespace {
 
-constexpr size_t kMaxHead = 8192;  // longer heads go to httplib, which refuses them properly
+constexpr RequestHeadLimits kLimits;
+// Reading one side stops while this much waits to be written to the other
+// (a client that does not read its answers is not read either).
+constexpr size_t kMaxQueuedBytes = 4 << 20;
 
 const char* Reason(int status) {
   switch (status) {
@@ -44,76 +48,54 @@ const char* Reason(int status) {
       return "Bad Request";
     case 404:
       return "Not Found";
+    case 411:
+      return "Length Required";
+    case 414:
+      return "URI Too Long";
+    case 431:
+      return "Request Header Fields Too Large";
+    case 505:
+      return "HTTP Version Not Supported";
     default:
       return "Internal Server Error";
   }
 }
 
-// What the front end needs of a request head; `fast` is false for anything
-// that is not a plain tile GET/HEAD (those are passed to httplib untouched).
-struct Head {
-  bool fast = false;
-  bool head_only = false;  // HEAD
-  bool close = false;      // the client wants the connection closed after the answer
-  std::string path;        // after "/tiles/", query removed
-  std::optional<std::string> if_none_match;
-};
-
-bool IEquals(const std::string& a, const char* b) {
-  const size_t n = std::strlen(b);
-  if (a.size() != n) return false;
-  for (size_t i = 0; i < n; ++i)
-    if (std::tolower(static_cast<unsigned char>(a[i])) != b[i]) return false;
-  return true;
+// The verdict on the next request in `in`; the bytes are made contiguous
+// only when the head spans the buffer's chunks.
+RequestHead NextHead(evbuffer* in) {
+  // RFC 9112 lets a client send empty lines between requests.
+  char start[2];
+  while (evbuffer_copyout(in, start, 2) == 2 && start[0] == '\r' && start[1] == '\n') evbuffer_drain(in, 2);
+  evbuffer_iovec first;
+  if (evbuffer_peek(in, -1, nullptr, &first, 1) < 1) return {};
+  RequestHead h = ParseRequestHead({static_cast<const char*>(first.iov_base), first.iov_len}, kLimits);
+  const size_t length = evbuffer_get_length(in);
+  if (h.kind != RequestHead::Kind::kNeedMore || first.iov_len >= length) return h;
+  const size_t n = std::min(length, kLimits.max_head_bytes);
+  return ParseRequestHead({reinterpret_cast<const char*>(evbuffer_pullup(in, static_cast<ev_ssize_t>(n))), n}, kLimits);
 }
 
-Head ParseHead(const std::string& head) {
-  Head h;
-  const size_t line_end = head.find("\r\n");
-  const std::string line = head.substr(0, line_end);
-  const size_t s1 = line.find(' '), s2 = line.rfind(' ');
-  if (s1 == std::string::npos || s2 == s1) return h;
-  const std::string method = line.substr(0, s1), target = line.substr(s1 + 1, s2 - s1 - 1),
-                    version = line.substr(s2 + 1);
-  if (method != "GET" && method != "HEAD") return h;
-  if (version != "HTTP/1.1" && version != "HTTP/1.0") return h;
-  std::string path = target.substr(0, target.find('?'));
-  // Escapes and dot segments are httplib's to decode and refuse.
-  if (path.rfind("/tiles/", 0) != 0 || path.find('%') != std::string::npos || path.find("..") != std::string::npos)
-    return h;
-  if (path.size() > 5 && path.compare(path.size() - 5, 5, ".json") == 0) return h;
-  h.path = path.substr(7);
-  h.head_only = method == "HEAD";
-  bool keep_alive = version == "HTTP/1.1";
-  size_t pos = line_end + 2;
-  while (pos < head.size()) {
-    const size_t end = head.find("\r\n", pos);
-    if (end == std::string::npos || end == pos) break;
-    const std::string field = head.substr(pos, end - pos);
-    pos = end + 2;
-    const size_t colon = field.find(':');
-    if (colon == std::string::npos) return Head{};
-    const std::string name = field.substr(0, colon);
-    std::string value = field.substr(colon + 1);
-    value.erase(0, value.find_first_not_of(" \t"));
-    value.erase(value.find_last_not_of(" \t") + 1);
-    if (IEquals(name, "content-length") && value != "0") return Head{};  // a GET with a body
-    if (IEquals(name, "transfer-encoding")) return Head{};
-    if (IEquals(name, "if-none-match")) h.if_none_match = value;
-    if (IEquals(name, "connection")) {
-      std::string v = value;
-      std::transform(v.begin(), v.end(), v.begin(), [](unsigned char c) { return std::tolower(c); });
-      if (v.find("close") != std::string::npos) keep_alive = false;
-      if (v.find("keep-alive") != std::string::npos) keep_alive = true;
-    }
+// How many bytes at the start of `in` belong to the response `framer` follows.
+size_t Frame(evbuffer* in, ResponseFramer* framer) {
+  const int chunks = evbuffer_peek(in, -1, nullptr, nullptr, 0);
+  std::vector<evbuffer_iovec> v(static_cast<size_t>(std::max(chunks, 0)));
+  evbuffer_peek(in, -1, nullptr, v.data(), chunks);
+  size_t taken = 0;
+  for (const evbuffer_iovec& chunk : v) {
+    const size_t used = framer->Feed({static_cast<const char*>(chunk.iov_base), chunk.iov_len});
+    taken += used;
+    if (used < chunk.iov_len || framer->done() || framer->lost()) break;
   }
-  h.close = !keep_alive;
-  h.fast = true;
-  return h;
+  return taken;
 }
 
 void FreeBody(const void*, size_t, void* holder) {
   delete static_cast<std::shared_ptr<const std::string>*>(holder);
+}
+
+size_t Queued(bufferevent* bev) {
+  return evbuffer_get_length(bufferevent_get_output(bev));
 }
 
 }  // namespace
@@ -125,20 +107,33 @@ struct TileFrontEnd::Loop {
   std::set<Connection*> connections;  // touched by this loop's thread only
 };
 
+// One client connection. Requests are taken one at a time, in order: tiles
+// are answered here; any other request is relayed to httplib, and the next
+// request waits until httplib's answer has ended (ResponseFramer). What the
+// front end cannot follow (a chunked upload, an answer without a length)
+// turns the connection into a byte-for-byte relay for good (`raw`).
 struct TileFrontEnd::Connection {
   TileFrontEnd* owner;
   Loop* loop;
   bufferevent* client = nullptr;
-  bufferevent* backend = nullptr;
+  bufferevent* backend = nullptr;             // opened on the first request for httplib
+  std::optional<ResponseFramer> in_flight{};  // httplib's answer being relayed
+  size_t request_left = 0;                    // bytes of the relayed request still to send
+  bool close_after_answer = false;            // the relayed request or its answer ends the connection
+  bool raw = false;
   bool close_after_write = false;
   bool client_eof = false;
 
   ~Connection() {
     if (client) bufferevent_free(client);
-    if (backend) {
-      bufferevent_free(backend);
-      --owner->proxied_;
-    }
+    DropBackend();
+  }
+
+  void DropBackend() {
+    if (!backend) return;
+    bufferevent_free(backend);
+    backend = nullptr;
+    --owner->proxied_;
   }
 
   static void Close(Connection* c) {
@@ -146,62 +141,91 @@ struct TileFrontEnd::Connection {
     delete c;
   }
 
-  // Tile mode: answer every complete request head in the input.
-  static void OnClientRead(bufferevent* bev, void* arg) {
-    auto* c = static_cast<Connection*>(arg);
-    if (c->backend) return Forward(bev, c->backend);
-    c->AnswerAll();
-    if (c->backend) return;
-    c->FlushNow();
-    if (c->close_after_write && evbuffer_get_length(bufferevent_get_output(bev)) == 0) Close(c);
-  }
-
-  void AnswerAll() {
-    Connection* c = this;
-    bufferevent* bev = client;
-    evbuffer* in = bufferevent_get_input(bev);
-    while (!c->close_after_write) {
-      evbuffer_ptr end = evbuffer_search(in, "\r\n\r\n", 4, nullptr);
-      if (end.pos < 0) {
-        if (evbuffer_get_length(in) > kMaxHead) c->PassThrough();
-        return;
+  // Takes the requests in the input, in order, as far as it can now.
+  void Serve() {
+    evbuffer* in = bufferevent_get_input(client);
+    while (!close_after_write) {
+      if (raw) return Relay(client, backend);
+      if (in_flight) return SendRequest();
+      const RequestHead h = NextHead(in);
+      switch (h.kind) {
+        case RequestHead::Kind::kNeedMore:
+          return;
+        case RequestHead::Kind::kTile:
+          Answer(h);
+          evbuffer_drain(in, h.size);
+          break;
+        case RequestHead::Kind::kRefuse:
+          return Refuse(h.status, h.error);
+        case RequestHead::Kind::kBackend:
+          if (!OpenBackend()) return;
+          in_flight.emplace(h.head_only);
+          request_left = h.size + h.body_bytes;
+          close_after_answer = !h.keep_alive;
+          break;
+        case RequestHead::Kind::kPassOn:
+          if (!OpenBackend()) return;
+          raw = true;
+          break;
       }
-      const size_t head_size = static_cast<size_t>(end.pos) + 4;
-      if (head_size > kMaxHead) return c->PassThrough();
-      std::string head(head_size, '\0');
-      evbuffer_copyout(in, head.data(), head_size);
-      const Head h = ParseHead(head);
-      if (!h.fast) return c->PassThrough();
-      evbuffer_drain(in, head_size);
-      c->Answer(h);
     }
   }
 
-  void Answer(const Head& h) {
-    TileAnswer a = AnswerTile(*owner->tiles_, owner->mission_->building(), h.path, h.if_none_match);
-    std::string head = "HTTP/1.1 " + std::to_string(a.status) + " " + Reason(a.status) + "\r\n";
+  void Answer(const RequestHead& r) {
+    TileAnswer a = AnswerTile(*owner->tiles_, owner->mission_->building(), r.tile_path, r.if_none_match);
+    std::string head;
+    head.reserve(256);
+    head += "HTTP/1.1 ";
+    head += std::to_string(a.status);
+    head += ' ';
+    head += Reason(a.status);
+    head += "\r\n";
     for (const auto& [name, value] : a.headers) head += name + ": " + value + "\r\n";
     if (a.body) head += "Content-Type: " + a.content_type + "\r\n";
     if (a.status != 304) head += "Content-Length: " + std::to_string(a.body ? a.body->size() : 0) + "\r\n";
-    head += h.close ? "Connection: close\r\n\r\n" : "\r\n";
+    // An HTTP/1.0 client closes unless told the connection stays open.
+    head += !r.keep_alive ? "Connection: close\r\n\r\n" : r.http_1_0 ? "Connection: keep-alive\r\n\r\n" : "\r\n";
     evbuffer* out = bufferevent_get_output(client);
     evbuffer_add(out, head.data(), head.size());
-    if (a.body && !h.head_only && !a.body->empty()) {
+    if (a.body && !r.head_only && !a.body->empty()) {
       // The cached tile's bytes go out without a copy; the holder keeps them alive.
       auto* holder = new std::shared_ptr<const std::string>(a.body);
       evbuffer_add_reference(out, (*holder)->data(), (*holder)->size(), FreeBody, holder);
     }
-    if (h.close) {
-      close_after_write = true;
-      bufferevent_disable(client, EV_READ);
-    }
+    if (!r.keep_alive) StopReading();
   }
 
-  // Sends what the answers put in the output now (one writev for every
-  // reply to this read). In tile mode the socket is watched for writing only
-  // while a reply did not fit: registering and unregistering it around every
-  // reply cost two epoll_ctl calls per tile.
-  void FlushNow() {
+  // A head that is not HTTP/1.x or is too long: 400 (414, 431, 505), and the
+  // connection ends (where the next request would start is unknown).
+  void Refuse(int status, const char* error) {
+    const std::string body = std::string("{\"error\":\"") + (status == 400 ? "bad request: " : "") + error + "\"}";
+    const std::string reply = "HTTP/1.1 " + std::to_string(status) + " " + Reason(status) +
+                              "\r\nContent-Type: application/json\r\nContent-Length: " + std::to_string(body.size()) +
+                              "\r\nConnection: close\r\n\r\n" + body;
+    evbuffer_add(bufferevent_get_output(client), reply.data(), reply.size());
+    StopReading();
+  }
+
+  void StopReading() {
+    close_after_write = true;
+    bufferevent_disable(client, EV_READ);
+  }
+
+  // Reads the client again once what held it up has cleared.
+  void ResumeReading() {
+    if (close_after_write || client_eof || Queued(client) > kMaxQueuedBytes) return;
+    if (backend && Queued(backend) > kMaxQueuedBytes) return;
+    bufferevent_enable(client, EV_READ);
+  }
+
+  // Sends what was queued for the client now (one writev for every reply to
+  // this read). The socket is watched for writing only while a reply did not
+  // fit: registering and unregistering it around every reply cost two
+  // epoll_ctl calls per tile. True when the connection is gone.
+  bool Flush() {
+    // The client stopped writing: close once all it asked for is answered,
+    // or at once when a request for httplib was cut short.
+    if (client_eof && !raw && (!in_flight || request_left > 0) && !close_after_write) StopReading();
     evbuffer* out = bufferevent_get_output(client);
     if (evbuffer_get_length(out) > 0) {
       // bufferevent keeps its output's start frozen outside its own write
@@ -211,15 +235,22 @@ struct TileFrontEnd::Connection {
       evbuffer_write(out, bufferevent_getfd(client));
       evbuffer_freeze(out, 1);
     }
-    if (evbuffer_get_length(out) > 0)
+    if (evbuffer_get_length(out) > 0) {
       bufferevent_enable(client, EV_WRITE);
-    else
-      bufferevent_disable(client, EV_WRITE);
+      if (evbuffer_get_length(out) > kMaxQueuedBytes) {
+        bufferevent_disable(client, EV_READ);
+        if (backend) bufferevent_disable(backend, EV_READ);
+      }
+      return false;
+    }
+    bufferevent_disable(client, EV_WRITE);
+    if (!close_after_write) return false;
+    Close(this);
+    return true;
   }
 
-  // Everything from here on (including what was read) goes to httplib.
-  void PassThrough() {
-    bufferevent_enable(client, EV_WRITE);  // httplib's replies flow through the output from now on
+  bool OpenBackend() {
+    if (backend) return true;
     backend = bufferevent_socket_new(loop->base, -1, BEV_OPT_CLOSE_ON_FREE);
     ++owner->proxied_;
     sockaddr_in to{};
@@ -228,65 +259,108 @@ struct TileFrontEnd::Connection {
     to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
     bufferevent_setcb(backend, OnBackendRead, OnBackendWrite, OnBackendEvent, this);
     if (bufferevent_socket_connect(backend, reinterpret_cast<sockaddr*>(&to), sizeof to) != 0) {
-      close_after_write = true;
-      bufferevent_disable(client, EV_READ);
-      return;
+      StopReading();
+      return false;
     }
     bufferevent_enable(backend, EV_READ | EV_WRITE);
-    Forward(client, backend);
-    if (client_eof) ShutdownBackendWrite();
+    return true;
   }
 
-  static void Forward(bufferevent* from, bufferevent* to) {
-    evbuffer_add_buffer(bufferevent_get_output(to), bufferevent_get_input(from));
+  // Sends what has arrived of the relayed request.
+  void SendRequest() {
+    evbuffer* in = bufferevent_get_input(client);
+    const size_t n = std::min(request_left, evbuffer_get_length(in));
+    evbuffer_remove_buffer(in, bufferevent_get_output(backend), n);
+    request_left -= n;
+    if (Queued(backend) > kMaxQueuedBytes) bufferevent_disable(client, EV_READ);
   }
 
+  // Raw mode: the client said all it will say; tell httplib once it has it
+  // all, or the connection would wait out httplib's keep-alive. (httplib may
+  // then drop an answer it is still writing: it peeks for the end of input
+  // before each write. Framed requests are never told.)
   void ShutdownBackendWrite() {
-    // The client said all it will say; tell httplib once it has everything.
-    if (evbuffer_get_length(bufferevent_get_output(backend)) == 0) shutdown(bufferevent_getfd(backend), SHUT_WR);
+    if (raw && client_eof && backend && Queued(backend) == 0) shutdown(bufferevent_getfd(backend), SHUT_WR);
   }
 
-  static void OnClientWrite(bufferevent* bev, void* arg) {
+  // Moves everything `from` read to `to` (raw mode).
+  static void Relay(bufferevent* from, bufferevent* to) {
+    evbuffer_add_buffer(bufferevent_get_output(to), bufferevent_get_input(from));
+    if (Queued(to) > kMaxQueuedBytes) bufferevent_disable(from, EV_READ);
+  }
+
+  static void OnClientRead(bufferevent*, void* arg) {
     auto* c = static_cast<Connection*>(arg);
-    const bool drained = evbuffer_get_length(bufferevent_get_output(bev)) == 0;
-    if (c->close_after_write && drained) return Close(c);
-    if (!c->backend && drained) bufferevent_disable(bev, EV_WRITE);
+    c->Serve();
+    if (c->Flush()) return;
+    // Requests that wait behind a relayed one are not read without end.
+    if (evbuffer_get_length(bufferevent_get_input(c->client)) > kMaxQueuedBytes)
+      bufferevent_disable(c->client, EV_READ);
+  }
+
+  static void OnClientWrite(bufferevent*, void* arg) {
+    auto* c = static_cast<Connection*>(arg);
+    if (c->Flush()) return;
+    c->ResumeReading();
+    if (c->backend && Queued(c->client) <= kMaxQueuedBytes) bufferevent_enable(c->backend, EV_READ);
   }
 
   static void OnClientEvent(bufferevent*, short what, void* arg) {
     auto* c = static_cast<Connection*>(arg);
-    if (what & BEV_EVENT_EOF) {
-      c->client_eof = true;
-      if (c->backend) return c->ShutdownBackendWrite();
-      // Answer what was asked before the client stopped writing, then close.
-      c->AnswerAll();
-      if (c->backend) return c->ShutdownBackendWrite();
-      c->close_after_write = true;
-      c->FlushNow();
-      if (evbuffer_get_length(bufferevent_get_output(c->client)) == 0) Close(c);
+    if (!(what & BEV_EVENT_EOF)) {
+      if (what & (BEV_EVENT_ERROR | BEV_EVENT_TIMEOUT)) Close(c);
       return;
     }
-    if (what & (BEV_EVENT_ERROR | BEV_EVENT_TIMEOUT)) Close(c);
+    // Answer what was asked before the client stopped writing, then close.
+    c->client_eof = true;
+    c->Serve();
+    c->ShutdownBackendWrite();
+    c->Flush();
   }
 
+  // httplib's answer: relayed up to its end, then the next request is taken.
   static void OnBackendRead(bufferevent* bev, void* arg) {
     auto* c = static_cast<Connection*>(arg);
-    Forward(bev, c->client);
+    evbuffer* in = bufferevent_get_input(bev);
+    if (!c->raw && c->in_flight) {
+      evbuffer_remove_buffer(in, bufferevent_get_output(c->client), Frame(in, &*c->in_flight));
+      if (c->in_flight->lost()) {
+        c->raw = true;
+      } else if (c->in_flight->done()) {
+        if (c->close_after_answer || c->in_flight->close()) c->StopReading();
+        c->in_flight.reset();
+        c->raw = evbuffer_get_length(in) > 0;  // more than was asked for: stop following
+        c->Serve();
+        c->ResumeReading();
+      }
+    } else if (!c->raw) {
+      c->raw = evbuffer_get_length(in) > 0;  // an answer to nothing: stop following
+    }
+    if (c->raw) Relay(bev, c->client);
+    c->Flush();
   }
 
   static void OnBackendWrite(bufferevent*, void* arg) {
     auto* c = static_cast<Connection*>(arg);
-    if (c->client_eof) c->ShutdownBackendWrite();
+    c->ShutdownBackendWrite();
+    c->ResumeReading();
   }
 
   static void OnBackendEvent(bufferevent* bev, short what, void* arg) {
     auto* c = static_cast<Connection*>(arg);
     if (what & BEV_EVENT_CONNECTED) return;
-    // httplib closed (or failed): pass on what it sent, then close the client.
-    Forward(bev, c->client);
-    c->close_after_write = true;
-    bufferevent_disable(c->client, EV_READ);
-    if (evbuffer_get_length(bufferevent_get_output(c->client)) == 0) Close(c);
+    // httplib closed (or failed). A failed write can come first when it
+    // closed without reading all we sent: take what it answered before.
+    while (evbuffer_read(bufferevent_get_input(bev), bufferevent_getfd(bev), 1 << 16) > 0) {
+    }
+    if (!c->raw && !c->in_flight && evbuffer_get_length(bufferevent_get_input(bev)) == 0) {
+      c->DropBackend();  // an idle connection httplib timed out: the next request opens another
+      return;
+    }
+    // Pass on what it sent, then close the client: where its answer ended is unknown.
+    evbuffer_add_buffer(bufferevent_get_output(c->client), bufferevent_get_input(bev));
+    c->StopReading();
+    c->Flush();
   }
 };
 

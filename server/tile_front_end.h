@@ -2,9 +2,10 @@
 // The server's public socket. Tiles are most of the traffic, and cpp-httplib
 // spends a thread wake-up and several system calls on every request; this
 // front end (libevent: one event loop per core) answers plain tile GETs itself
-// and passes every other connection, byte for byte, to the httplib server on
-// a loopback port — the REST API, live events, the console and anything it
-// does not recognise (which httplib then answers or refuses).
+// and relays every other request (the REST API, live events, the console) to
+// the httplib server on a loopback port, one at a time and in order. What a
+// request head is comes from request_head.*, where httplib's answer ends from
+// response_framer.*; this file is the event loop and connection plumbing.
 #include <atomic>
 #include <memory>
 #include <string>
@@ -30,7 +31,7 @@ class TileFrontEnd {
   int Bind(const std::string& host, int port);
   void Start();
   void Stop();
-  // Connections currently passed to the backend (for a graceful stop).
+  // Loopback connections to httplib now open (for a graceful stop).
   int proxied() const { return proxied_; }
 
   struct Connection;  // one client connection, in tile or pass-through mode

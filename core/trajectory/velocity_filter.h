@@ -1,6 +1,6 @@
 #pragma once
-// The navigation filter of the visual-odometry trajectory (seed 003, spec
-// docs: shared/specs/visual-odometry-ekf.md section 2.5). State
+// The navigation filter of the visual-odometry trajectory (seed 003; spec
+// "Visual odometry + EKF", section 2.5). State
 // x = [n, e, d, u, v, w]: NED position in metres and body-frame velocity in m/s.
 // Attitude (roll, pitch, heading) is an input, not a state, so the model is
 // linear: a Kalman filter with time-varying matrices, F = [[I, dT R_nb], [0, I]].
@@ -33,7 +33,7 @@ Eigen::Matrix3d NedFromBody(const Attitude& attitude);
 
 struct VelocityFilterOptions {
   double accel_density = 1e-3;                        // q, m^2/s^3, white acceleration on each body axis
-  double heading_noise_rad = 0.0175;                  // AHRS noise carried into position (S_att)
+  double heading_noise_rad = 0.0175;                  // AHRS noise into position (S_att), white per step
   std::optional<double> pitch_noise_rad;              // heading_noise_rad when unset
   std::optional<double> roll_noise_rad;               // heading_noise_rad when unset
   Eigen::Vector3d vo_sigma_mps{0.059, 0.043, 0.029};  // seed 003 Table 2, VO std per body axis
@@ -79,13 +79,20 @@ class VelocityFilter {
 
   // Predicts to time_s (>= time_s(), else InputError) in equal steps of at most
   // max_step_s, with the attitude at each step's midpoint: a start-of-step
-  // attitude lags in turns.
+  // attitude lags in turns. Before Start(), this and the updates throw
+  // std::logic_error.
   void PredictTo(double time_s, const AttitudeAt& attitude);
 
-  // Measurements at the filter's current time (PredictTo first). A rejected
-  // update leaves state and covariance untouched bit for bit. kReacquired: this
-  // measurement completed the lock-out evidence, so the block of P was reset
-  // and the measurement applied ungated.
+  // Measurements at the filter's current time (PredictTo first); InputError on
+  // non-finite values. A rejected update leaves state and covariance untouched
+  // bit for bit. Lock-out (velocity and position, not depth): rejected
+  // innovations that agree (each within 3 sigma of their per-axis median, sigma
+  // from diag S) over lockout_velocity_count updates, or over
+  // lockout_position_s seconds, re-acquire on the measurement that completes
+  // the evidence: the block of P is reset (velocity variance >= 1 (m/s)^2,
+  // horizontal position >= 100 sigma_m^2, cross-covariances zeroed) and that
+  // measurement applied ungated; it returns kReacquired and counts only in
+  // reacquisitions.
   Outcome UpdateVelocity(const Eigen::Vector3d& body_velocity_mps, const Eigen::Matrix3d& covariance);
   Outcome UpdateVelocity(const Eigen::Vector3d& body_velocity_mps);  // diag(vo_sigma_mps^2)
   Outcome UpdateDepth(double depth_m);
@@ -96,8 +103,8 @@ class VelocityFilter {
   double time_s() const { return time_s_; }
   const State& state() const { return x_; }
   const Covariance& covariance() const { return p_; }
-  // Mean VO NIS = velocity_nis_sum / velocity_accepted (3 expected; a 1 %
-  // gate truncates it to 2.89 for a consistent filter).
+  // Mean VO NIS = velocity_nis_sum / velocity_accepted: 3 without gates; a
+  // consistent filter behind the 1 % gate gives about 2.91 (truncation alone 2.89).
   const Counts& counts() const { return counts_; }
   // Normalised innovation squared of the last update of any kind, accepted
   // or not (before any lock-out reset): for NIS histograms.

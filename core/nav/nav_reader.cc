@@ -323,6 +323,19 @@ Parsed ParseRow(const RawRow& raw, PositionKind kind, const NavReadOptions& opti
   return out;
 }
 
+// A time_s column that is empty on every row is no time column: trajectory.csv
+// keeps its fixed header for navigation that had no times. (An empty time
+// among timed rows is still refused, line by line.)
+void DropEmptyTimeColumn(Source* source) {
+  if (!source->columns.count("time_s") || source->rows.empty()) return;
+  for (const RawRow& row : source->rows) {
+    auto it = row.fields.find("time_s");
+    if (it != row.fields.end() && !Trim(it->second).empty()) return;
+  }
+  source->columns.erase("time_s");
+  for (RawRow& row : source->rows) row.fields.erase("time_s");
+}
+
 void WarnIfTimeGoesBack(NavTable& table) {
   int backwards = 0;
   std::string first;
@@ -347,6 +360,7 @@ NavTable ReadNavigation(const std::string& path, const NavReadOptions& options) 
   table.source = path;
   Source source = IsSeedText(lines.front().text) ? ReadSeedText(path, lines, &table.warnings)
                                                  : ReadCsv(path, lines, options, &table.warnings);
+  DropEmptyTimeColumn(&source);
   const PositionKind kind = ChoosePosition(source, path, options, &table.warnings);
   table.rejected = std::move(source.rejected);
 

@@ -351,6 +351,18 @@ TEST_F(NavReaderTest, RowsWithoutImageAreNavigationSamples) {
   EXPECT_EQ(RejectionAt(table, 4).field, "time_s");
 }
 
+TEST_F(NavReaderTest, ATimeColumnEmptyOnEveryRowIsNoTimeColumn) {
+  // trajectory.csv of navigation without times keeps its fixed header.
+  const NavTable table = Read("image,time_s,lat,lon,alt\na.jpg,,43,131,2\nb.jpg, ,43,131,2\n");
+  ASSERT_EQ(table.records.size(), 2u);
+  EXPECT_TRUE(table.rejected.empty());
+  EXPECT_FALSE(table.has_times);
+  EXPECT_FALSE(table.records[1].time_s.has_value());
+  // Without images, nothing says which frame a row is.
+  const InputError e = Fatal("time_s,lat,lon,alt\n,43,131,2\n");
+  EXPECT_EQ(e.field(), "image");
+}
+
 TEST_F(NavReaderTest, IsoTimestamps) {
   const NavTable table = Read("timestamp,image,lat,lon,alt\n2023-05-01T12:00:00.5Z,a.jpg,43,131,2\n");
   EXPECT_DOUBLE_EQ(*table.records[0].time_s, 1682942400.5);

@@ -12,4 +12,6 @@ int RunServe(int argc, char** argv, int first);          // cli/serve_command.cc
 int RunReplay(int argc, char** argv, int first);         // cli/replay_command.cc
 int RunExport(int argc, char** argv, int first);         // cli/export_command.cc
 
+int RunTrajectoryEval(int argc, char** argv, int first);  // cli/trajectory_eval_command.cc
+
 }  // namespace seamap::cli

@@ -23,6 +23,7 @@ const char* kUsage =
     "  serve           serve a built map: tiles, REST API, live events, operator console\n"
     "  replay          build a map while serving it, frames at their recorded pace (or --watch a folder)\n"
     "  export          copy a map between MBTiles and a tile folder\n"
+    "  trajectory-eval compare a trajectory with ground truth: ATE, drift, cross-pass seams\n"
     "\n"
     "Run 'seamap <command> --help' for a command's options.\n";
 
@@ -49,6 +50,7 @@ int main(int argc, char** argv) {
     if (command == "serve") return RunServe(argc, argv, 2);
     if (command == "replay") return RunReplay(argc, argv, 2);
     if (command == "export") return RunExport(argc, argv, 2);
+    if (command == "trajectory-eval") return RunTrajectoryEval(argc, argv, 2);
   } catch (const seamap::InputError& e) {
     std::fprintf(stderr, "seamap %s: error: %s\n", command.c_str(), e.what());
     return 2;

@@ -13,4 +13,6 @@ int RunReplay(int argc, char** argv, int first);         // cli/replay_command.c
 int RunExport(int argc, char** argv, int first);         // cli/export_command.cc
 int RunTrajectory(int argc, char** argv, int first);     // cli/trajectory_command.cc
 
+int RunTrajectoryEval(int argc, char** argv, int first);  // cli/trajectory_eval_command.cc
+
 }  // namespace seamap::cli

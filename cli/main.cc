@@ -24,6 +24,7 @@ const char* kUsage =
     "  replay          build a map while serving it, frames at their recorded pace (or --watch a folder)\n"
     "  export          copy a map between MBTiles and a tile folder\n"
     "  trajectory      estimate a survey's trajectory from its photos (refine, vo, ekf)\n"
+    "  trajectory-eval compare a trajectory with ground truth: ATE, drift, cross-pass seams\n"
     "\n"
     "Run 'seamap <command> --help' for a command's options.\n";
 
@@ -51,6 +52,7 @@ int main(int argc, char** argv) {
     if (command == "replay") return RunReplay(argc, argv, 2);
     if (command == "export") return RunExport(argc, argv, 2);
     if (command == "trajectory") return RunTrajectory(argc, argv, 2);
+    if (command == "trajectory-eval") return RunTrajectoryEval(argc, argv, 2);
   } catch (const seamap::InputError& e) {
     std::fprintf(stderr, "seamap %s: error: %s\n", command.c_str(), e.what());
     return 2;

@@ -18,7 +18,7 @@
 
 namespace seamap {
 
-// Radians; R_nb = Rz(heading) Ry(pitch) Rx(roll) as core/camera/frame_projector.h's BodyToNed.
+// Radians; R_nb = Rz(heading) Ry(pitch) Rx(roll) as core/camera/frame_projector.h's NedFromBody.
 struct Attitude {
   double roll_rad = 0;     // starboard down positive
   double pitch_rad = 0;    // bow up positive

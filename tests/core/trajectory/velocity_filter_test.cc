@@ -71,7 +71,7 @@ TEST(VelocityFilterTest, NedFromBodyMatchesFrameProjector) {
     attitude.heading_rad = heading * kDeg;
     attitude.pitch_rad = pitch * kDeg;
     attitude.roll_rad = roll * kDeg;
-    EXPECT_TRUE(NedFromBody(attitude).isApprox(BodyToNed(pose), 1e-12)) << heading << " " << pitch << " " << roll;
+    EXPECT_TRUE(NedFromBody(attitude).isApprox(NedFromBody(pose), 1e-12)) << heading << " " << pitch << " " << roll;
   }
 }
 

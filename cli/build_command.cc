@@ -11,6 +11,7 @@
 
 #include "cli/args.h"
 #include "cli/build_setup.h"
+#include "cli/trajectory_setup.h"
 #include "cli/commands.h"
 #include "core/mosaic/mosaic_builder.h"
 #include "core/util/error.h"
@@ -37,7 +38,9 @@ const char* kHelp =
     "  --append            continue painting an existing map (tiles are read back and blended)\n"
     "  --overwrite         replace an existing map\n"
     "  --quiet             no progress bar\n"
-    "  --report FILE       write the run's figures as JSON (frames, seconds, tiles, bytes, peak RSS)\n";
+    "  --report FILE       write the run's figures as JSON (frames, seconds, tiles, bytes, peak RSS)\n"
+    "  --refine-nav        refine the navigation from the photos first (seamap trajectory --mode refine),\n"
+    "                      then paint with the refined poses; the mission keeps the navigation's beside them\n";
 
 std::string Summary(const BuildStats& s) {
   std::map<std::string, int> reasons;
@@ -66,7 +69,8 @@ std::string Summary(const BuildStats& s) {
   return out.str();
 }
 
-void WriteReport(const std::string& path, const BuildStats& s, const MosaicPlan& plan) {
+void WriteReport(const std::string& path, const BuildStats& s, const MosaicPlan& plan,
+                 const nlohmann::json& refine) {
   int64_t distinct = 0;
   nlohmann::json per_zoom = nlohmann::json::object();
   for (const auto& [z, n] : s.tiles_per_zoom) {
@@ -88,6 +92,7 @@ void WriteReport(const std::string& path, const BuildStats& s, const MosaicPlan&
                       {"base_zoom", plan.base_zoom},
                       {"min_zoom", plan.min_zoom},
                       {"peak_rss_bytes", PeakRssBytes()}};
+  if (!refine.is_null()) j["refine"] = refine;
   std::ofstream out(path);
   if (!out) throw InputError(path, 0, "--report", "cannot write the report file");
   out << j.dump(2) << "\n";
@@ -96,19 +101,23 @@ void WriteReport(const std::string& path, const BuildStats& s, const MosaicPlan&
 }  // namespace
 
 int RunBuild(int argc, char** argv, int first) {
-  Args args(argc, argv, first, {"append", "overwrite", "quiet", "help"});
+  Args args(argc, argv, first, {"append", "overwrite", "quiet", "refine-nav", "help"});
   if (args.Flag("help")) {
-    std::fputs(kHelp, stdout);
+    std::printf("%s%s", kHelp, kNavigationNoiseHelp);
     return 0;
   }
   BuildInputs in = ReadBuildInputs(args);
   const std::string out = args.Require("out");
   const bool append = args.Flag("append"), overwrite = args.Flag("overwrite");
   const bool quiet = args.Flag("quiet");
+  const bool refine = args.Flag("refine-nav") || in.config.navigation.refine;
+  const RefineOptions refine_options = ReadRefineOptions(args, in.config.navigation, in.config.threads);
   const std::optional<std::string> report = args.Get("report");
   args.RejectUnknown();
 
   auto store = OpenOutput(out, in.config, append, overwrite);
+  nlohmann::json refine_report;
+  if (refine) refine_report = RefineFrames(&in.frames.frames, in.camera, refine_options, quiet);
   MosaicPlan plan = PlanMosaic(in.config.map, in.camera, in.frame, in.frames.frames, in.channels);
   std::fprintf(stderr, "seamap build: %zu frames, GSD %.1f mm at %.3f N -> zooms %d..%d, %s tiles of %d px -> %s\n",
                in.frames.frames.size(), plan.gsd_m * 1000, plan.latitude, plan.min_zoom, plan.base_zoom,
@@ -145,7 +154,7 @@ int RunBuild(int argc, char** argv, int first) {
   for (const auto& r : s.rejections) std::fprintf(stderr, "skipped: %s\n", r.Message().c_str());
   std::printf("%s\n", Summary(s).c_str());
   if (enhanced) std::printf("enhanced layer: %s\n", Summary(enhanced->stats()).c_str());
-  if (report) WriteReport(*report, s, plan);
+  if (report) WriteReport(*report, s, plan, refine_report);
   if (s.frames_used == 0) {
     std::fprintf(stderr, "seamap build: error: no frame could be used\n");
     return 1;

@@ -36,12 +36,14 @@ FrameFeatures DetectFeatures(const cv::Mat& image, const CameraModel& camera, co
   const double scale = WorkingScale(camera, options.max_side_px);
   const cv::Size working(static_cast<int>(std::lround(camera.width * scale)),
                          static_cast<int>(std::lround(camera.height * scale)));
+  const cv::Size detected = options.skip_upsampled_octave ? cv::Size((working.width + 1) / 2, (working.height + 1) / 2)
+                                                          : working;
   cv::Mat gray = ToGray8(image);
-  if (gray.size() != working) cv::resize(gray, gray, working, 0, 0, cv::INTER_AREA);
-  // Pixel centres at integers: full-resolution x = (x_w + 0.5) / s - 0.5 (and
+  if (gray.size() != detected) cv::resize(gray, gray, detected, 0, 0, cv::INTER_AREA);
+  // Pixel centres at integers: full-resolution x = (x_d + 0.5) / s - 0.5 (and
   // likewise for a frame of another size that was scaled to the camera's).
-  const double sx = static_cast<double>(working.width) / camera.width;
-  const double sy = static_cast<double>(working.height) / camera.height;
+  const double sx = static_cast<double>(detected.width) / camera.width;
+  const double sy = static_cast<double>(detected.height) / camera.height;
 
   FrameFeatures out;
   std::vector<cv::KeyPoint> keypoints;

@@ -17,6 +17,7 @@
 #include "cli/commands.h"
 #include "cli/server_setup.h"
 #include "cli/shutdown_signal.h"
+#include "cli/trajectory_setup.h"
 #include "core/mosaic/mosaic_builder.h"
 #include "core/nav/frame_feed.h"
 #include "core/tiles/observed_store.h"
@@ -44,6 +45,9 @@ const char* kHelp =
     "  --watch DIR         take frames from a folder being filled (nav.csv + photo/)\n"
     "  --idle-timeout S    with --watch: finish after S seconds without a new frame (default: Ctrl-C)\n"
     "  --exit-when-done    stop serving when the replay ends (default: keep serving until Ctrl-C)\n"
+    "  --nav-mode vo|ekf   run the navigation filter online as frames arrive and paint with its pose\n"
+    "                      (vo: visual odometry + depth, navigation positions only for the first fix;\n"
+    "                      ekf: also the navigation's positions, gated); the mission keeps both tracks\n"
     "  --quiet             no progress line\n";
 
 // Degrees with every digit that matters (std::to_string keeps six decimals: 5 cm).
@@ -161,6 +165,13 @@ int RunReplay(int argc, char** argv, int first) {
   BuildInputs in = ReadBuildInputs(args);
   server::ServerOptions options = ReadServerOptions(args, in.config.server, in.config_source);
   options.photo_dir = args.GetOr("images", "");
+  std::unique_ptr<TrajectoryEstimator> estimator;
+  if (auto mode = args.Get("nav-mode")) {
+    if (*mode != "nav") {
+      const RefineOptions stated = ReadRefineOptions(args, in.config.navigation, in.config.threads);
+      estimator = std::make_unique<TrajectoryEstimator>(in.camera, EstimatorOptionsFrom(*mode, stated, "--nav-mode"));
+    }
+  }
   args.RejectUnknown();
 
   std::unique_ptr<FrameFeed> feed;
@@ -282,8 +293,10 @@ int RunReplay(int argc, char** argv, int first) {
         builder.Reject(*item->rejection);
         if (enhanced) enhanced->Reject(*item->rejection);
       } else {
-        builder.Push(*item->frame);
-        if (enhanced) enhanced->Push(*item->frame);
+        FrameSpec frame = *item->frame;
+        if (estimator) EstimatePose(estimator.get(), in.camera, &frame);
+        builder.Push(frame);
+        if (enhanced) enhanced->Push(frame);
       }
       publish_progress("building", false);
     }

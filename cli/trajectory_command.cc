@@ -1,5 +1,11 @@
 // seamap trajectory: a survey's trajectory estimated from its photos.
+#include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <deque>
+#include <future>
+
+#include <opencv2/imgcodecs.hpp>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -12,15 +18,80 @@
 #include "core/nav/frame_list.h"
 #include "core/nav/nav_reader.h"
 #include "core/trajectory/trajectory_csv.h"
+#include "core/trajectory/trajectory_estimator.h"
+#include "core/util/progress.h"
+#include "core/util/thread_pool.h"
 #include "core/util/error.h"
 
 namespace seamap::cli {
 namespace {
 
+// Features on the pool, a bounded stretch ahead; the filter in order.
+nlohmann::json EstimateFrames(const std::vector<FrameSpec>& frames, const CameraModel& camera,
+                              const EstimatorOptions& options, int threads, bool quiet,
+                              std::vector<TrajectoryRow>* rows) {
+  for (const FrameSpec& f : frames)
+    if (!f.time_s) throw InputError(f.image_path, f.nav_line, "time_s", "vo and ekf need the navigation's times");
+  ThreadPool pool(threads);
+  TrajectoryEstimator estimator(camera, options);
+  ProgressBar progress("frames", static_cast<long>(frames.size()), !quiet);
+  std::deque<std::future<std::optional<FrameFeatures>>> ahead;
+  size_t next = 0;
+  const size_t depth = 4 * static_cast<size_t>(pool.size());
+  const auto start = std::chrono::steady_clock::now();
+  int unreadable = 0;
+  for (size_t i = 0; i < frames.size(); ++i) {
+    for (; next < frames.size() && next < i + depth; ++next)
+      ahead.push_back(pool.Submit([&, next]() -> std::optional<FrameFeatures> {
+        const cv::Mat image = cv::imread(frames[next].image_path, cv::IMREAD_UNCHANGED);
+        if (image.empty()) return std::nullopt;
+        return DetectFeatures(image, camera, options.vo.features);
+      }));
+    const std::optional<FrameFeatures> features = ahead.front().get();
+    ahead.pop_front();
+    unreadable += !features;
+    const VehiclePose pose = estimator.Add(features ? &*features : nullptr, *frames[i].time_s, frames[i].pose);
+    rows->push_back({frames[i].image, frames[i].time_s, pose, features ? "" : "no_image"});
+    progress.Update(static_cast<long>(i + 1));
+  }
+  progress.Finish();
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const auto& vo = estimator.vo_counts();
+  const auto& filter = estimator.filter_counts();
+  std::fprintf(stderr,
+               "%s: %d VO measurements (%d homography, %d essential, %d hover), %d pairs failed, %d low-texture "
+               "frames; filter took %d, gated %d VO updates (mean NIS %.2f), %d re-acquisitions; %.1f frames/s\n",
+               options.mode == EstimatorMode::kVo ? "vo" : "ekf", vo.measurements, vo.homography, vo.essential,
+               vo.hover, vo.failed_pairs, vo.low_texture, filter.velocity_accepted, filter.velocity_rejected,
+               filter.velocity_accepted ? filter.velocity_nis_sum / filter.velocity_accepted : 0.0,
+               filter.reacquisitions, frames.size() / std::max(seconds, 1e-9));
+  return {{"frames", frames.size()},
+          {"unreadable_frames", unreadable},
+          {"vo_measurements", vo.measurements},
+          {"homography", vo.homography},
+          {"essential", vo.essential},
+          {"hover", vo.hover},
+          {"failed_pairs", vo.failed_pairs},
+          {"low_texture_frames", vo.low_texture},
+          {"missing_altitude", vo.missing_altitude},
+          {"velocity_accepted", filter.velocity_accepted},
+          {"velocity_rejected", filter.velocity_rejected},
+          {"mean_vo_nis", filter.velocity_accepted ? filter.velocity_nis_sum / filter.velocity_accepted : 0.0},
+          {"depth_rejected", filter.depth_rejected},
+          {"position_accepted", filter.position_accepted},
+          {"position_rejected", filter.position_rejected},
+          {"reacquisitions", filter.reacquisitions},
+          {"seconds", seconds},
+          {"frames_per_s", frames.size() / std::max(seconds, 1e-9)}};
+}
+
 const char* kHelp =
     "usage: seamap trajectory --images DIR --nav FILE --camera FILE --mode vo|ekf|refine --out trajectory.csv\n"
     "                         [--origin LAT,LON] [--image-times FILE] [--report report.json] [options]\n"
     "\n"
+    "  --mode vo           seed 003: visual odometry (altitude for scale) in a Kalman filter with the\n"
+    "                      attitude as input and depth; the navigation's positions only for the first fix\n"
+    "  --mode ekf          the same filter also fusing the navigation's positions, gated (USBL, GPS)\n"
     "  --mode refine       the whole survey at once: every overlapping pair of frames registered on the\n"
     "                      seabed (along the track and across lines and loops), one robust pose graph\n"
     "  --out FILE          trajectory.csv (image,time_s,lat,lon,x_m,y_m,depth_m,altitude_m,heading_deg,\n"
@@ -74,7 +145,7 @@ int RunTrajectory(int argc, char** argv, int first) {
     for (const FrameSpec& f : frames.frames)
       rows.push_back({f.image, f.time_s, f.pose, nav_only.count(f.image) ? "nav_only" : ""});
   } else {
-    throw InputError("", 0, "--mode", "'" + mode + "' is not available in this build yet");
+    report = EstimateFrames(frames.frames, camera, EstimatorOptionsFrom(mode, options, "--mode"), threads, quiet, &rows);
   }
   WriteTrajectoryCsv(out, rows, frame);
   std::printf("trajectory (%s): %zu frames -> %s\n", mode.c_str(), rows.size(), out.c_str());

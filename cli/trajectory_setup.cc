@@ -1,8 +1,13 @@
 #include "cli/trajectory_setup.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 
+#include <opencv2/imgcodecs.hpp>
+
+#include "core/util/error.h"
 #include "core/util/progress.h"
 
 namespace seamap::cli {
@@ -76,6 +81,26 @@ nlohmann::json RefineFrames(std::vector<FrameSpec>* frames, const CameraModel& c
           {"seconds", {{"features", report.seconds_features},
                        {"pairs", report.seconds_pairs},
                        {"solve", report.seconds_solve}}}};
+}
+
+EstimatorOptions EstimatorOptionsFrom(const std::string& mode, const RefineOptions& stated, const std::string& option) {
+  EstimatorOptions o;
+  o.mode = ParseEstimatorMode(mode, option);
+  // Floors keep exact navigation from dividing by zero.
+  o.nav_sigma_m = std::max(stated.nav_noise_m, 1e-3);
+  o.filter.position_sigma_m = o.nav_sigma_m;
+  o.filter.heading_noise_rad = std::max(stated.heading_noise_deg, 0.01) * M_PI / 180;
+  return o;
+}
+
+void EstimatePose(TrajectoryEstimator* estimator, const CameraModel& camera, FrameSpec* frame) {
+  if (!frame->time_s)
+    throw InputError(frame->image_path, frame->nav_line, "time_s", "the navigation filter needs the frames' times");
+  const cv::Mat image = cv::imread(frame->image_path, cv::IMREAD_UNCHANGED);
+  std::optional<FrameFeatures> features;
+  if (!image.empty()) features = DetectFeatures(image, camera, VoOptions{}.features);
+  frame->nav_pose = frame->pose;
+  frame->pose = estimator->Add(features ? &*features : nullptr, *frame->time_s, frame->pose);
 }
 
 }  // namespace seamap::cli

@@ -12,6 +12,7 @@
 #include "core/mosaic/build_config.h"
 #include "core/nav/frame_list.h"
 #include "core/trajectory/survey_refiner.h"
+#include "core/trajectory/trajectory_estimator.h"
 
 namespace seamap::cli {
 
@@ -25,5 +26,14 @@ RefineOptions ReadRefineOptions(Args& args, const NavigationSettings& settings, 
 // pose, FrameSpec::nav_pose keeps the navigation's. Returns the report as JSON.
 nlohmann::json RefineFrames(std::vector<FrameSpec>* frames, const CameraModel& camera, const RefineOptions& options,
                             bool quiet);
+
+// The navigation filter's options for `mode` ("vo" or "ekf"; InputError naming
+// `option` otherwise), with the navigation's stated noise.
+EstimatorOptions EstimatorOptionsFrom(const std::string& mode, const RefineOptions& stated, const std::string& option);
+
+// Runs the filter on one frame as it arrives: reads its image, and places the
+// frame where the filter says (FrameSpec::nav_pose keeps the navigation's).
+// A frame whose image cannot be read is placed by the filter's prediction.
+void EstimatePose(TrajectoryEstimator* estimator, const CameraModel& camera, FrameSpec* frame);
 
 }  // namespace seamap::cli

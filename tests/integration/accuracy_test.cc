@@ -22,13 +22,13 @@ using testing::SharedSurvey;
 
 // Offsets (pixels) between built base-zoom blocks and the truth, for a build
 // of the shared survey with `origin` as --origin.
-std::vector<double> MeasureOffsets(const std::string& origin) {
+std::vector<double> MeasureOffsets(const std::string& origin, const std::string& extra = "") {
   auto survey = SharedSurvey("accuracy", "--frames 60 --line-length 4 --seed 11");
   survey.origin = origin;
   testing::TempDir dir;
   const std::string out = (dir / "m.mbtiles").string();
   std::string log;
-  EXPECT_EQ(testing::Seamap(survey.BuildArgs() + " --out " + out, &log), 0) << log;
+  EXPECT_EQ(testing::Seamap(survey.BuildArgs() + " --out " + out + extra, &log), 0) << log;
 
   GroundTruth truth = GroundTruth::Load(survey.dir);  // georeferenced at 43.1, 131.9
   LocalFrame frame(truth.origin);
@@ -97,6 +97,17 @@ TEST(Accuracy, BaseZoomMosaicMatchesGroundTruth) {
   std::printf("accuracy: %zu blocks, median offset %.3f px, p90 %.3f px\n", offsets.size(), median, p90);
   EXPECT_LT(median, 1.0);
   EXPECT_LT(p90, 2.0);
+}
+
+TEST(Accuracy, RefiningExactNavigationDoesNotMakeTheMapWorse) {
+  // The navigation is exact (to its stated millimetre): refinement from the
+  // photos must leave the mosaic within a base pixel of the truth.
+  std::vector<double> offsets = MeasureOffsets("43.1,131.9", " --refine-nav --nav-noise 0.001 --nav-drift 0 --quiet");
+  ASSERT_FALSE(offsets.empty());
+  const double median = offsets[offsets.size() / 2];
+  std::printf("accuracy after --refine-nav: %zu blocks, median offset %.3f px\n", offsets.size(), median);
+  EXPECT_LT(median, 1.0);
+  EXPECT_LT(offsets[offsets.size() * 9 / 10], 2.0);
 }
 
 TEST(Accuracy, TheMeasurementSeesAShiftOfTwoPixels) {

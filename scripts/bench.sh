@@ -5,6 +5,7 @@
 #   SEAMAP_BENCH_QUICK=1 ...    smaller surveys, for a quick look
 #   SEAMAP_BENCH_SERVE=0 ...    builds only
 #   SEAMAP_BENCH_RUNS=5 ...     runs per build line (default 3; the median is shown)
+#   SEAMAP_BENCH_TRAJECTORY=0   skip the trajectory figures (refine, vo, ekf on the drifting survey)
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${SEAMAP_BUILD_DIR:-$root/build}"
@@ -70,6 +71,52 @@ build gray '{"tile_format":"png","enhance":{"ops":[{"op":"flatfield"},{"op":"deh
 echo "camera rate: 5 frames/s (200 ms/frame budget); seed paper: 173 ms/frame on an Atom Z8350"
 simulate long "$long_frames" "--image-format jpg --line-length 40"
 build long '{"tile_format":"png","png_level":1}' "gray x$long_frames (memory)"
+# Trajectories (docs/TRAJECTORIES.md): the 14 x 7 m lawnmower (lanes 0.9 m,
+# 720 frames, 76 m) whose navigation drifts 0.5 m/min; and the same survey
+# with USBL-like fixes (0.3 m white noise, no drift) for the ekf.
+trajectory_figures() {
+  local dir="$out/drift" usbl="$out/usbl" frames=720 noise="--nav-noise 0.005 --nav-drift 0.5 --heading-noise 0.5"
+  [[ "$quick" == 1 ]] && frames=240
+  simulate drift "$frames" "--image-format jpg --line-length 14 --line-spacing 0.9 --nav-drift 0.5 --nav-noise 0.005 --heading-noise 0.5"
+  simulate usbl "$frames" "--image-format jpg --line-length 14 --line-spacing 0.9 --nav-noise 0.3 --heading-noise 0.5"
+  local common="--camera $dir/camera.json --origin 43.1,131.9 --quiet"
+  eval_line() {  # label, estimate csv, truth csv, seconds, extra text
+    "$seamap" trajectory-eval "$2" "$3" --origin 43.1,131.9 --json "$out/eval.json" >/dev/null
+    python3 - "$1" "$out/eval.json" "$4" "$5" <<'PY'
+import json, sys
+label, path, seconds, extra = sys.argv[1], sys.argv[2], float(sys.argv[3]), sys.argv[4]
+e = json.load(open(path))
+print(f"{label:<34} ATE {e['ate_m']*1000:7.1f} mm  max {e['max_error_m']*1000:7.1f} mm  drift {e['drift_percent']:5.3f} %  "
+      f"cross-pass p50 {e['cross_median_mm']:6.1f} p90 {e['cross_p90_mm']:6.1f} mm  {seconds:6.1f} s  {extra}")
+PY
+  }
+  eval_line "drift x$frames: navigation" "$dir/nav.csv" "$dir/nav_truth.csv" 0 "(as recorded)"
+  local t0 t1 t2
+  since() { python3 -c "print(f'{$2 - $1:.1f}')"; }
+  t0=$(date +%s.%N)
+  "$seamap" trajectory --mode refine --images "$dir/photo" --nav "$dir/nav.csv" $common $noise \
+    --out "$out/refine.csv" --report "$out/refine.json" 2>/dev/null >/dev/null
+  t1=$(date +%s.%N)
+  "$seamap" build --images "$dir/photo" --nav "$out/refine.csv" $common --out "$out/refined.mbtiles" --overwrite >/dev/null 2>&1
+  t2=$(date +%s.%N)
+  eval_line "drift x$frames: refine" "$out/refine.csv" "$dir/nav_truth.csv" "$(since "$t0" "$t2")" \
+    "(refine $(since "$t0" "$t1") s + painting $(since "$t1" "$t2") s; target <= 90 s, p90 <= 10 mm)"
+  for mode in vo ekf; do
+    t0=$(date +%s.%N)
+    "$seamap" trajectory --mode $mode --images "$dir/photo" --nav "$dir/nav.csv" $common $noise --out "$out/$mode.csv" \
+      --report "$out/$mode.json" 2>/dev/null >/dev/null
+    t1=$(date +%s.%N)
+    eval_line "drift x$frames: $mode" "$out/$mode.csv" "$dir/nav_truth.csv" "$(since "$t0" "$t1")" \
+      "($(python3 -c "import json; r = json.load(open('$out/$mode.json')); print(f\"{r['frames_per_s']:.1f} frames/s, mean VO NIS {r['mean_vo_nis']:.2f}\")"); vo target: drift <= 0.5 %, >= 5 frames/s)"
+  done
+  eval_line "usbl x$frames: navigation" "$usbl/nav.csv" "$usbl/nav_truth.csv" 0 "(0.3 m white noise)"
+  t0=$(date +%s.%N)
+  "$seamap" trajectory --mode ekf --images "$usbl/photo" --nav "$usbl/nav.csv" --camera "$usbl/camera.json" \
+    --origin 43.1,131.9 --quiet --nav-noise 0.3 --nav-drift 0 --heading-noise 0.5 --out "$out/usbl_ekf.csv" 2>/dev/null >/dev/null
+  t1=$(date +%s.%N)
+  eval_line "usbl x$frames: ekf" "$out/usbl_ekf.csv" "$usbl/nav_truth.csv" "$(since "$t0" "$t1")" "(VO + fixes)"
+}
+[[ "${SEAMAP_BENCH_TRAJECTORY:-1}" == 1 ]] && trajectory_figures
 if [[ "${SEAMAP_BENCH_SERVE:-1}" == 1 ]]; then
   "$root/scripts/bench_serve.sh" "$seamap" "$out/gray.mbtiles" "$out/gray" "$out/serve"
 fi

@@ -86,13 +86,26 @@ export async function checkCorrectedTracks({browser, checks, seamap, tool, work,
       }
       const legend = (await page.textContent('.track-legend')) || '';
       if (!/navigation/.test(legend) || !/estimated/.test(legend)) throw new Error(`legend says "${legend}"`);
+      return `estimated ${lines.estimated.stroke}, navigation ${lines.nav.stroke}; legend "${legend.trim()}"`;
+    });
+
+    await checks.run('corrected trajectory: a console opened on the finished mission draws both at once', async () => {
+      // Also a fresh view of the tiles: `seamap serve` sends no tile events for
+      // a map another process writes, so tiles fetched while it grew are stale.
+      await page.reload({waitUntil: 'domcontentloaded'});
+      await page.waitForSelector('body[data-ready="true"]', {timeout: 20000});
+      const lines = await waitFor('both tracks', async () => {
+        const l = await page.evaluate(trackLines);
+        return l.nav.drawn && l.estimated.drawn && l.nav.points === FRAMES ? l : null;
+      }, {timeoutMs: 10000});
       await page.evaluate(() => {
         const {map, tracks} = window.seamap;
         map.fitBounds(tracks.nav.line.getBounds().extend(tracks.estimated.line.getBounds()), {padding: [30, 30], animate: false});
       });
-      await sleep(800);
+      await waitFor('the tiles in view', () => page.evaluate(() => !window.seamap.layers.main.isLoading()), {timeoutMs: 10000});
+      await sleep(300);
       await shot(page, 'console-corrected');
-      return `estimated ${lines.estimated.stroke}, navigation ${lines.nav.stroke}; legend "${legend.trim()}"`;
+      return `${lines.estimated.points} and ${lines.nav.points} points`;
     });
 
     await checks.run('corrected trajectory: the vehicle is at the estimated pose', async () => {

@@ -40,8 +40,11 @@ int RunInfo(int argc, char** argv, int first) {
   auto meta = store->Metadata();
   auto get = [&](const std::string& k) { return meta.count(k) ? meta[k] : std::string("-"); };
   auto frames = store->Frames();
-  size_t used = 0;
-  for (const auto& f : frames) used += f.status == "used";
+  size_t used = 0, corrected = 0;
+  for (const auto& f : frames) {
+    used += f.status == "used";
+    corrected += f.nav.has_value();
+  }
   std::printf("map:       %s\n", path.c_str());
   std::printf("name:      %s\n", get("name").c_str());
   std::printf("format:    %s, %s px tiles\n", get("format").c_str(), get("seamap_tile_size").c_str());
@@ -51,6 +54,11 @@ int RunInfo(int argc, char** argv, int first) {
   std::printf("tiles:     %lld\n", static_cast<long long>(store->TileCount()));
   std::printf("frames:    %zu (%zu used, %zu rejected)\n", frames.size(), used, frames.size() - used);
   std::printf("track:     %zu points\n", store->Track().size());
+  if (corrected)
+    std::printf("nav:       trajectory corrected in %zu of %zu frames (the navigation's poses kept)\n", corrected,
+                frames.size());
+  else
+    std::printf("nav:       trajectory not corrected (frames placed at the navigation's poses)\n");
   std::printf("state:     %s\n", get("seamap_state").c_str());
   std::printf("layers:    %s\n", get("seamap_layers").c_str());
   std::printf("size:      %.1f MiB\n", SizeOnDisk(path) / 1048576.0);

@@ -17,6 +17,7 @@
 #include "server/api_error.h"
 #include "server/photo_preview.h"
 #include "server/tile_answer.h"
+#include "server/track_feature.h"
 
 namespace seamap::server {
 namespace {
@@ -184,29 +185,15 @@ void HttpServer::Routes() {
         }));
 
   s.Get("/api/track", Guard([this](const httplib::Request& req, httplib::Response& res) {
+          const TrackSource source = ParseTrackSource(Param(req, "source"));
           int since = 0;
           if (auto v = Param(req, "since"))
             since = static_cast<int>(std::min<int64_t>(ParseId(*v, "parameter 'since'"), INT_MAX));
           // Start at the point the client already has, so the new piece joins the line.
           const int from = std::max(0, since - 1);
-          std::vector<TrackPoint> points = mission_->TrackFrom(from);
-          nlohmann::json coords = nlohmann::json::array(), times = nlohmann::json::array();
-          for (const auto& p : points) {
-            coords.push_back({p.position.lon, p.position.lat});
-            times.push_back(p.time_s ? nlohmann::json(*p.time_s) : nlohmann::json(nullptr));
-          }
-          const int next = mission_->TrackSize();
-          nlohmann::json geometry = nullptr;
-          if (coords.size() >= 2) geometry = {{"type", "LineString"}, {"coordinates", coords}};
-          nlohmann::json j = {{"type", "Feature"},
-                              {"geometry", geometry},
-                              {"properties",
-                               {{"from", points.empty() ? next : points.front().seq},
-                                {"next", next},
-                                {"times", times},
-                                {"coordinates", coords.size() < 2 ? coords : nlohmann::json(nullptr)}}}};
           res.set_header("Cache-Control", "no-cache");
-          SendJson(res, j);
+          SendJson(res, TrackFeature(mission_->TrackFrom(from), source, mission_->TrackSize(),
+                                     mission_->TrajectoryCorrected()));
         }));
 
   s.Get("/api/frames", Guard([this](const httplib::Request& req, httplib::Response& res) {

@@ -37,11 +37,24 @@ nlohmann::json PoseJson(const FrameRecord& f) {
 }
 
 nlohmann::json TrackPointJson(const TrackPoint& p) {
-  return {{"seq", p.seq}, {"lat", p.position.lat}, {"lon", p.position.lon}, {"time_s", OptionalNumber(p.time_s)}};
+  nlohmann::json nav = nullptr;
+  if (p.nav) nav = {{"lat", p.nav->position.lat}, {"lon", p.nav->position.lon}, {"heading_deg", p.nav->heading_deg}};
+  return {{"seq", p.seq},
+          {"lat", p.position.lat},
+          {"lon", p.position.lon},
+          {"time_s", OptionalNumber(p.time_s)},
+          {"nav", nav}};
 }
 
 nlohmann::json FrameJson(const FrameRecord& f) {
   const std::string base = "/api/frames/" + std::to_string(f.id);
+  nlohmann::json nav = nullptr;
+  if (f.nav) {
+    const NavigatedPose& n = *f.nav;
+    nav = {{"lat", n.position.lat}, {"lon", n.position.lon},        {"altitude_m", n.altitude_m},
+           {"depth_m", n.depth_m},  {"heading_deg", n.heading_deg}, {"pitch_deg", n.pitch_deg},
+           {"roll_deg", n.roll_deg}};
+  }
   return {{"id", f.id},
           {"image", f.image},
           {"time_s", OptionalNumber(f.time_s)},
@@ -54,6 +67,7 @@ nlohmann::json FrameJson(const FrameRecord& f) {
           {"depth_m", f.depth_m},
           {"status", f.status},
           {"footprint", FootprintToJson(f.footprint)},
+          {"nav", nav},
           {"image_url", base + "/image"},
           {"thumb_url", base + "/image?max=256"}};
 }
@@ -72,6 +86,10 @@ void MissionState::Load(const TileStore& store) {
   }
   frames_ = std::move(frames);
   track_ = std::move(track);
+  corrected_frames_ = static_cast<int>(
+      std::count_if(frames_.begin(), frames_.end(), [](const FrameRecord& f) { return f.nav.has_value(); }));
+  corrected_points_ = static_cast<int>(
+      std::count_if(track_.begin(), track_.end(), [](const TrackPoint& p) { return p.nav.has_value(); }));
   progress_.frames_done = progress_.frames_total = static_cast<int>(frames_.size());
   progress_.frames_rejected = static_cast<int>(
       std::count_if(frames_.begin(), frames_.end(), [](const FrameRecord& f) { return f.status != "used"; }));
@@ -117,17 +135,23 @@ Progress MissionState::progress() const {
 
 void MissionState::AddFrame(const FrameRecord& frame, const TrackPoint& point) {
   std::lock_guard<std::mutex> lock(mutex_);
+  corrected_frames_ += frame.nav.has_value();
   if (frames_.empty() || frame.id > frames_.back().id) {
     frames_.push_back(frame);
   } else {  // a frame painted again (appending to a mission) replaces its record
     auto it = std::lower_bound(frames_.begin(), frames_.end(), frame.id,
                                [](const FrameRecord& f, int v) { return f.id < v; });
-    if (it != frames_.end() && it->id == frame.id)
+    if (it != frames_.end() && it->id == frame.id) {
+      corrected_frames_ -= it->nav.has_value();
       *it = frame;
-    else
+    } else {
       frames_.insert(it, frame);
+    }
   }
-  if (track_.empty() || point.seq > track_.back().seq) track_.push_back(point);
+  if (track_.empty() || point.seq > track_.back().seq) {
+    track_.push_back(point);
+    corrected_points_ += point.nav.has_value();
+  }
 }
 
 nlohmann::json MissionState::StatusJson() const {
@@ -144,7 +168,9 @@ nlohmann::json MissionState::StatusJson() const {
                       {"format", format_},
                       {"track_points", track_.size()},
                       {"token_required", token_required_},
-                      {"writable", writable_}};
+                      {"writable", writable_},
+                      {"trajectory_corrected", corrected_frames_ > 0 || corrected_points_ > 0},
+                      {"corrected_frames", corrected_frames_}};
   j["progress"] = progress_.frames_total > 0
                       ? nlohmann::json(std::min(1.0, double(progress_.frames_done) / progress_.frames_total))
                       : nlohmann::json(nullptr);
@@ -157,6 +183,11 @@ nlohmann::json MissionState::StatusJson() const {
     }
   }
   return j;
+}
+
+bool MissionState::TrajectoryCorrected() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return corrected_frames_ > 0 || corrected_points_ > 0;
 }
 
 std::vector<TrackPoint> MissionState::TrackFrom(int first_seq) const {

@@ -44,8 +44,12 @@ class MissionState {
   // A frame went through the builder; its position joins the track.
   void AddFrame(const FrameRecord& frame, const TrackPoint& point);
 
-  // {name, state, replay, frames_done, ..., last_pose, origin, layers, format}
+  // {name, state, replay, frames_done, ..., last_pose, origin, layers, format,
+  //  trajectory_corrected, corrected_frames}
   nlohmann::json StatusJson() const;
+  // Some frames were placed with a corrected pose (a refined or filtered
+  // trajectory), the navigation's kept beside it.
+  bool TrajectoryCorrected() const;
   // Track points with seq >= first_seq.
   std::vector<TrackPoint> TrackFrom(int first_seq) const;
   int TrackSize() const;
@@ -65,15 +69,19 @@ class MissionState {
   std::atomic<bool> building_{false};
   std::vector<FrameRecord> frames_;  // in id order
   std::vector<TrackPoint> track_;    // in seq order
+  int corrected_frames_ = 0;         // frames with the navigation's pose beside the placed one
+  int corrected_points_ = 0;         // track points likewise
 };
 
 // Point-in-polygon (even-odd rule) on lon/lat, for footprints of a few metres.
 bool FootprintContains(const std::array<LatLon, 4>& footprint, const LatLon& point);
 
-// JSON a client gets for a frame: pose, footprint as [[lon,lat]...], image URLs.
+// JSON a client gets for a frame: pose, footprint as [[lon,lat]...], image URLs,
+// and `nav`, the navigation's pose {lat, lon, altitude_m, depth_m, heading_deg,
+// pitch_deg, roll_deg} where the frame was placed with a corrected one (else null).
 nlohmann::json FrameJson(const FrameRecord& frame);
 nlohmann::json PoseJson(const FrameRecord& frame);
-// {seq, lat, lon, time_s}: a `track` event.
+// {seq, lat, lon, time_s, nav: {lat, lon, heading_deg} or null}: a `track` event.
 nlohmann::json TrackPointJson(const TrackPoint& point);
 
 }  // namespace seamap::server

@@ -46,6 +46,16 @@ std::pair<FrameRecord, TrackPoint> MissionRecorder::Record(const PlacedFrame& p)
     }
     bounds_ = b;
   }
+  if (p.spec.nav_pose) {
+    const VehiclePose& nav = *p.spec.nav_pose;  // through the same local frame as the placed pose
+    NavigatedPose& n = record.nav.emplace();
+    n.position = frame_.ToLatLon({nav.east_m, nav.north_m});
+    n.altitude_m = nav.altitude_m;
+    n.depth_m = nav.depth_m;
+    n.heading_deg = nav.heading_deg;
+    n.pitch_deg = nav.pitch_deg;
+    n.roll_deg = nav.roll_deg;
+  }
   store_->PutFrame(record);
 
   TrackPoint point;
@@ -55,6 +65,7 @@ std::pair<FrameRecord, TrackPoint> MissionRecorder::Record(const PlacedFrame& p)
   point.altitude_m = record.altitude_m;
   point.depth_m = record.depth_m;
   point.heading_deg = record.heading_deg;
+  if (record.nav) point.nav = NavigatedPosition{record.nav->position, record.nav->heading_deg};
   store_->PutTrackPoint(point);
   return {record, point};
 }
@@ -78,7 +89,8 @@ void MissionRecorder::WriteState(const std::string& state, int frames_used, int 
   store_->SetMetadata("seamap_frames_rejected", std::to_string(frames_rejected));
   if (bounds_) {
     const LatLonBounds& b = *bounds_;
-    store_->SetMetadata("bounds", Number(b.west) + "," + Number(b.south) + "," + Number(b.east) + "," + Number(b.north));
+    store_->SetMetadata("bounds",
+                        Number(b.west) + "," + Number(b.south) + "," + Number(b.east) + "," + Number(b.north));
     const int centre_zoom = std::max(d.min_zoom, std::min(d.base_zoom, d.min_zoom + 2));
     store_->SetMetadata("center", Number((b.west + b.east) / 2) + "," + Number((b.south + b.north) / 2) + "," +
                                       std::to_string(centre_zoom));

@@ -2,6 +2,8 @@
 // What a mission keeps besides its tiles: every frame with the pose it was
 // placed with and its footprint (the map stays an index into the raw
 // photos), the vehicle's track, and the map's metadata and build state.
+// A frame placed with a corrected pose (FrameSpec::nav_pose set) keeps the
+// navigation's pose too, in its record and its track point.
 #include <optional>
 #include <string>
 #include <utility>

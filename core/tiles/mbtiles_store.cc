@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "core/tiles/record_json.h"
+#include "core/tiles/sqlite_columns.h"
 #include "core/util/error.h"
 
 namespace seamap {
@@ -20,13 +21,41 @@ CREATE UNIQUE INDEX IF NOT EXISTS tile_index ON tiles (zoom_level, tile_column, 
 CREATE TABLE IF NOT EXISTS frames (id integer primary key, image text, image_path text,
                                    time_s real, lat real, lon real, altitude_m real,
                                    depth_m real, heading_deg real, pitch_deg real,
-                                   roll_deg real, footprint text, status text);
+                                   roll_deg real, footprint text, status text,
+                                   nav_lat real, nav_lon real, nav_altitude_m real,
+                                   nav_depth_m real, nav_heading_deg real, nav_pitch_deg real,
+                                   nav_roll_deg real);
 CREATE TABLE IF NOT EXISTS track (seq integer primary key, time_s real, lat real, lon real,
-                                  altitude_m real, depth_m real, heading_deg real);
+                                  altitude_m real, depth_m real, heading_deg real,
+                                  nav_lat real, nav_lon real, nav_heading_deg real);
 CREATE TABLE IF NOT EXISTS detections (id integer primary key, class text, score real, lat real,
                                        lon real, note text, source text, frame_id integer,
                                        time_s real, created text, updated text, seq integer);
 )sql";
+
+// The navigation's pose beside the placed one (NULL unless the trajectory was
+// corrected): files written before these columns existed lack them.
+const std::vector<SqlColumn> kFrameNavColumns = {
+    {"nav_lat", "real"},         {"nav_lon", "real"},       {"nav_altitude_m", "real"}, {"nav_depth_m", "real"},
+    {"nav_heading_deg", "real"}, {"nav_pitch_deg", "real"}, {"nav_roll_deg", "real"}};
+const std::vector<SqlColumn> kTrackNavColumns = {{"nav_lat", "real"}, {"nav_lon", "real"}, {"nav_heading_deg", "real"}};
+
+// Every column in the order rows are bound and read.
+const std::vector<std::string> kFrameColumns = {
+    "id",      "image",          "image_path",  "time_s",          "lat",           "lon",         "altitude_m",
+    "depth_m", "heading_deg",    "pitch_deg",   "roll_deg",        "footprint",     "status",      "nav_lat",
+    "nav_lon", "nav_altitude_m", "nav_depth_m", "nav_heading_deg", "nav_pitch_deg", "nav_roll_deg"};
+const std::vector<std::string> kTrackColumns = {"seq",     "time_s",      "lat",     "lon",     "altitude_m",
+                                                "depth_m", "heading_deg", "nav_lat", "nav_lon", "nav_heading_deg"};
+
+std::string InsertSql(const std::string& table, const std::vector<std::string>& columns) {
+  std::string names, marks;
+  for (const std::string& c : columns) {
+    names += (names.empty() ? "" : ", ") + c;
+    marks += marks.empty() ? "?" : ", ?";
+  }
+  return "INSERT OR REPLACE INTO " + table + " (" + names + ") VALUES (" + marks + ")";
+}
 
 // Resets a reused statement when the scope ends, whatever happens.
 class StatementReset {
@@ -60,6 +89,13 @@ std::optional<double> ColumnOptional(sqlite3_stmt* s, int col) {
   return sqlite3_column_double(s, col);
 }
 
+// Whether columns first..last all hold values (a nav pose is all there or absent).
+bool ColumnsSet(sqlite3_stmt* s, int first, int last) {
+  for (int col = first; col <= last; ++col)
+    if (sqlite3_column_type(s, col) == SQLITE_NULL) return false;
+  return true;
+}
+
 std::string ColumnText(sqlite3_stmt* s, int col) {
   const unsigned char* text = sqlite3_column_text(s, col);
   return text ? reinterpret_cast<const char*>(text) : "";
@@ -87,17 +123,14 @@ MBTilesStore::MBTilesStore(const std::string& path, Mode mode) : path_(path), mo
       Exec("PRAGMA journal_mode=WAL");
       Exec("PRAGMA synchronous=NORMAL");
       Exec(kSchema);
+      AddMissingColumns(db_, "frames", kFrameNavColumns);  // a mission written before they existed
+      AddMissingColumns(db_, "track", kTrackNavColumns);
       put_tile_ = Prepare(
           "INSERT OR REPLACE INTO tiles (zoom_level, tile_column, tile_row, tile_data) "
           "VALUES (?, ?, ?, ?)");
       put_meta_ = Prepare("INSERT OR REPLACE INTO metadata (name, value) VALUES (?, ?)");
-      put_frame_ = Prepare(
-          "INSERT OR REPLACE INTO frames (id, image, image_path, time_s, lat, lon, altitude_m, "
-          "depth_m, heading_deg, pitch_deg, roll_deg, footprint, status) "
-          "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
-      put_track_ = Prepare(
-          "INSERT OR REPLACE INTO track (seq, time_s, lat, lon, altitude_m, depth_m, "
-          "heading_deg) VALUES (?, ?, ?, ?, ?, ?, ?)");
+      put_frame_ = Prepare(InsertSql("frames", kFrameColumns).c_str());
+      put_track_ = Prepare(InsertSql("track", kTrackColumns).c_str());
     }
     get_tile_ = Prepare("SELECT tile_data FROM tiles WHERE zoom_level = ? AND tile_column = ? AND tile_row = ?");
     opened_ = true;
@@ -335,6 +368,12 @@ void MBTilesStore::PutFrame(const FrameRecord& f) {
   sqlite3_bind_double(s, 11, f.roll_deg);
   sqlite3_bind_text(s, 12, footprint.c_str(), -1, SQLITE_STATIC);
   sqlite3_bind_text(s, 13, f.status.c_str(), -1, SQLITE_STATIC);
+  if (f.nav) {  // unbound parameters are NULL
+    const NavigatedPose& n = *f.nav;
+    int col = 14;
+    for (double v : {n.position.lat, n.position.lon, n.altitude_m, n.depth_m, n.heading_deg, n.pitch_deg, n.roll_deg})
+      sqlite3_bind_double(s, col++, v);
+  }
   if (sqlite3_step(s) != SQLITE_DONE) Fail("write frame");
   EndWrite();
 }
@@ -351,17 +390,26 @@ void MBTilesStore::PutTrackPoint(const TrackPoint& p) {
   sqlite3_bind_double(s, 5, p.altitude_m);
   sqlite3_bind_double(s, 6, p.depth_m);
   sqlite3_bind_double(s, 7, p.heading_deg);
+  if (p.nav) {
+    sqlite3_bind_double(s, 8, p.nav->position.lat);
+    sqlite3_bind_double(s, 9, p.nav->position.lon);
+    sqlite3_bind_double(s, 10, p.nav->heading_deg);
+  }
   if (sqlite3_step(s) != SQLITE_DONE) Fail("write track point");
   EndWrite();
 }
 
 template <typename Row>
-std::vector<Row> MBTilesStore::ReadRows(const char* sql, const char* what, Row (*read_row)(sqlite3_stmt*)) const {
+std::vector<Row> MBTilesStore::ReadRows(const std::string& table, const std::vector<std::string>& columns,
+                                        const char* order, const char* what, Row (*read_row)(sqlite3_stmt*)) const {
   std::lock_guard<std::mutex> lock(mutex_);
   std::vector<Row> out;
+  // Asked each time: a writer in another process may add columns meanwhile.
+  const std::string sql =
+      "SELECT " + SelectList(TableColumns(db_, table), columns) + " FROM " + table + " ORDER BY " + order;
   sqlite3_stmt* s = nullptr;
   // A plain MBTiles file from another tool lacks our mission tables: no rows.
-  if (sqlite3_prepare_v2(db_, sql, -1, &s, nullptr) != SQLITE_OK) {
+  if (sqlite3_prepare_v2(db_, sql.c_str(), -1, &s, nullptr) != SQLITE_OK) {
     sqlite3_finalize(s);
     return out;
   }
@@ -373,40 +421,48 @@ std::vector<Row> MBTilesStore::ReadRows(const char* sql, const char* what, Row (
 }
 
 std::vector<FrameRecord> MBTilesStore::Frames() const {
-  return ReadRows<FrameRecord>(
-      "SELECT id, image, image_path, time_s, lat, lon, altitude_m, depth_m, heading_deg, pitch_deg, "
-      "roll_deg, footprint, status FROM frames ORDER BY id",
-      "read frames", [](sqlite3_stmt* s) {
-        FrameRecord f;
-        f.id = sqlite3_column_int(s, 0);
-        f.image = ColumnText(s, 1);
-        f.image_path = ColumnText(s, 2);
-        f.time_s = ColumnOptional(s, 3);
-        f.position = {sqlite3_column_double(s, 4), sqlite3_column_double(s, 5)};
-        f.altitude_m = sqlite3_column_double(s, 6);
-        f.depth_m = sqlite3_column_double(s, 7);
-        f.heading_deg = sqlite3_column_double(s, 8);
-        f.pitch_deg = sqlite3_column_double(s, 9);
-        f.roll_deg = sqlite3_column_double(s, 10);
-        const std::string footprint = ColumnText(s, 11);
-        if (!footprint.empty()) f.footprint = FootprintFromJson(nlohmann::json::parse(footprint));
-        f.status = ColumnText(s, 12);
-        return f;
-      });
+  return ReadRows<FrameRecord>("frames", kFrameColumns, "id", "read frames", [](sqlite3_stmt* s) {
+    FrameRecord f;
+    f.id = sqlite3_column_int(s, 0);
+    f.image = ColumnText(s, 1);
+    f.image_path = ColumnText(s, 2);
+    f.time_s = ColumnOptional(s, 3);
+    f.position = {sqlite3_column_double(s, 4), sqlite3_column_double(s, 5)};
+    f.altitude_m = sqlite3_column_double(s, 6);
+    f.depth_m = sqlite3_column_double(s, 7);
+    f.heading_deg = sqlite3_column_double(s, 8);
+    f.pitch_deg = sqlite3_column_double(s, 9);
+    f.roll_deg = sqlite3_column_double(s, 10);
+    const std::string footprint = ColumnText(s, 11);
+    if (!footprint.empty()) f.footprint = FootprintFromJson(nlohmann::json::parse(footprint));
+    f.status = ColumnText(s, 12);
+    if (ColumnsSet(s, 13, 14)) {
+      NavigatedPose& n = f.nav.emplace();
+      n.position = {sqlite3_column_double(s, 13), sqlite3_column_double(s, 14)};
+      n.altitude_m = sqlite3_column_double(s, 15);
+      n.depth_m = sqlite3_column_double(s, 16);
+      n.heading_deg = sqlite3_column_double(s, 17);
+      n.pitch_deg = sqlite3_column_double(s, 18);
+      n.roll_deg = sqlite3_column_double(s, 19);
+    }
+    return f;
+  });
 }
 
 std::vector<TrackPoint> MBTilesStore::Track() const {
-  return ReadRows<TrackPoint>("SELECT seq, time_s, lat, lon, altitude_m, depth_m, heading_deg FROM track ORDER BY seq",
-                              "read track", [](sqlite3_stmt* s) {
-                                TrackPoint p;
-                                p.seq = sqlite3_column_int(s, 0);
-                                p.time_s = ColumnOptional(s, 1);
-                                p.position = {sqlite3_column_double(s, 2), sqlite3_column_double(s, 3)};
-                                p.altitude_m = sqlite3_column_double(s, 4);
-                                p.depth_m = sqlite3_column_double(s, 5);
-                                p.heading_deg = sqlite3_column_double(s, 6);
-                                return p;
-                              });
+  return ReadRows<TrackPoint>("track", kTrackColumns, "seq", "read track", [](sqlite3_stmt* s) {
+    TrackPoint p;
+    p.seq = sqlite3_column_int(s, 0);
+    p.time_s = ColumnOptional(s, 1);
+    p.position = {sqlite3_column_double(s, 2), sqlite3_column_double(s, 3)};
+    p.altitude_m = sqlite3_column_double(s, 4);
+    p.depth_m = sqlite3_column_double(s, 5);
+    p.heading_deg = sqlite3_column_double(s, 6);
+    if (ColumnsSet(s, 7, 8))
+      p.nav =
+          NavigatedPosition{{sqlite3_column_double(s, 7), sqlite3_column_double(s, 8)}, sqlite3_column_double(s, 9)};
+    return p;
+  });
 }
 
 void MBTilesStore::PutDetection(const Detection& d) {
@@ -446,8 +502,8 @@ void MBTilesStore::DeleteDetection(int64_t id) {
 
 std::vector<Detection> MBTilesStore::Detections() const {
   return ReadRows<Detection>(
-      "SELECT id, class, score, lat, lon, note, source, frame_id, time_s, created, updated, seq "
-      "FROM detections ORDER BY id",
+      "detections",
+      {"id", "class", "score", "lat", "lon", "note", "source", "frame_id", "time_s", "created", "updated", "seq"}, "id",
       "read detections", [](sqlite3_stmt* s) {
         Detection d;
         d.id = sqlite3_column_int64(s, 0);

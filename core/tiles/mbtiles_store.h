@@ -1,6 +1,8 @@
 #pragma once
 // MBTiles 1.3 file (SQLite): `metadata` and `tiles` (TMS rows) tables, plus
-// the mission's `frames` and `track` tables in the same file. Writes are
+// the mission's `frames` and `track` tables in the same file (their nav_*
+// columns, added later, are added to an older file opened to write and read
+// as NULL from one opened read-only). Writes are
 // batched in a transaction that Flush() commits (and every 500 writes).
 #include <cstdint>
 #include <mutex>
@@ -57,9 +59,11 @@ class MBTilesStore : public TileStore {
   std::optional<std::vector<uint8_t>> GetTileLocked(sqlite3_stmt* get, const TileId& id) const;
   int64_t CountRows(const std::string& table) const;
   std::vector<TileId> ReadTileIds(const std::string& table) const;
-  // Every row of a query over an optional table (none when it is missing).
+  // Every row of an optional table (none when it is missing), result column
+  // i being columns[i] (NULL where an older file lacks it).
   template <typename Row>
-  std::vector<Row> ReadRows(const char* sql, const char* what, Row (*read_row)(sqlite3_stmt*)) const;
+  std::vector<Row> ReadRows(const std::string& table, const std::vector<std::string>& columns, const char* order,
+                            const char* what, Row (*read_row)(sqlite3_stmt*)) const;
 
   void CreateSchema();
   sqlite3_stmt* Prepare(const char* sql) const;

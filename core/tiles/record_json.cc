@@ -13,6 +13,11 @@ std::optional<double> OptionalFromJson(const nlohmann::json& j, const char* key)
   return it->get<double>();
 }
 
+bool HasNumber(const nlohmann::json& j, const char* key) {
+  auto it = j.find(key);
+  return it != j.end() && it->is_number();
+}
+
 }  // namespace
 
 nlohmann::json FootprintToJson(const std::array<LatLon, 4>& footprint) {
@@ -29,19 +34,30 @@ std::array<LatLon, 4> FootprintFromJson(const nlohmann::json& j) {
 }
 
 nlohmann::json FrameToJson(const FrameRecord& f) {
-  return {{"id", f.id},
-          {"image", f.image},
-          {"image_path", f.image_path},
-          {"time_s", OptionalToJson(f.time_s)},
-          {"lat", f.position.lat},
-          {"lon", f.position.lon},
-          {"altitude_m", f.altitude_m},
-          {"depth_m", f.depth_m},
-          {"heading_deg", f.heading_deg},
-          {"pitch_deg", f.pitch_deg},
-          {"roll_deg", f.roll_deg},
-          {"footprint", FootprintToJson(f.footprint)},
-          {"status", f.status}};
+  nlohmann::json j = {{"id", f.id},
+                      {"image", f.image},
+                      {"image_path", f.image_path},
+                      {"time_s", OptionalToJson(f.time_s)},
+                      {"lat", f.position.lat},
+                      {"lon", f.position.lon},
+                      {"altitude_m", f.altitude_m},
+                      {"depth_m", f.depth_m},
+                      {"heading_deg", f.heading_deg},
+                      {"pitch_deg", f.pitch_deg},
+                      {"roll_deg", f.roll_deg},
+                      {"footprint", FootprintToJson(f.footprint)},
+                      {"status", f.status}};
+  if (f.nav) {
+    const NavigatedPose& n = *f.nav;
+    j["nav_lat"] = n.position.lat;
+    j["nav_lon"] = n.position.lon;
+    j["nav_altitude_m"] = n.altitude_m;
+    j["nav_depth_m"] = n.depth_m;
+    j["nav_heading_deg"] = n.heading_deg;
+    j["nav_pitch_deg"] = n.pitch_deg;
+    j["nav_roll_deg"] = n.roll_deg;
+  }
+  return j;
 }
 
 FrameRecord FrameFromJson(const nlohmann::json& j) {
@@ -58,17 +74,32 @@ FrameRecord FrameFromJson(const nlohmann::json& j) {
   f.roll_deg = j.value("roll_deg", 0.0);
   if (j.contains("footprint")) f.footprint = FootprintFromJson(j.at("footprint"));
   f.status = j.value("status", "");
+  if (HasNumber(j, "nav_lat") && HasNumber(j, "nav_lon")) {
+    NavigatedPose& n = f.nav.emplace();
+    n.position = {j.at("nav_lat").get<double>(), j.at("nav_lon").get<double>()};
+    n.altitude_m = j.value("nav_altitude_m", 0.0);
+    n.depth_m = j.value("nav_depth_m", 0.0);
+    n.heading_deg = j.value("nav_heading_deg", 0.0);
+    n.pitch_deg = j.value("nav_pitch_deg", 0.0);
+    n.roll_deg = j.value("nav_roll_deg", 0.0);
+  }
   return f;
 }
 
 nlohmann::json TrackPointToJson(const TrackPoint& p) {
-  return {{"seq", p.seq},
-          {"time_s", OptionalToJson(p.time_s)},
-          {"lat", p.position.lat},
-          {"lon", p.position.lon},
-          {"altitude_m", p.altitude_m},
-          {"depth_m", p.depth_m},
-          {"heading_deg", p.heading_deg}};
+  nlohmann::json j = {{"seq", p.seq},
+                      {"time_s", OptionalToJson(p.time_s)},
+                      {"lat", p.position.lat},
+                      {"lon", p.position.lon},
+                      {"altitude_m", p.altitude_m},
+                      {"depth_m", p.depth_m},
+                      {"heading_deg", p.heading_deg}};
+  if (p.nav) {
+    j["nav_lat"] = p.nav->position.lat;
+    j["nav_lon"] = p.nav->position.lon;
+    j["nav_heading_deg"] = p.nav->heading_deg;
+  }
+  return j;
 }
 
 TrackPoint TrackPointFromJson(const nlohmann::json& j) {
@@ -79,6 +110,9 @@ TrackPoint TrackPointFromJson(const nlohmann::json& j) {
   p.altitude_m = j.value("altitude_m", 0.0);
   p.depth_m = j.value("depth_m", 0.0);
   p.heading_deg = j.value("heading_deg", 0.0);
+  if (HasNumber(j, "nav_lat") && HasNumber(j, "nav_lon"))
+    p.nav = NavigatedPosition{{j.at("nav_lat").get<double>(), j.at("nav_lon").get<double>()},
+                              j.value("nav_heading_deg", 0.0)};
   return p;
 }
 

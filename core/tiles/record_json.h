@@ -14,11 +14,14 @@ nlohmann::json FootprintToJson(const std::array<LatLon, 4>& footprint);
 std::array<LatLon, 4> FootprintFromJson(const nlohmann::json& j);
 
 // {"id","image","image_path","time_s" (null when unknown),"lat","lon","altitude_m",
-//  "depth_m","heading_deg","pitch_deg","roll_deg","footprint","status"}
+//  "depth_m","heading_deg","pitch_deg","roll_deg","footprint","status"}, plus
+// "nav_lat","nav_lon","nav_altitude_m","nav_depth_m","nav_heading_deg","nav_pitch_deg",
+// "nav_roll_deg" when the frame was placed with a corrected pose (absent otherwise).
 nlohmann::json FrameToJson(const FrameRecord& f);
 FrameRecord FrameFromJson(const nlohmann::json& j);  // throws nlohmann::json::exception
 
-// {"seq","time_s","lat","lon","altitude_m","depth_m","heading_deg"}
+// {"seq","time_s","lat","lon","altitude_m","depth_m","heading_deg"}, plus
+// "nav_lat","nav_lon","nav_heading_deg" when the point is a corrected position.
 nlohmann::json TrackPointToJson(const TrackPoint& p);
 TrackPoint TrackPointFromJson(const nlohmann::json& j);
 

@@ -1,9 +1,12 @@
 // End-to-end test of the operator console: a real `seamap replay` serves a
-// simulated survey while headless Chromium watches the console build it.
+// simulated survey while headless Chromium watches the console build it; then
+// `seamap serve` follows a mission with a corrected trajectory
+// (corrected_tracks.mjs).
 //
 //   node tests/e2e/console.e2e.mjs
 //
 // Environment: SEAMAP_BIN (seamap binary, default build/seamap),
+// SEAMAP_CORRECTED_MISSION (the test tool, default build/corrected_mission),
 // SEAMAP_SOURCE_DIR (repo root, default two folders up), SEAMAP_ARTIFACTS
 // (screenshots, default a temp folder), SEAMAP_E2E_SPEED (replay speed,
 // default 0.75), SEAMAP_E2E_URL + SEAMAP_E2E_TOKEN (test a server that is
@@ -13,15 +16,17 @@ import fs from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
 import {fileURLToPath} from 'node:url';
+import {checkCorrectedTracks} from './corrected_tracks.mjs';
 import {Checks, freePort, killAll, run, sleep, startProcess, stopProcess, waitFor, waitForOutput} from './harness.mjs';
 
 const here = path.dirname(fileURLToPath(import.meta.url));
 const sourceDir = path.resolve(process.env.SEAMAP_SOURCE_DIR || path.join(here, '..', '..'));
 const seamap = process.env.SEAMAP_BIN || path.join(sourceDir, 'build', 'seamap');
+const correctedTool = process.env.SEAMAP_CORRECTED_MISSION || path.join(path.dirname(seamap), 'corrected_mission');
 const artifacts = path.resolve(process.env.SEAMAP_ARTIFACTS || fs.mkdtempSync(path.join(os.tmpdir(), 'seamap-e2e-artifacts-')));
 const speed = process.env.SEAMAP_E2E_SPEED || '0.75';
 const FRAMES = 80;
-const TOTAL_TIMEOUT_MS = 150000;   // a hung browser or server never hangs ctest
+const TOTAL_TIMEOUT_MS = 200000;   // a hung browser or server never hangs ctest
 
 const checks = new Checks();
 let browser = null;
@@ -146,6 +151,18 @@ async function main() {
     const line = await page.evaluate(() => window.seamap.track.points.length);
     if (line !== later && line < later) throw new Error(`polyline has ${line} points, counter ${later}`);
     return `${first} -> ${later} points`;
+  });
+
+  await checks.run('an uncorrected mission: one track, no legend, the nav track is the same', async () => {
+    if (await page.$('.track-legend') || await page.$('path.track-nav')) throw new Error('a navigation track is drawn');
+    const get = async source => (await fetch(new URL(`api/track?source=${source}`, base))).json();
+    const [nav, estimated] = await Promise.all([get('nav'), get('estimated')]);
+    if (nav.properties.corrected !== false) throw new Error(`properties.corrected is ${nav.properties.corrected}`);
+    const n = Math.min(nav.geometry.coordinates.length, estimated.geometry.coordinates.length);
+    if (JSON.stringify(nav.geometry.coordinates.slice(0, n)) !== JSON.stringify(estimated.geometry.coordinates.slice(0, n))) {
+      throw new Error('source=nav differs from source=estimated');
+    }
+    return `${n} points alike`;
   });
 
   await checks.run('a tile event refreshes a tile in place', async () => {
@@ -276,6 +293,8 @@ async function main() {
     if (errors.length) throw new Error(errors.join(' | '));
     return '';
   });
+
+  if (work) await checkCorrectedTracks({browser, checks, seamap, tool: correctedTool, work, sourceDir, shot});
 }
 
 let exitCode = 0;

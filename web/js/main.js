@@ -8,7 +8,8 @@ import {localFrame} from './geo.js';
 import {Detections} from './detections.js';
 import {Measure} from './measure.js';
 import {Photos} from './photos.js';
-import {Track, Vehicle, showStatus} from './live.js';
+import {Vehicle, showStatus} from './live.js';
+import {Tracks} from './tracks.js';
 import {addPhotoLayers, createMap, cursorReadout, initialView} from './map.js';
 
 let status = null;
@@ -51,14 +52,15 @@ async function start() {
   const frame = origin ? localFrame(origin) : null;
 
   const vehicle = new Vehicle(map);
-  const track = new Track(map);
+  const tracks = new Tracks(map);              // the navigation's too when corrected
+  tracks.update(status);
   const detections = new Detections(map, {canEdit, frame});
   const photos = new Photos(map);
   const measure = new Measure(map);
   if (status) vehicle.update(status.last_pose);
 
   await Promise.allSettled([
-    track.load().catch(error => toast(`track: ${error.message}`)),
+    tracks.load().catch(error => toast(`track: ${error.message}`)),
     detections.load().catch(error => toast(`detections: ${error.message}`)),
   ]);
 
@@ -67,12 +69,13 @@ async function start() {
   live
     .on('tile', event => tileLayerFor(event.layer)?.refreshTile(event))
     .on('pose', pose => vehicle.update(pose))
-    .on('track', point => track.add(point))
+    .on('track', point => tracks.add(point))
     .on('detection', event => detections.onEvent(event))
     .on('progress', next => {
       // Progress events may leave out what only /api/status adds (token_required, writable).
       status = {...status, ...next};
       showStatus(status);
+      tracks.update(status);
       if (!photoLayers && !retryingTiles) {        // the map had no tiles at start
         retryingTiles = true;
         addPhotoLayers(map).then(result => {
@@ -86,8 +89,9 @@ async function start() {
         status = await getJSON('/api/status');
         showStatus(status);
         showEditing();
+        tracks.update(status);
       } catch { /* the stream will tell */ }
-      track.catchUp();
+      tracks.catchUp();
       detections.load().catch(() => {});
     });
   live.start();
@@ -137,7 +141,7 @@ async function start() {
   });
 
   // For debugging from the browser console and for the end-to-end test.
-  window.seamap = {map, live, track, detections, photos, measure, vehicle,
+  window.seamap = {map, live, track: tracks.estimated, tracks, detections, photos, measure, vehicle,
     get layers() { return photoLayers; }, get status() { return status; }};
   document.body.dataset.ready = 'true';
 }

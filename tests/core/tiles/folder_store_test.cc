@@ -103,7 +103,7 @@ TEST(FolderStore, ReopenLoadsEverything) {
     store.SetMetadata("bounds", "-1.5,2,3,4.25");
     store.SetMetadata("minzoom", "2");
     store.PutFrame(frame);
-    store.PutTrackPoint({0, std::nullopt, {43.0, 5.0}, 2.0, 40.0, 180.0});
+    store.PutTrackPoint({0, std::nullopt, {43.0, 5.0}, 2.0, 40.0, 180.0, std::nullopt});
   }  // destructor flushes
   FolderStore store(root.string(), "png");
   EXPECT_EQ(store.TileCount(), 2);

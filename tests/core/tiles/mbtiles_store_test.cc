@@ -128,8 +128,8 @@ TEST(MBTilesStore, FramesAndTrackRoundTrip) {
     replaced.status = "blurred";
     replaced.time_s.reset();
     store.PutFrame(replaced);
-    store.PutTrackPoint({1, 5.0, {43.0, 5.0}, 3.0, 41.0, 90.0});
-    store.PutTrackPoint({0, std::nullopt, {43.1, 5.1}, 2.0, 40.0, 80.0});
+    store.PutTrackPoint({1, 5.0, {43.0, 5.0}, 3.0, 41.0, 90.0, std::nullopt});
+    store.PutTrackPoint({0, std::nullopt, {43.1, 5.1}, 2.0, 40.0, 80.0, std::nullopt});
   }
   MBTilesStore store(path);  // reopened: what was written survived
   const auto frames = store.Frames();

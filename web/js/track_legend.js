@@ -1,0 +1,34 @@
+// A small Leaflet control naming the track lines by colour, with a switch to
+// hide the navigation's track (shown when the trajectory was corrected).
+
+import {el} from './dom.js';
+
+const L = window.L;
+
+// entries: [{key, label, color, dashArray, track, toggle}]; `toggle`: a checkbox shows/hides `track`.
+export function trackLegend(map, entries) {
+  const Legend = L.Control.extend({
+    options: {position: 'bottomright'},
+    onAdd() {
+      const box = el('div', {class: 'leaflet-control track-legend', role: 'group', 'aria-label': 'tracks'});
+      for (const entry of entries) {
+        const swatch = document.createElementNS('http://www.w3.org/2000/svg', 'svg');  // el() makes HTML elements
+        swatch.setAttribute('width', '22');
+        swatch.setAttribute('height', '8');
+        swatch.innerHTML = `<line x1="1" y1="4" x2="21" y2="4" stroke="${entry.color}" stroke-width="3"` +
+          `${entry.dashArray ? ` stroke-dasharray="${entry.dashArray}"` : ''}/>`;
+        const label = el('span', {class: 'label'}, entry.label);
+        const row = entry.toggle
+          ? el('label', {class: 'entry', dataset: {track: entry.key}},
+            el('input', {type: 'checkbox', checked: true, onchange: event => entry.track.setVisible(event.target.checked)}),
+            swatch, label)
+          : el('div', {class: 'entry', dataset: {track: entry.key}}, swatch, label);
+        box.append(row);
+      }
+      L.DomEvent.disableClickPropagation(box);
+      L.DomEvent.disableScrollPropagation(box);
+      return box;
+    },
+  });
+  return new Legend().addTo(map);
+}

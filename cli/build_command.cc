@@ -117,7 +117,13 @@ int RunBuild(int argc, char** argv, int first) {
 
   auto store = OpenOutput(out, in.config, append, overwrite);
   nlohmann::json refine_report;
-  if (refine) refine_report = RefineFrames(&in.frames.frames, in.camera, refine_options, quiet);
+  if (refine) {
+    refine_report = RefineFrames(&in.frames.frames, in.camera, refine_options, quiet);
+    nlohmann::json summary = refine_report;
+    summary.erase("nav_only");  // the frames say which, one by one
+    summary["mode"] = "refine";
+    store->SetMetadata("seamap_trajectory", summary.dump());
+  }
   MosaicPlan plan = PlanMosaic(in.config.map, in.camera, in.frame, in.frames.frames, in.channels);
   std::fprintf(stderr, "seamap build: %zu frames, GSD %.1f mm at %.3f N -> zooms %d..%d, %s tiles of %d px -> %s\n",
                in.frames.frames.size(), plan.gsd_m * 1000, plan.latitude, plan.min_zoom, plan.base_zoom,

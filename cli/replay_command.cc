@@ -213,6 +213,7 @@ int RunReplay(int argc, char** argv, int first) {
   store->SetMetadata("minzoom", std::to_string(plan.min_zoom));
   store->SetMetadata("maxzoom", std::to_string(plan.base_zoom));
   store->SetMetadata("seamap_state", "building");
+  if (estimator) store->SetMetadata("seamap_trajectory", nlohmann::json{{"mode", args.GetOr("nav-mode", "")}}.dump());
   store->SetMetadata("seamap_origin", Degrees(in.frame.origin().lat) + "," + Degrees(in.frame.origin().lon));
   store->Flush();
 

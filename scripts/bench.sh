@@ -81,7 +81,7 @@ trajectory_figures() {
   simulate usbl "$frames" "--image-format jpg --line-length 14 --line-spacing 0.9 --nav-noise 0.3 --heading-noise 0.5"
   local common="--camera $dir/camera.json --origin 43.1,131.9 --quiet"
   eval_line() {  # label, estimate csv, truth csv, seconds, extra text
-    "$seamap" trajectory-eval "$2" "$3" --origin 43.1,131.9 --json "$out/eval.json" >/dev/null
+    "$seamap" trajectory-eval "$2" "$3" --origin 43.1,131.9 --json "$out/eval.json" >/dev/null 2>&1
     python3 - "$1" "$out/eval.json" "$4" "$5" <<'PY'
 import json, sys
 label, path, seconds, extra = sys.argv[1], sys.argv[2], float(sys.argv[3]), sys.argv[4]

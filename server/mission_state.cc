@@ -79,6 +79,13 @@ void MissionState::Load(const TileStore& store) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (metadata.count("name")) name_ = metadata["name"];
   if (metadata.count("format")) format_ = metadata["format"];
+  trajectory_ = nullptr;
+  if (metadata.count("seamap_trajectory")) {
+    try {
+      trajectory_ = nlohmann::json::parse(metadata["seamap_trajectory"]);
+    } catch (const nlohmann::json::exception&) {  // written by someone else: not ours to describe
+    }
+  }
   if (metadata.count("seamap_state")) progress_.state = metadata["seamap_state"] == "complete" ? "complete" : "stopped";
   if (metadata.count("seamap_origin")) {
     double lat, lon;
@@ -170,7 +177,8 @@ nlohmann::json MissionState::StatusJson() const {
                       {"token_required", token_required_},
                       {"writable", writable_},
                       {"trajectory_corrected", corrected_frames_ > 0 || corrected_points_ > 0},
-                      {"corrected_frames", corrected_frames_}};
+                      {"corrected_frames", corrected_frames_},
+                      {"trajectory", trajectory_}};
   j["progress"] = progress_.frames_total > 0
                       ? nlohmann::json(std::min(1.0, double(progress_.frames_done) / progress_.frames_total))
                       : nlohmann::json(nullptr);

@@ -70,6 +70,7 @@ class MissionState {
   std::vector<FrameRecord> frames_;  // in id order
   std::vector<TrackPoint> track_;    // in seq order
   int corrected_frames_ = 0;         // frames with the navigation's pose beside the placed one
+  nlohmann::json trajectory_;        // how the poses were estimated (seamap_trajectory metadata), or null
   int corrected_points_ = 0;         // track points likewise
 };
 

@@ -43,4 +43,10 @@ const SimulatedSurvey& SharedSurvey(const std::string& name, const std::string& 
   return *slot;
 }
 
+const SimulatedSurvey& DriftingSurvey() {
+  return SharedSurvey("drifting",
+                      "--frames 160 --line-length 6 --line-spacing 0.9 --nav-drift 0.5 --nav-noise 0.005 "
+                      "--heading-noise 0.5 --image-format jpg --seed 4 --quiet");
+}
+
 }  // namespace seamap::testing

@@ -22,6 +22,10 @@ struct SimulatedSurvey {
 // Simulates (once) a survey with `extra` simulate options under a shared temp folder.
 const SimulatedSurvey& SharedSurvey(const std::string& name, const std::string& extra);
 
+// 160 frames (16 m, 32 s) over three 6 m lines 0.9 m apart; the navigation
+// drifting 0.5 m/min in a fixed direction, with 5 mm and 0.5 degree noise.
+const SimulatedSurvey& DriftingSurvey();
+
 // Runs seamap with arguments; returns exit code, output in *out.
 int Seamap(const std::string& args, std::string* out);
 

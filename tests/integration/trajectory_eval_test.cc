@@ -18,13 +18,7 @@ namespace {
 using testing::Seamap;
 using testing::SharedSurvey;
 
-// 160 frames (16 m, 32 s) over three 6 m lines 0.9 m apart; navigation
-// drifting 0.5 m/min in a fixed direction, 5 mm noise.
-const testing::SimulatedSurvey& Survey() {
-  return SharedSurvey("trajectory_eval",
-                      "--frames 160 --line-length 6 --line-spacing 0.9 --nav-drift 0.5 --nav-noise 0.005 "
-                      "--heading-noise 0.5 --image-format jpg --seed 4 --quiet");
-}
+const testing::SimulatedSurvey& Survey() { return testing::DriftingSurvey(); }
 
 std::string Truth() {
   return Survey().dir + "/nav_truth.csv";

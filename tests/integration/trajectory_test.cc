@@ -18,11 +18,7 @@ namespace {
 using testing::Seamap;
 using testing::SharedSurvey;
 
-const testing::SimulatedSurvey& Survey() {
-  return SharedSurvey("trajectory_eval",
-                      "--frames 160 --line-length 6 --line-spacing 0.9 --nav-drift 0.5 --nav-noise 0.005 "
-                      "--heading-noise 0.5 --image-format jpg --seed 4 --quiet");
-}
+const testing::SimulatedSurvey& Survey() { return testing::DriftingSurvey(); }
 
 std::string Common(const std::string& nav) {
   const auto& s = Survey();

@@ -86,6 +86,23 @@ TEST(MissionState, AStoppedBuildIsReportedAsStopped) {
   EXPECT_EQ(state.StatusJson()["state"], "stopped");
 }
 
+TEST(MissionState, StatusSaysHowTheTrajectoryWasEstimated) {
+  seamap::testing::TempDir dir;
+  const auto mission = test::WriteTestMission(dir.path());
+  {
+    MBTilesStore store(mission.path.string());
+    store.SetMetadata("seamap_trajectory", R"({"mode":"refine","registered_cross_line":812,"nav_only_frames":0})");
+  }
+  MBTilesStore store(mission.path.string(), MBTilesStore::Mode::kReadOnly);
+  MissionState state;
+  state.Load(store);
+  const auto status = state.StatusJson();
+  EXPECT_EQ(status["trajectory"]["mode"], "refine");
+  EXPECT_EQ(status["trajectory"]["registered_cross_line"], 812);
+  MissionState plain;
+  EXPECT_TRUE(plain.StatusJson()["trajectory"].is_null());
+}
+
 TEST(MissionState, StatusOfAnEmptyMission) {
   MissionState state;
   const auto status = state.StatusJson();

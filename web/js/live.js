@@ -40,6 +40,18 @@ export class Vehicle {
   }
 }
 
+// How the mission's poses were estimated (seamap_trajectory metadata), in a line.
+function describeTrajectory(t) {
+  if (!t || !t.mode) return '';
+  if (t.mode === 'refine') {
+    const mm = (v) => Number(v ?? 0).toFixed(1);
+    return `trajectory refined: ${t.registered_cross_line ?? 0} cross-line and ${t.registered_along_track ?? 0} ` +
+      `along-track links (median ${t.median_inliers ?? 0} inliers), residual ${mm(t.residual_before_mm)} → ` +
+      `${mm(t.residual_after_mm)} mm, ${t.nav_only_frames ?? 0} frames on navigation only`;
+  }
+  return `trajectory: ${t.mode} filter online`;
+}
+
 export function showStatus(status) {
   if (!status) return;
   const bar = $('#progress');
@@ -54,5 +66,7 @@ export function showStatus(status) {
   $('#mission-name').textContent = status.name || 'SeaMap';
   const tiles = $('#tiles-written');
   if (tiles) tiles.textContent = `${status.tiles_written ?? 0} tiles written, ${status.frames_rejected ?? 0} frames rejected`;
+  const trajectory = $('#trajectory-status');
+  if (trajectory) trajectory.textContent = describeTrajectory(status.trajectory);
   document.body.dataset.state = status.state || '';
 }

@@ -5,9 +5,9 @@
 #include <deque>
 #include <future>
 
-#include <opencv2/imgcodecs.hpp>
 #include <filesystem>
 #include <fstream>
+#include <opencv2/imgcodecs.hpp>
 #include <set>
 
 #include "cli/args.h"
@@ -19,9 +19,9 @@
 #include "core/nav/nav_reader.h"
 #include "core/trajectory/trajectory_csv.h"
 #include "core/trajectory/trajectory_estimator.h"
+#include "core/util/error.h"
 #include "core/util/progress.h"
 #include "core/util/thread_pool.h"
-#include "core/util/error.h"
 
 namespace seamap::cli {
 namespace {
@@ -133,7 +133,8 @@ int RunTrajectory(int argc, char** argv, int first) {
   for (const auto& w : nav.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   for (const auto& r : nav.rejected) std::fprintf(stderr, "skipped: %s\n", r.Message().c_str());
   for (const auto& r : frames.rejected) std::fprintf(stderr, "skipped: %s\n", r.Message().c_str());
-  if (frames.frames.size() < 2) throw InputError(nav.source, 0, "", "fewer than two frames to estimate a trajectory from");
+  if (frames.frames.size() < 2)
+    throw InputError(nav.source, 0, "", "fewer than two frames to estimate a trajectory from");
 
   nlohmann::json report;
   const LocalFrame frame(nav.origin);
@@ -145,7 +146,8 @@ int RunTrajectory(int argc, char** argv, int first) {
     for (const FrameSpec& f : frames.frames)
       rows.push_back({f.image, f.time_s, f.pose, nav_only.count(f.image) ? "nav_only" : ""});
   } else {
-    report = EstimateFrames(frames.frames, camera, EstimatorOptionsFrom(mode, options, "--mode"), threads, quiet, &rows);
+    report =
+        EstimateFrames(frames.frames, camera, EstimatorOptionsFrom(mode, options, "--mode"), threads, quiet, &rows);
   }
   WriteTrajectoryCsv(out, rows, frame);
   std::printf("trajectory (%s): %zu frames -> %s\n", mode.c_str(), rows.size(), out.c_str());

@@ -78,9 +78,8 @@ nlohmann::json RefineFrames(std::vector<FrameSpec>* frames, const CameraModel& c
           {"nav_only_frames", report.nav_only},
           {"nav_only", nav_only},
           {"registration_failures", failures},
-          {"seconds", {{"features", report.seconds_features},
-                       {"pairs", report.seconds_pairs},
-                       {"solve", report.seconds_solve}}}};
+          {"seconds",
+           {{"features", report.seconds_features}, {"pairs", report.seconds_pairs}, {"solve", report.seconds_solve}}}};
 }
 
 EstimatorOptions EstimatorOptionsFrom(const std::string& mode, const RefineOptions& stated, const std::string& option) {

@@ -72,9 +72,7 @@ class FeatherCurve {
   explicit FeatherCurve(double feather_power);
   bool IsIdentity() const { return table_.empty(); }  // power 1
   // tent in (0, 1].
-  float operator()(float tent) const {
-    return table_.empty() ? tent : table_[static_cast<int>(tent * (kEntries - 1))];
-  }
+  float operator()(float tent) const { return table_.empty() ? tent : table_[static_cast<int>(tent * (kEntries - 1))]; }
   const float* table() const { return table_.empty() ? nullptr : table_.data(); }
 
  private:
@@ -83,8 +81,8 @@ class FeatherCurve {
 
 // What a neighbouring frame sees at the pixel being weighed.
 struct NeighbourView {
-  float u = 0, v = 0;    // its raw image position of the pixel
-  float inv_seam = 1;    // 1 / the seam's width in Centrality units (see SeamWidth)
+  float u = 0, v = 0;  // its raw image position of the pixel
+  float inv_seam = 1;  // 1 / the seam's width in Centrality units (see SeamWidth)
 };
 
 // The seam's width for a neighbour whose centre this frame sees at

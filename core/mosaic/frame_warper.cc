@@ -9,10 +9,7 @@ namespace seamap {
 
 FrameWarper::FrameWarper(const CameraModel& camera, const LocalFrame& frame, int zoom, int tile_size,
                          const WarpOptions& options)
-    : projection_(camera, frame, zoom, tile_size),
-      shape_(camera),
-      feather_(options.feather_power),
-      options_(options) {
+    : projection_(camera, frame, zoom, tile_size), shape_(camera), feather_(options.feather_power), options_(options) {
   options_.grid_step = std::clamp(options_.grid_step, 1, kMaxGridStep);
 }
 
@@ -56,8 +53,8 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
   PaintCanvas canvas(width, height, options_.channels);
   thread_local std::vector<KeptRow> kept;
   kept.clear();
-  const std::array<int, 2> raw_rows = Weigh(grid, static_cast<int>(neighbour_maps.size()), inv_seam, width, height,
-                                            &canvas, &kept);
+  const std::array<int, 2> raw_rows =
+      Weigh(grid, static_cast<int>(neighbour_maps.size()), inv_seam, width, height, &canvas, &kept);
   // 3. Sample: only now is it known which raw rows are needed.
   if (raw_rows[0] <= raw_rows[1]) Sample(rows(raw_rows[0], raw_rows[1]), kept, &canvas);
   // 4. Cut.

@@ -5,9 +5,9 @@
 
 namespace seamap {
 
-MappingGrid::MappingGrid(const SeabedProjection& projection, const ImageShape& shape, const cv::Matx33d& camera_from_box,
-                         const std::vector<cv::Matx33d>& neighbours, const float* inv_seam, int box_width,
-                         int box_height, int step)
+MappingGrid::MappingGrid(const SeabedProjection& projection, const ImageShape& shape,
+                         const cv::Matx33d& camera_from_box, const std::vector<cv::Matx33d>& neighbours,
+                         const float* inv_seam, int box_width, int box_height, int step)
     : shape_(shape),
       neighbours_(std::min(static_cast<int>(neighbours.size()), kMaxNeighbours)),
       step_(step),

@@ -36,8 +36,8 @@ FrameFeatures DetectFeatures(const cv::Mat& image, const CameraModel& camera, co
   const double scale = WorkingScale(camera, options.max_side_px);
   const cv::Size working(static_cast<int>(std::lround(camera.width * scale)),
                          static_cast<int>(std::lround(camera.height * scale)));
-  const cv::Size detected = options.skip_upsampled_octave ? cv::Size((working.width + 1) / 2, (working.height + 1) / 2)
-                                                          : working;
+  const cv::Size detected =
+      options.skip_upsampled_octave ? cv::Size((working.width + 1) / 2, (working.height + 1) / 2) : working;
   cv::Mat gray = ToGray8(image);
   if (gray.size() != detected) cv::resize(gray, gray, detected, 0, 0, cv::INTER_AREA);
   // Pixel centres at integers: full-resolution x = (x_d + 0.5) / s - 0.5 (and
@@ -51,8 +51,8 @@ FrameFeatures DetectFeatures(const cv::Mat& image, const CameraModel& camera, co
     const bool relaxed = attempt == 1;
     cv::Mat equalised;
     cv::createCLAHE(relaxed ? std::max(4.0, options.clahe_clip) : options.clahe_clip, {8, 8})->apply(gray, equalised);
-    auto sift = cv::SIFT::create(options.max_features, 3, options.contrast_threshold * (relaxed ? 0.5 : 1.0), 10, 1.6,
-                                 CV_8U);
+    auto sift =
+        cv::SIFT::create(options.max_features, 3, options.contrast_threshold * (relaxed ? 0.5 : 1.0), 10, 1.6, CV_8U);
     keypoints.clear();
     out.descriptors.release();
     sift->detectAndCompute(equalised, cv::noArray(), keypoints, out.descriptors);

@@ -15,16 +15,16 @@ namespace seamap {
 
 struct FeatureOptions {
   int max_features = 2000;
-  int max_side_px = 1600;           // working size: longest side at most this
-  double clahe_clip = 2.0;          // CLAHE clip limit (8x8 tiles)
+  int max_side_px = 1600;            // working size: longest side at most this
+  double clahe_clip = 2.0;           // CLAHE clip limit (8x8 tiles)
   double contrast_threshold = 0.04;  // SIFT's; a frame with too few keypoints is retried at half of it
-  int min_keypoints = 100;          // below this, retry with a relaxed detector and CLAHE clip 4
+  int min_keypoints = 100;           // below this, retry with a relaxed detector and CLAHE clip 4
   // OpenCV's SIFT doubles its input before the first octave. Given half the
   // working size, its first octave is the working size itself: 2.3x faster
   // (85 against 190 ms on a 696x520 frame), and the finest scale it drops is
   // below a working pixel, mostly noise (docs/TRAJECTORIES.md measures both).
   bool skip_upsampled_octave = true;
-  void Check() const;               // InputError naming the option
+  void Check() const;  // InputError naming the option
 };
 
 struct FrameFeatures {

@@ -6,7 +6,9 @@
 
 namespace seamap {
 
-double WrapAngle(double rad) { return std::atan2(std::sin(rad), std::cos(rad)); }
+double WrapAngle(double rad) {
+  return std::atan2(std::sin(rad), std::cos(rad));
+}
 
 std::optional<std::vector<cv::Point2d>> GroundOffsets(const CameraModel& camera, const VehiclePose& pose,
                                                       const std::vector<cv::Point2f>& ideal_px) {

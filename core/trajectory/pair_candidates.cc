@@ -8,7 +8,9 @@
 namespace seamap {
 namespace {
 
-cv::Point2d Centre(const std::array<cv::Point2d, 4>& f) { return (f[0] + f[1] + f[2] + f[3]) * 0.25; }
+cv::Point2d Centre(const std::array<cv::Point2d, 4>& f) {
+  return (f[0] + f[1] + f[2] + f[3]) * 0.25;
+}
 
 std::vector<cv::Point2f> Polygon(const std::array<cv::Point2d, 4>& f, const cv::Point2d& shift) {
   std::vector<cv::Point2f> out;

@@ -20,8 +20,8 @@ struct CandidateFrame {
 };
 
 struct CandidateOptions {
-  double nav_noise_m = 0.05;         // sigma_n
-  double drift_m_per_s = 1.0 / 60;   // rho
+  double nav_noise_m = 0.05;        // sigma_n
+  double drift_m_per_s = 1.0 / 60;  // rho
   double min_gap_s = 10;
   double min_overlap = 0.3;
   int max_cross_per_frame = 4;
@@ -36,6 +36,7 @@ struct CandidatePair {
 // sqrt(2 sigma_n^2 + (rho dt)^2): how far two frames' relative navigation may be off.
 double RelativeSigma(double nav_noise_m, double drift_m_per_s, double dt_s);
 
-std::vector<CandidatePair> FindCandidatePairs(const std::vector<CandidateFrame>& frames, const CandidateOptions& options);
+std::vector<CandidatePair> FindCandidatePairs(const std::vector<CandidateFrame>& frames,
+                                              const CandidateOptions& options);
 
 }  // namespace seamap

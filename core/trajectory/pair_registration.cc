@@ -77,8 +77,8 @@ int BestByRatio(const uint8_t* d, const cv::Mat& descriptors, double ratio, ForE
   return best;
 }
 
-std::vector<int> RansacRigid(const std::vector<cv::Point2d>& p, const std::vector<cv::Point2d>& q,
-                             double threshold_m, int iterations, std::mt19937& rng) {
+std::vector<int> RansacRigid(const std::vector<cv::Point2d>& p, const std::vector<cv::Point2d>& q, double threshold_m,
+                             int iterations, std::mt19937& rng) {
   std::vector<int> best;
   const int n = static_cast<int>(p.size());
   if (n < 2) return best;

@@ -18,8 +18,8 @@
 namespace seamap {
 
 struct RegistrationOptions {
-  double ratio = 0.8;              // Lowe's ratio test
-  double inlier_ground_px = 3;     // RANSAC threshold, in ground pixels
+  double ratio = 0.8;           // Lowe's ratio test
+  double inlier_ground_px = 3;  // RANSAC threshold, in ground pixels
   int min_inliers = 20;
   double min_inlier_share = 0.25;  // of the guided matches
   double min_spread = 0.05;        // inliers' hull over the footprint's area

@@ -22,7 +22,9 @@ namespace {
 constexpr double kDegToRad = M_PI / 180;
 using Clock = std::chrono::steady_clock;
 
-double Since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+double Since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
 
 struct Prepared {
   FrameFeatures features;
@@ -47,8 +49,8 @@ Prepared Prepare(const FrameSpec& f, double time_s, const CameraModel& camera, c
     return p;
   }
   if (std::abs(image.cols * camera.height - image.rows * camera.width) > std::max(image.cols, camera.width)) {
-    p.problem = "image is " + std::to_string(image.cols) + "x" + std::to_string(image.rows) +
-                ", not the camera's shape";
+    p.problem =
+        "image is " + std::to_string(image.cols) + "x" + std::to_string(image.rows) + ", not the camera's shape";
     return p;
   }
   p.features = DetectFeatures(image, camera, options);
@@ -114,8 +116,7 @@ std::vector<RefinedFrame> RefineSurvey(const std::vector<FrameSpec>& frames, con
   {
     std::vector<std::future<Prepared>> jobs;
     for (size_t i = 0; i < frames.size(); ++i)
-      jobs.push_back(pool.Submit(
-          [&, i] { return Prepare(frames[i], times[i], camera, options.features); }));
+      jobs.push_back(pool.Submit([&, i] { return Prepare(frames[i], times[i], camera, options.features); }));
     for (size_t i = 0; i < jobs.size(); ++i) {
       prepared[i] = jobs[i].get();
       prepared[i].registration.features = &prepared[i].features;

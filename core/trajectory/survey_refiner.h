@@ -21,10 +21,10 @@ struct RefineOptions {
   double nav_noise_m = 0.05;
   double nav_drift_m_per_min = 1.0;
   double heading_noise_deg = 1.0;
-  double min_gap_s = 10;         // frames closer in time are along-track neighbours, not cross pairs
-  double min_overlap = 0.3;      // predicted overlap for a cross pair
+  double min_gap_s = 10;     // frames closer in time are along-track neighbours, not cross pairs
+  double min_overlap = 0.3;  // predicted overlap for a cross pair
   int max_cross_per_frame = 4;
-  int threads = 0;               // 0: one per core
+  int threads = 0;  // 0: one per core
   FeatureOptions features;
   RegistrationOptions registration;
   void Check() const;  // InputError naming the option as the command line spells it

@@ -23,14 +23,16 @@ EstimatorMode ParseEstimatorMode(const std::string& text, const std::string& opt
 }
 
 void EstimatorOptions::Check() const {
-  if (!(nav_sigma_m > 0) || !std::isfinite(nav_sigma_m))
-    throw InputError("", 0, "--nav-noise", "expected metres > 0");
+  if (!(nav_sigma_m > 0) || !std::isfinite(nav_sigma_m)) throw InputError("", 0, "--nav-noise", "expected metres > 0");
   vo.Check();
   filter.Check();
 }
 
 TrajectoryEstimator::TrajectoryEstimator(const CameraModel& camera, const EstimatorOptions& options)
-    : camera_(camera), options_(options), vo_(camera, options.vo, options.filter.vo_sigma_mps), filter_(options.filter) {
+    : camera_(camera),
+      options_(options),
+      vo_(camera, options.vo, options.filter.vo_sigma_mps),
+      filter_(options.filter) {
   options_.Check();
 }
 
@@ -55,7 +57,8 @@ VehiclePose TrajectoryEstimator::Add(const FrameFeatures* features, double time_
     if (auto m = vo_.Add(*features, time_s, nav)) filter_.UpdateVelocity(m->body_velocity_mps, m->covariance);
   }
   if (std::isfinite(nav.depth_m)) filter_.UpdateDepth(nav.depth_m);
-  if (options_.mode == EstimatorMode::kEkf && frames_ > 1) filter_.UpdatePosition(nav.north_m, nav.east_m, options_.nav_sigma_m);
+  if (options_.mode == EstimatorMode::kEkf && frames_ > 1)
+    filter_.UpdatePosition(nav.north_m, nav.east_m, options_.nav_sigma_m);
   VehiclePose out = nav;
   out.north_m = filter_.state()(0);
   out.east_m = filter_.state()(1);

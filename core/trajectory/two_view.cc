@@ -4,10 +4,10 @@
 #include <cmath>
 #include <random>
 
-#include <Eigen/Dense>
-#include <Eigen/Geometry>
 #include <ceres/ceres.h>
 #include <ceres/rotation.h>
+#include <Eigen/Dense>
+#include <Eigen/Geometry>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
 #include <opencv2/imgproc.hpp>
@@ -60,7 +60,8 @@ struct SampsonError {
     T et_x2[3];
     ceres::AngleAxisRotatePoint(minus_rotation, tx2, et_x2);
     const T epipolar = T(x2_.x()) * ex1[0] + T(x2_.y()) * ex1[1] + T(x2_.z()) * ex1[2];
-    const T norm = ceres::sqrt(ex1[0] * ex1[0] + ex1[1] * ex1[1] + et_x2[0] * et_x2[0] + et_x2[1] * et_x2[1] + T(1e-18));
+    const T norm =
+        ceres::sqrt(ex1[0] * ex1[0] + ex1[1] * ex1[1] + et_x2[0] * et_x2[0] + et_x2[1] * et_x2[1] + T(1e-18));
     residual[0] = T(f_) * epipolar / norm;
     return true;
   }
@@ -127,8 +128,8 @@ bool Agrees(TwoViewMotion* m, const PairGeometry& g, const TwoViewOptions& o) {
   return true;
 }
 
-TwoViewMotion Homography(const std::vector<cv::Point2d>& p1, const std::vector<cv::Point2d>& p2,
-                         const PairGeometry& g, const TwoViewOptions& o) {
+TwoViewMotion Homography(const std::vector<cv::Point2d>& p1, const std::vector<cv::Point2d>& p2, const PairGeometry& g,
+                         const TwoViewOptions& o) {
   TwoViewMotion m;
   m.model = MotionModel::kHomography;
   cv::Mat mask;

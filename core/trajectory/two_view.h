@@ -26,25 +26,25 @@ enum class MotionModel { kNone, kHomography, kEssential };
 const char* MotionModelName(MotionModel m);
 
 struct TwoViewOptions {
-  double homography_px = 1.5;   // RANSAC thresholds in ideal pixels
+  double homography_px = 1.5;  // RANSAC thresholds in ideal pixels
   double essential_px = 1.0;
   double min_cheirality = 0.8;  // the paper's
   int min_inliers = 30;
   // A model that explains under half of the matches is not this scene's (a
   // homography fitted to one depth of a rough seabed passes the paper's tests).
   double min_inlier_share = 0.5;
-  double min_area = 0.2;        // inliers' hull over the image area
+  double min_area = 0.2;              // inliers' hull over the image area
   double max_rotation_error_deg = 3;  // against the AHRS
   double homography_share = 0.45;     // start with H when n_H / (n_H + n_E) is above this
 };
 
 // What is known of a pair besides its matches.
 struct PairGeometry {
-  cv::Matx33d K;                       // ideal pinhole pixels
+  cv::Matx33d K;  // ideal pinhole pixels
   cv::Size image_size;
   Eigen::Matrix3d cam2_from_cam1_ahrs;  // rotation between the views from the attitude sensor
   Eigen::Vector3d seabed_normal_cam1;   // unit, camera-1 axes, pointing from the camera to the seabed
-  double height_m = 0;                 // camera 1 above the seabed, along the normal
+  double height_m = 0;                  // camera 1 above the seabed, along the normal
 };
 
 struct TwoViewMotion {
@@ -52,9 +52,9 @@ struct TwoViewMotion {
   Eigen::Matrix3d cam2_from_cam1 = Eigen::Matrix3d::Identity();
   Eigen::Vector3d displacement_cam1_m = Eigen::Vector3d::Zero();  // c, metres, camera-1 axes
   int inliers = 0;
-  double cheirality = 0;       // share of inliers in front of both cameras
+  double cheirality = 0;  // share of inliers in front of both cameras
   double rotation_error_deg = 0;
-  std::string failure;         // why the model failed, when it did
+  std::string failure;  // why the model failed, when it did
 };
 
 // One model's motion, or a failure naming why.

@@ -11,7 +11,9 @@
 namespace seamap {
 namespace {
 
-Eigen::Matrix3d NedFromBodyOf(const VehiclePose& p) { return NedFromBody(p); }
+Eigen::Matrix3d NedFromBodyOf(const VehiclePose& p) {
+  return NedFromBody(p);
+}
 
 double Median(std::vector<double> v) {
   if (v.empty()) return 0;
@@ -34,8 +36,7 @@ void VoOptions::Check() const {
   features.Check();
 }
 
-VisualOdometry::VisualOdometry(const CameraModel& camera, const VoOptions& options,
-                               const Eigen::Vector3d& vo_sigma_mps)
+VisualOdometry::VisualOdometry(const CameraModel& camera, const VoOptions& options, const Eigen::Vector3d& vo_sigma_mps)
     : camera_(camera), options_(options), vo_sigma_mps_(vo_sigma_mps), models_(options.two_view) {
   options_.Check();
 }
@@ -54,8 +55,7 @@ bool VisualOdometry::TakeAsReference(const FrameFeatures& features, double time_
   return true;
 }
 
-std::optional<VoMeasurement> VisualOdometry::Add(const FrameFeatures& features, double time_s,
-                                                 const VehiclePose& nav) {
+std::optional<VoMeasurement> VisualOdometry::Add(const FrameFeatures& features, double time_s, const VehiclePose& nav) {
   ++counts_.frames;
   if (!reference_) {
     TakeAsReference(features, time_s, nav);

@@ -26,22 +26,22 @@ struct VoOptions {
     f.max_features = 1500;
     return f;
   }();
-  double ratio = 0.7;               // Lowe's, the paper's
-  double min_parallax = 0.05;       // de-rotated median displacement, share of the image width
-  double max_interval_s = 2.0;      // a reference older than this is measured against anyway
-  double hover_parallax_px = 1.0;   // below this for hover_s: zero velocity
+  double ratio = 0.7;              // Lowe's, the paper's
+  double min_parallax = 0.05;      // de-rotated median displacement, share of the image width
+  double max_interval_s = 2.0;     // a reference older than this is measured against anyway
+  double hover_parallax_px = 1.0;  // below this for hover_s: zero velocity
   double hover_s = 1.0;
-  int min_keypoints = 100;          // a frame with fewer never becomes a reference
+  int min_keypoints = 100;  // a frame with fewer never becomes a reference
   TwoViewOptions two_view;
   void Check() const;
 };
 
 struct VoMeasurement {
-  double time_s = 0;                        // of the frame that closed the interval
-  double interval_s = 0;                    // from the reference frame
-  Eigen::Vector3d body_velocity_mps;        // mean over the interval, body axes (x bow, y starboard, z down)
-  Eigen::Matrix3d covariance;               // of the mean velocity
-  MotionModel model = MotionModel::kNone;   // kNone: the zero-velocity measurement of a hovering vehicle
+  double time_s = 0;                       // of the frame that closed the interval
+  double interval_s = 0;                   // from the reference frame
+  Eigen::Vector3d body_velocity_mps;       // mean over the interval, body axes (x bow, y starboard, z down)
+  Eigen::Matrix3d covariance;              // of the mean velocity
+  MotionModel model = MotionModel::kNone;  // kNone: the zero-velocity measurement of a hovering vehicle
   int inliers = 0;
 };
 

@@ -13,7 +13,9 @@ rusage SelfUsage() {
 
 }  // namespace
 
-int64_t PeakRssBytes() { return static_cast<int64_t>(SelfUsage().ru_maxrss) * 1024; }
+int64_t PeakRssBytes() {
+  return static_cast<int64_t>(SelfUsage().ru_maxrss) * 1024;
+}
 
 double ProcessCpuSeconds() {
   const rusage usage = SelfUsage();

@@ -18,7 +18,9 @@ namespace {
 using testing::Seamap;
 using testing::SharedSurvey;
 
-const testing::SimulatedSurvey& Survey() { return testing::DriftingSurvey(); }
+const testing::SimulatedSurvey& Survey() {
+  return testing::DriftingSurvey();
+}
 
 std::string Truth() {
   return Survey().dir + "/nav_truth.csv";

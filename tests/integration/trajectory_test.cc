@@ -18,7 +18,9 @@ namespace {
 using testing::Seamap;
 using testing::SharedSurvey;
 
-const testing::SimulatedSurvey& Survey() { return testing::DriftingSurvey(); }
+const testing::SimulatedSurvey& Survey() {
+  return testing::DriftingSurvey();
+}
 
 std::string Common(const std::string& nav) {
   const auto& s = Survey();
@@ -30,8 +32,8 @@ nlohmann::json Evaluate(const std::string& estimate) {
   testing::TempDir dir;
   const std::string json = (dir / "eval.json").string();
   std::string log;
-  EXPECT_EQ(Seamap("trajectory-eval " + estimate + " " + Survey().dir + "/nav_truth.csv --origin " +
-                       Survey().origin + " --json " + json,
+  EXPECT_EQ(Seamap("trajectory-eval " + estimate + " " + Survey().dir + "/nav_truth.csv --origin " + Survey().origin +
+                       " --json " + json,
                    &log),
             0)
       << log;
@@ -53,8 +55,8 @@ TEST(Trajectory, RefineRemovesTheSeamsBetweenPasses) {
       << log;
   const auto refined = Evaluate(out), raw = Evaluate(Survey().nav);
   std::printf("refine: cross-pass p90 %.1f mm (navigation %.1f mm), ATE %.4f m (navigation %.4f m)\n",
-              refined["cross_p90_mm"].get<double>(), raw["cross_p90_mm"].get<double>(),
-              refined["ate_m"].get<double>(), raw["ate_m"].get<double>());
+              refined["cross_p90_mm"].get<double>(), raw["cross_p90_mm"].get<double>(), refined["ate_m"].get<double>(),
+              raw["ate_m"].get<double>());
   EXPECT_GT(raw["cross_p90_mm"].get<double>(), 50);
   EXPECT_LT(refined["cross_p90_mm"].get<double>(), 20);
   EXPECT_LE(refined["ate_m"].get<double>(), raw["ate_m"].get<double>());

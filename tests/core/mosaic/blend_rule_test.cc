@@ -37,8 +37,8 @@ TEST(BlendRule, AFrameHandsOverWhatANeighbourSeesMoreCentrally) {
   EXPECT_NEAR(inv_seam, 1 / 0.1f, 1e-4f);
   // Both see the pixel equally centrally: the frame keeps it in full.
   NeighbourView same{120.0f, 49.5f, inv_seam};
-  EXPECT_NEAR(BlendWeight(kShape, linear, 79.0f, 49.5f, &same, 1), BlendWeight(kShape, linear, 79.0f, 49.5f, nullptr, 0),
-              1e-3f);
+  EXPECT_NEAR(BlendWeight(kShape, linear, 79.0f, 49.5f, &same, 1),
+              BlendWeight(kShape, linear, 79.0f, 49.5f, nullptr, 0), 1e-3f);
   // The neighbour sees it at its centre, this frame near its edge: handed over.
   NeighbourView better{99.5f, 49.5f, inv_seam};
   EXPECT_EQ(BlendWeight(kShape, linear, 20.0f, 49.5f, &better, 1), 0.0f);
@@ -50,7 +50,8 @@ TEST(BlendRule, AFrameHandsOverWhatANeighbourSeesMoreCentrally) {
   EXPECT_LT(shared, 0.95f * alone);
   // A neighbour whose image does not hold the pixel takes nothing.
   NeighbourView blind{-4.0f, 49.5f, inv_seam};
-  EXPECT_EQ(BlendWeight(kShape, linear, 20.0f, 49.5f, &blind, 1), BlendWeight(kShape, linear, 20.0f, 49.5f, nullptr, 0));
+  EXPECT_EQ(BlendWeight(kShape, linear, 20.0f, 49.5f, &blind, 1),
+            BlendWeight(kShape, linear, 20.0f, 49.5f, nullptr, 0));
   // The more central of two frames never gives a pixel up: no hole.
   for (float u = 1; u < 199; u += 7) {
     NeighbourView other{199.0f - u, 49.5f, inv_seam};

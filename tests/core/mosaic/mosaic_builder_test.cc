@@ -263,7 +263,8 @@ TEST_F(MosaicBuilderTest, TheMapDoesNotDependOnThreads) {
   auto b = BuildMap(eight, frames, "eight.mbtiles", true).first;
   EXPECT_EQ(a_stats.frames_used, 80);
   ASSERT_EQ(a->TileIds(), b->TileIds());
-  for (const TileId& id : a->TileIds()) EXPECT_EQ(*a->GetTile(id), *b->GetTile(id)) << id.z << "/" << id.x << "/" << id.y;
+  for (const TileId& id : a->TileIds())
+    EXPECT_EQ(*a->GetTile(id), *b->GetTile(id)) << id.z << "/" << id.x << "/" << id.y;
 }
 
 TEST_F(MosaicBuilderTest, TileConsumersGetEveryTileTheStoreGets) {

@@ -4,8 +4,8 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "core/trajectory/ground_offsets.h"
 #include "core/camera/frame_projector.h"
+#include "core/trajectory/ground_offsets.h"
 
 namespace seamap {
 namespace {
@@ -71,7 +71,8 @@ TEST(GroundOffsets, PlaceTheSeabedPointWithThePosesPositionAndHeading) {
   for (size_t k = 0; k < pixels.size(); ++k) {
     const Eigen::Vector3d g = *h * Eigen::Vector3d(pixels[k].x, pixels[k].y, 1);
     const cv::Point2d expected(g.x() / g.z(), g.y() / g.z());
-    const cv::Point2d got = cv::Point2d(pose.east_m, pose.north_m) + RotateClockwise((*offsets)[k], pose.heading_deg * M_PI / 180);
+    const cv::Point2d got =
+        cv::Point2d(pose.east_m, pose.north_m) + RotateClockwise((*offsets)[k], pose.heading_deg * M_PI / 180);
     EXPECT_NEAR(got.x, expected.x, 1e-9);
     EXPECT_NEAR(got.y, expected.y, 1e-9);
   }

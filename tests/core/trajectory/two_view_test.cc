@@ -122,8 +122,9 @@ TEST(TwoView, TheModelInUseStaysWhileItPasses) {
   ModelSwitch models;
   const Eigen::Vector3d c(0.01, 0.1, 0.0);
   const Eigen::Matrix3d r21 = Rotation(1, -1, 2);
-  EXPECT_EQ(models.Next(Pair(10, 2, 0, c, r21, 0.3, 1).p1, Pair(10, 2, 0, c, r21, 0.3, 1).p2,
-                        Pair(10, 2, 0, c, r21, 0.3, 1).geometry)
+  EXPECT_EQ(models
+                .Next(Pair(10, 2, 0, c, r21, 0.3, 1).p1, Pair(10, 2, 0, c, r21, 0.3, 1).p2,
+                      Pair(10, 2, 0, c, r21, 0.3, 1).geometry)
                 .model,
             MotionModel::kHomography);
   const Pair rough(5, 2, 0.5, c, r21, 0.3, 2);

@@ -1,7 +1,8 @@
 // Reads a .pmtiles archive with the reference JavaScript reader (npm
-// `pmtiles`), for the C++ tests: node pmtiles_read.mjs ARCHIVE IDS OUTDIR.
-// IDS holds "z x y" lines; each tile found is written to OUTDIR/z_x_y.bin.
-// Prints the header and metadata as JSON, then "missing z x y" lines.
+// `pmtiles`), for the C++ tests: node pmtiles_read.mjs ARCHIVE IDS OUT.
+// IDS holds "z x y" lines. Prints the header and metadata as JSON, then per
+// id "tile z x y LENGTH" (its bytes appended to the file OUT, in id order)
+// or "missing z x y".
 import fs from 'node:fs/promises';
 import path from 'node:path';
 import {PMTiles} from 'pmtiles';
@@ -11,36 +12,35 @@ import {PMTiles} from 'pmtiles';
 class LocalFile {
   constructor(file) {
     this.file = file;
+    this.handle = fs.open(file, 'r');
   }
   getKey() {
     return this.file;
   }
   async getBytes(offset, length) {
-    const handle = await fs.open(this.file, 'r');
-    try {
-      const buffer = Buffer.alloc(length);
-      const {bytesRead} = await handle.read(buffer, 0, length, offset);
-      const data = buffer.buffer.slice(buffer.byteOffset, buffer.byteOffset + bytesRead);
-      return {data};
-    } finally {
-      await handle.close();
-    }
+    const buffer = Buffer.alloc(length);
+    const {bytesRead} = await (await this.handle).read(buffer, 0, length, offset);
+    return {data: buffer.buffer.slice(buffer.byteOffset, buffer.byteOffset + bytesRead)};
   }
 }
 
-const [archive, idsFile, outDir] = process.argv.slice(2);
+const [archive, idsFile, outFile] = process.argv.slice(2);
 const pm = new PMTiles(new LocalFile(archive));
 const header = await pm.getHeader();
 const metadata = await pm.getMetadata();
 console.log(JSON.stringify({header, metadata}));
-await fs.mkdir(outDir, {recursive: true});
 const lines = (await fs.readFile(idsFile, 'utf8')).split('\n').filter(l => l.trim());
+const report = [];
+const blobs = [];
 for (const line of lines) {
   const [z, x, y] = line.trim().split(/\s+/).map(Number);
   const tile = await pm.getZxy(z, x, y);
   if (!tile) {
-    console.log(`missing ${z} ${x} ${y}`);
+    report.push(`missing ${z} ${x} ${y}`);
     continue;
   }
-  await fs.writeFile(path.join(outDir, `${z}_${x}_${y}.bin`), Buffer.from(tile.data));
+  blobs.push(Buffer.from(tile.data));
+  report.push(`tile ${z} ${x} ${y} ${tile.data.byteLength}`);
 }
+await fs.writeFile(outFile, Buffer.concat(blobs));
+console.log(report.join('\n'));

@@ -135,6 +135,12 @@ void CatalogServer::Routes() {
   s.Get(R"(/api/.*)", [](const httplib::Request& req, httplib::Response& res) {
     SendJson(res, {{"error", "no such API in a catalogue: " + req.path + " (see /api/missions)"}}, 404);
   });
+  // The console's first page in a catalogue is the mission picker.
+  s.set_pre_routing_handler([](const httplib::Request& req, httplib::Response& res) {
+    if (req.path != "/" && req.path != "/index.html") return httplib::Server::HandlerResponse::Unhandled;
+    res.set_redirect("/missions.html");
+    return httplib::Server::HandlerResponse::Handled;
+  });
   if (!options_.web_dir.empty()) {
     s.set_file_extension_and_mimetype_mapping("js", "text/javascript");
     s.set_file_extension_and_mimetype_mapping("json", "application/json");

@@ -15,6 +15,13 @@
 namespace seamap::server {
 namespace {
 
+// httplib listens with a backlog of 5; under load, connections then wait for
+// SYN retries (a second each). Listening again on the bound socket raises it.
+class BacklogServer : public httplib::Server {
+ public:
+  void RaiseBacklog() { ::listen(svr_sock_, SOMAXCONN); }
+};
+
 void SendJson(httplib::Response& res, const nlohmann::json& j, int status = 200) {
   res.status = status;
   res.set_header("Access-Control-Allow-Origin", "*");
@@ -60,8 +67,9 @@ nlohmann::json EntryJson(const CatalogEntry& e) {
 }  // namespace
 
 CatalogServer::CatalogServer(ServerOptions options, std::string folder)
-    : options_(std::move(options)), catalog_(std::move(folder)), http_(std::make_unique<httplib::Server>()) {
+    : options_(std::move(options)), catalog_(std::move(folder)), http_(std::make_unique<BacklogServer>()) {
   http_->new_task_queue = [n = options_.threads] { return new httplib::ThreadPool(static_cast<size_t>(n)); };
+  http_->set_keep_alive_max_count(10000);  // httplib's default (5) reconnects every 5 tiles
   http_->set_keep_alive_timeout(5);
   http_->set_tcp_nodelay(true);
   http_->set_socket_options([](socket_t sock) {  // no SO_REUSEPORT: a port in use must fail Bind()
@@ -75,21 +83,26 @@ CatalogServer::~CatalogServer() {
   Stop();
 }
 
-std::vector<CatalogEntry> CatalogServer::Missions() {
-  std::lock_guard<std::mutex> lock(mutex_);
+void CatalogServer::RefreshLocked() {
   const auto now = std::chrono::steady_clock::now();
-  if (listing_.empty() || now - scanned_ > std::chrono::seconds(1)) {
+  if (scanned_ == std::chrono::steady_clock::time_point{} || now - scanned_ > std::chrono::seconds(1)) {
     listing_ = catalog_.Scan();
     scanned_ = now;
   }
+}
+
+std::vector<CatalogEntry> CatalogServer::Missions() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  RefreshLocked();
   return listing_;
 }
 
 std::pair<CatalogEntry, std::shared_ptr<TileSource>> CatalogServer::Mission(const std::string& id) {
-  for (const CatalogEntry& e : Missions()) {
+  std::lock_guard<std::mutex> lock(mutex_);  // a tile request copies one entry, not the listing
+  RefreshLocked();
+  for (const CatalogEntry& e : listing_) {
     if (e.id != id) continue;
     if (!e.available) throw ApiError(404, "mission '" + id + "' is unavailable: " + e.reason);
-    std::lock_guard<std::mutex> lock(mutex_);
     auto& source = sources_[e.path];
     if (!source) source = std::make_shared<TileSource>(e.path, 4, 16u << 20);
     source->SetExternalWriter(e.state == "building");  // tiles still change: short cache
@@ -157,6 +170,7 @@ void CatalogServer::Bind() {
   if (port_ <= 0)
     throw InputError("", 0, "--port",
                      "cannot listen on " + options_.host + ":" + std::to_string(options_.port) + " (in use?)");
+  static_cast<BacklogServer*>(http_.get())->RaiseBacklog();
 }
 
 void CatalogServer::Start() {

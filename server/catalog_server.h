@@ -39,6 +39,7 @@ class CatalogServer {
 
  private:
   void Routes();
+  void RefreshLocked();  // rescans when the listing is over a second old; mutex_ held
   // The mission's tiles; throws ApiError 404 for an unknown or unavailable id.
   std::pair<CatalogEntry, std::shared_ptr<TileSource>> Mission(const std::string& id);
 

@@ -185,6 +185,39 @@ TEST(ExportArchive, LargeMapsUseLeafDirectoriesAndStoreRepeatsOnce) {
   EXPECT_LT(r.header["numTileContents"].get<int64_t>(), 8000 * 3 / 4);  // repeats stored once
 }
 
+// --layer: the enhanced layer of a two-layer map, alone in the archive and the GeoTIFF.
+TEST(ExportArchive, ALayerIsExportedOnItsOwn) {
+  testing::TempDir dir;
+  const std::string map_path = (dir / "layers.mbtiles").string();
+  {
+    auto store = OpenTileStore(map_path, "png", true);
+    store->SetMetadata("format", "png");
+    store->SetMetadata("seamap_layers", "raw,enhanced");
+    auto raw = OpenExistingMap(SurveyMap(), false);
+    auto enhanced = store->OpenLayer("enhanced");
+    int n = 0;
+    for (const auto& t : raw->TileIds()) {
+      store->PutTile(t, *raw->GetTile(t));
+      if (n++ % 2 == 0) enhanced->PutTile(t, *raw->GetTile(t));  // half the tiles, to tell them apart
+    }
+    enhanced->SetMetadata("name", "enhanced layer");
+    enhanced->Flush();
+    store->Flush();
+  }
+  const std::string archive = (dir / "enhanced.pmtiles").string();
+  std::string out;
+  ASSERT_EQ(Seamap("export " + map_path + " " + archive + " --layer enhanced --quiet", &out), 0) << out;
+  auto store = OpenExistingMap(map_path, true);
+  auto layer = store->OpenLayer("enhanced");
+  ASSERT_LT(layer->TileCount(), store->TileCount());
+  JsRead r;
+  ExpectSameTiles(*layer, archive, {}, dir.path(), &r);
+  EXPECT_EQ(r.metadata["name"], "enhanced layer");
+  ASSERT_EQ(Seamap("export " + map_path + " " + (dir / "enhanced.tif").string() + " --layer enhanced --quiet", &out), 0)
+      << out;
+  EXPECT_NE(out.find("layer enhanced"), std::string::npos) << out;
+}
+
 TEST(ExportArchive, GeotiffOfTheDeepestLevelIsGeoreferencedOnTheTileGrid) {
   testing::TempDir dir;
   const std::string tif = (dir / "survey.tif").string();

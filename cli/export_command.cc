@@ -1,11 +1,15 @@
 // seamap export: copies a map between store kinds (MBTiles <-> folder), with
-// its layers, metadata, frames, track and detections.
+// its layers, metadata, frames, track and detections; or publishes one of its
+// layers as a PMTiles archive or one level as a Cloud-Optimised GeoTIFF.
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <sstream>
 
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "core/export/geotiff_export.h"
+#include "core/export/pmtiles_export.h"
 #include "core/tiles/tile_store.h"
 #include "core/util/error.h"
 #include "core/util/progress.h"
@@ -15,10 +19,45 @@ namespace {
 
 const char* kHelp =
     "usage: seamap export FROM TO [--overwrite] [--quiet]\n"
+    "       seamap export FROM NAME.pmtiles [--layer NAME] [--overwrite] [--quiet]\n"
+    "       seamap export FROM NAME.tif [--zoom Z] [--layer NAME] [--resampling AVERAGE]\n"
+    "                                   [--threads N] [--overwrite] [--quiet]\n"
     "\n"
     "Copies a map: NAME.mbtiles to a {z}/{x}/{y} folder any static web server can\n"
     "serve, or a folder to MBTiles. Layers, metadata, frames, track and detections\n"
-    "come along.\n";
+    "come along.\n"
+    "\n"
+    "TO ending in .pmtiles: a PMTiles v3 archive of the map (or --layer), one file\n"
+    "any static host or object store serves to the console's pmtiles.html.\n"
+    "TO ending in .tif/.tiff: a Cloud-Optimised GeoTIFF (EPSG:3857, overviews) of\n"
+    "zoom --zoom (default: the deepest) for QGIS/GDAL; any zoom, also beyond 22.\n";
+
+bool EndsWith(const std::string& s, const std::string& tail) {
+  return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+}
+
+// FROM (or its --layer) as a .pmtiles archive or a GeoTIFF of one level.
+int ExportArchive(const TileStore& from, const std::string& source, const std::string& to_path, bool geotiff,
+                  const GeotiffOptions& tif, bool quiet) {
+  if (geotiff) {
+    ProgressBar progress("%", 100, !quiet);
+    const GeotiffSummary s =
+        ExportGeotiff(from, source, to_path, tif, [&](double f) { progress.Update(static_cast<long>(f * 100)); });
+    progress.Finish();
+    std::printf("exported zoom %d (%d tiles, %dx%d px, %d bands, EPSG:3857) from %s to %s\n", s.zoom, s.tiles,
+                s.width_px, s.height_px, s.bands, source.c_str(), to_path.c_str());
+    return 0;
+  }
+  ProgressBar progress("tiles", static_cast<long>(from.TileCount()), !quiet);
+  const PmtilesSummary s =
+      ExportPmtiles(from, source, to_path, [&](int64_t done, int64_t) { progress.Update(static_cast<long>(done)); });
+  progress.Finish();
+  std::printf("exported %llu tiles (%llu stored, zoom %d..%d, %zu leaf directories, %llu bytes) from %s to %s\n",
+              static_cast<unsigned long long>(s.addressed_tiles), static_cast<unsigned long long>(s.tile_contents),
+              s.min_zoom, s.max_zoom, s.leaf_directories, static_cast<unsigned long long>(s.archive_bytes),
+              source.c_str(), to_path.c_str());
+  return 0;
+}
 
 int64_t CopyTiles(const TileStore& from, TileStore* to, ProgressBar* progress, int64_t* done) {
   int64_t n = 0;
@@ -41,10 +80,37 @@ int RunExport(int argc, char** argv, int first) {
     return 0;
   }
   const bool overwrite = args.Flag("overwrite"), quiet = args.Flag("quiet");
-  args.RejectUnknown();
   if (args.positionals().size() != 2) throw InputError("", 0, "FROM TO", "expected a source map and a destination");
   const std::string from_path = args.positionals()[0], to_path = args.positionals()[1];
+  const bool pmtiles = EndsWith(to_path, ".pmtiles");
+  const bool geotiff = EndsWith(to_path, ".tif") || EndsWith(to_path, ".tiff");
+  GeotiffOptions tif;
+  std::optional<std::string> layer;
+  if (pmtiles || geotiff) layer = args.Get("layer");
+  if (geotiff) {
+    tif.zoom = args.GetInt("zoom", -1);
+    tif.resampling = args.GetOr("resampling", tif.resampling);
+    tif.threads = args.GetInt("threads", 0);
+    tif.Check();
+  }
+  args.RejectUnknown();
   std::unique_ptr<TileStore> from = OpenExistingMap(from_path, /*writable=*/false);
+  if (pmtiles || geotiff) {
+    std::error_code ec;
+    if (std::filesystem::exists(to_path, ec) && !overwrite)
+      throw InputError(to_path, 0, "TO", "already exists; use --overwrite to replace it");
+    if (!layer) return ExportArchive(*from, from_path, to_path, geotiff, tif, quiet);
+    CheckLayerName(*layer);
+    const auto meta = from->Metadata();
+    const std::string layers = meta.count("seamap_layers") ? meta.at("seamap_layers") : "";
+    const size_t first_end = layers.find(',');  // the first is the map itself
+    const std::string extra = first_end == std::string::npos ? "" : layers.substr(first_end + 1);
+    if (("," + extra + ",").find("," + *layer + ",") == std::string::npos)
+      throw InputError("--layer", 0, "",
+                       "'" + *layer + "' is not an extra layer of " + from_path +
+                           " (it has: " + (extra.empty() ? "none" : extra) + ")");
+    return ExportArchive(*from->OpenLayer(*layer), from_path + " layer " + *layer, to_path, geotiff, tif, quiet);
+  }
   const auto metadata = from->Metadata();
   const std::string ext = metadata.count("format") ? metadata.at("format") : "png";
   std::error_code ec;

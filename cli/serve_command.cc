@@ -12,6 +12,7 @@
 #include "core/mosaic/build_config.h"
 #include "core/tiles/tile_store.h"
 #include "core/util/error.h"
+#include "server/catalog_server.h"
 #include "server/http_server.h"
 
 namespace seamap::cli {
@@ -20,9 +21,12 @@ namespace {
 
 const char* kHelp =
     "usage: seamap serve MAP [options]\n"
+    "       seamap serve FOLDER [options]\n"
     "\n"
     "Serves a map built by `seamap build` (NAME.mbtiles or a tile folder): tiles,\n"
     "TileJSON, the REST API, live events and the operator console.\n"
+    "A FOLDER of maps (every .mbtiles and tile folder in it) is served read-only\n"
+    "as a catalogue: GET /api/missions, each under /missions/{id}/tiles.json.\n"
     "\n"
     "  --config FILE       settings; its \"server\" object gives host, port, token, threads\n"
     "  --images DIR        where the original photos are when their recorded paths are gone\n"
@@ -37,6 +41,38 @@ std::unique_ptr<TileStore> OpenForMarks(const std::string& path) {
                  e.what());
     return nullptr;
   }
+}
+
+// `seamap serve FOLDER`: the catalogue until Ctrl-C.
+int ServeCatalogue(const std::string& folder, const server::ServerOptions& options, ShutdownSignal& shutdown) {
+  server::CatalogServer http(options, folder);
+  http.Bind();
+  std::mutex mutex;
+  std::condition_variable stopped;
+  bool stop = false;
+  StopSignalsOnExit stop_signals{shutdown};
+  shutdown.OnSignal([&] {
+    std::lock_guard<std::mutex> lock(mutex);
+    stop = true;
+    stopped.notify_all();
+  });
+  http.Start();
+  const auto missions = http.Missions();
+  size_t available = 0;
+  for (const auto& m : missions) {
+    available += m.available;
+    if (!m.available) std::fprintf(stderr, "warning: %s is unavailable: %s\n", m.path.c_str(), m.reason.c_str());
+  }
+  std::printf("serving %s (catalogue of %s: %zu missions, %zu available)\n", ServerUrl(options, http.port()).c_str(),
+              folder.c_str(), missions.size(), available);
+  std::fflush(stdout);
+  {
+    std::unique_lock<std::mutex> lock(mutex);
+    stopped.wait(lock, [&] { return stop; });
+  }
+  std::fprintf(stderr, "seamap serve: stopping\n");
+  http.Stop();
+  return 0;
 }
 
 }  // namespace
@@ -61,6 +97,8 @@ int RunServe(int argc, char** argv, int first) {
   ShutdownSignal shutdown;  // before any thread starts
   const bool mbtiles = IsMBTilesPath(path);
   std::error_code ec;
+  if (!mbtiles && fs::is_directory(path, ec) && !fs::exists(fs::path(path) / "metadata.json", ec))
+    return ServeCatalogue(path, options, shutdown);
   if (mbtiles ? !fs::is_regular_file(path, ec) : !fs::is_regular_file(fs::path(path) / "metadata.json", ec))
     throw InputError(
         path, 0, "MAP",

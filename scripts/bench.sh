@@ -6,6 +6,7 @@
 #   SEAMAP_BENCH_SERVE=0 ...    builds only
 #   SEAMAP_BENCH_RUNS=5 ...     runs per build line (default 3; the median is shown)
 #   SEAMAP_BENCH_TRAJECTORY=0   skip the trajectory figures (refine, vo, ekf on the drifting survey)
+#   SEAMAP_BENCH_EXPORT=0       skip the export figures (PMTiles, GeoTIFF beside gdal_translate)
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${SEAMAP_BUILD_DIR:-$root/build}"
@@ -116,6 +117,39 @@ PY
   t1=$(date +%s.%N)
   eval_line "usbl x$frames: ekf" "$out/usbl_ekf.csv" "$usbl/nav_truth.csv" "$(since "$t0" "$t1")" "(VO + fixes)"
 }
+# Exports (docs/EXPORT.md): the gray map as PMTiles and as a GeoTIFF of its
+# deepest level; then that level beside gdal_translate, same COG options, on
+# a copy whose deepest tiles are relabelled zoom 22 (GDAL's MBTiles driver
+# refuses deeper maps): the same tiles and pixels, placed near 0,0.
+export_figures() {
+  local m="$out/gray.mbtiles" m22="$out/gray_as_z22.mbtiles"
+  local cog="-co COMPRESS=DEFLATE -co BLOCKSIZE=256 -co RESAMPLING=AVERAGE -co NUM_THREADS=ALL_CPUS"
+  timed() {  # label, output, command...: wall and CPU time, peak RSS, output size
+    local label="$1" file="$2" s user sys kb
+    shift 2
+    rm -f "$file"
+    /usr/bin/time -f "%e %U %S %M" -o "$out/export.time" "$@" >/dev/null 2>&1
+    read -r s user sys kb <"$out/export.time"
+    printf "%-40s %6.2f s (cpu %5.2f s)  peak RSS %6.1f MiB  %s %d bytes\n" "$label" "$s" \
+      "$(awk -v u="$user" -v s="$sys" 'BEGIN { print u + s }')" "$(awk -v kb="$kb" 'BEGIN { print kb / 1024 }')" \
+      "$(basename "$file")" "$(stat -c %s "$file")"
+  }
+  printf "%-40s %d tiles, %d bytes; deepest level %s\n" "export: gray map (MBTiles)" \
+    "$(sqlite3 "$m" 'select count(*) from tiles')" "$(stat -c %s "$m")" \
+    "$(sqlite3 "$m" 'select zoom_level || ": " || count(*) || " tiles" from tiles group by zoom_level order by zoom_level desc limit 1')"
+  timed "export: gray -> PMTiles" "$out/gray.pmtiles" "$seamap" export "$m" "$out/gray.pmtiles" --quiet --overwrite
+  timed "export: gray -> COG, deepest zoom" "$out/gray.tif" "$seamap" export "$m" "$out/gray.tif" --quiet --overwrite
+  cp "$m" "$m22"
+  sqlite3 "$m22" "delete from tiles where zoom_level < (select max(zoom_level) from tiles);
+    update tiles set zoom_level = 22, tile_column = tile_column - (select min(tile_column) from tiles),
+      tile_row = tile_row - (select min(tile_row) from tiles);
+    update metadata set value = '22' where name in ('minzoom', 'maxzoom');
+    delete from metadata where name in ('bounds', 'center'); vacuum;"
+  timed "export: deepest as z22 -> COG, seamap" "$out/gray_as_z22.tif" "$seamap" export "$m22" "$out/gray_as_z22.tif" --quiet --overwrite
+  # shellcheck disable=SC2086
+  timed "export: deepest as z22 -> COG, gdal_translate" "$out/gray_as_z22_gdal.tif" gdal_translate -q -of COG $cog "$m22" "$out/gray_as_z22_gdal.tif"
+}
+[[ "${SEAMAP_BENCH_EXPORT:-1}" == 1 ]] && export_figures
 [[ "${SEAMAP_BENCH_TRAJECTORY:-1}" == 1 ]] && trajectory_figures
 if [[ "${SEAMAP_BENCH_SERVE:-1}" == 1 ]]; then
   "$root/scripts/bench_serve.sh" "$seamap" "$out/gray.mbtiles" "$out/gray" "$out/serve"

@@ -2,7 +2,8 @@
 # Serving benchmark (called by bench.sh): the same tiles from nginx (a folder
 # export) and from `seamap serve` (the MBTiles), loaded with wrk, 64
 # connections asking for random existing tiles; then the same load on a
-# mission a replay is writing. Prints requests/s, p50, p99, errors, ratio.
+# mission a replay is writing; and one of 20 missions of a catalogue
+# (`seamap serve FOLDER`). Prints requests/s, p50, p99, errors, ratio.
 #   bench_serve.sh SEAMAP_BIN MISSION.mbtiles SURVEY_DIR OUT_DIR
 set -euo pipefail
 seamap="$1" mission="$2" survey="$3"
@@ -94,3 +95,12 @@ wait_port 18183
 live_result=$(load live 18183 "/tiles")
 report "seamap replay (writing meanwhile)" "$live_result"
 wait "$replay_pid" || { echo "replay failed: $(tail -3 "$out/replay.log")" >&2; exit 1; }
+
+# A catalogue of 20 copies of the mission (`seamap serve FOLDER`): the load on one of them.
+catalogue="$out/catalogue"
+rm -rf "$catalogue" && mkdir -p "$catalogue"
+for i in $(seq -w 1 20); do cp "$mission" "$catalogue/dive$i.mbtiles"; done
+"$seamap" serve "$catalogue" --host 127.0.0.1 --port 18184 >"$out/catalogue.log" 2>&1 &
+pids+=($!)
+wait_port 18184
+report "seamap serve FOLDER (20 missions)" "$(load catalogue 18184 /missions/dive07/tiles)"

@@ -9,6 +9,7 @@ packages=(
   libpng-dev libdeflate-dev libjpeg62-turbo-dev libsqlite3-dev sqlite3 libproj-dev proj-data libgtest-dev
   libceres-dev   # pose graphs (core/trajectory)
   gdal-bin   # tests open our MBTiles with gdalinfo
+  libgdal-dev   # Cloud-Optimised GeoTIFF export (core/export)
 )
 command -v npm >/dev/null 2>&1 || packages+=(nodejs npm)  # the console's Leaflet and the browser test
 if [[ "${SEAMAP_BENCH:-0}" == 1 ]]; then

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Sets up the operator console and its browser test, and only what is missing:
-# npm packages (leaflet, playwright-core), Debian's chromium, and Leaflet copied
-# into web/vendor/ so the console works offline. Quick when all is present.
+# npm packages (leaflet, pmtiles, playwright-core), Debian's chromium, and Leaflet
+# and pmtiles copied into web/vendor/ so the console works offline. Quick when all is present.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -12,7 +12,7 @@ fi
 
 # npm packages: install when node_modules is missing or older than the lock.
 stamp=node_modules/.package-lock.json
-if [[ ! -d node_modules/leaflet || ! -d node_modules/playwright-core || ! -f $stamp || package-lock.json -nt $stamp ]]; then
+if [[ ! -d node_modules/leaflet || ! -d node_modules/pmtiles || ! -d node_modules/playwright-core || ! -f $stamp || package-lock.json -nt $stamp ]]; then
   echo "setup_web: npm ci"
   npm ci --no-audit --no-fund --loglevel=error
 fi
@@ -34,5 +34,10 @@ if [[ ! -f $dst/leaflet.js || $src/leaflet.js -nt $dst/leaflet.js || ! -d $dst/i
   cp "$src/leaflet.js" "$src/leaflet.css" "$dst/"
   rm -rf "$dst/images"
   cp -r "$src/images" "$dst/images"
+fi
+# The PMTiles reader for web/pmtiles.html (a mission on a static host).
+if [[ ! -f web/vendor/pmtiles/pmtiles.js || node_modules/pmtiles/dist/pmtiles.js -nt web/vendor/pmtiles/pmtiles.js ]]; then
+  mkdir -p web/vendor/pmtiles
+  cp node_modules/pmtiles/dist/pmtiles.js web/vendor/pmtiles/
 fi
 echo "setup_web: console packages present"

@@ -1,0 +1,186 @@
+#include "server/catalog_server.h"
+
+#include <httplib.h>
+#include <sys/socket.h>
+
+#include <filesystem>
+
+#include <nlohmann/json.hpp>
+
+#include "core/tiles/folder_store.h"
+#include "core/util/error.h"
+#include "server/api_error.h"
+#include "server/tile_answer.h"
+
+namespace seamap::server {
+namespace {
+
+// httplib listens with a backlog of 5; under load, connections then wait for
+// SYN retries (a second each). Listening again on the bound socket raises it.
+class BacklogServer : public httplib::Server {
+ public:
+  void RaiseBacklog() { ::listen(svr_sock_, SOMAXCONN); }
+};
+
+void SendJson(httplib::Response& res, const nlohmann::json& j, int status = 200) {
+  res.status = status;
+  res.set_header("Access-Control-Allow-Origin", "*");
+  res.set_content(j.dump(), "application/json");
+}
+
+template <typename F>
+httplib::Server::Handler Guard(F f) {
+  return [f](const httplib::Request& req, httplib::Response& res) {
+    try {
+      f(req, res);
+    } catch (const ApiError& e) {
+      SendJson(res, {{"error", e.what()}}, e.status());
+    } catch (const std::exception& e) {
+      SendJson(res, {{"error", e.what()}}, 500);
+    }
+  };
+}
+
+nlohmann::json EntryJson(const CatalogEntry& e) {
+  nlohmann::json j = {{"id", e.id},
+                      {"name", e.name},
+                      {"state", e.available ? e.state : "unavailable"},
+                      {"available", e.available},
+                      {"file", std::filesystem::path(e.path).filename().string()},
+                      {"modified_unix_s", e.modified_unix_s}};
+  if (!e.available) {
+    j["reason"] = e.reason;
+    return j;
+  }
+  j["bounds"] = e.bounds ? nlohmann::json{e.bounds->west, e.bounds->south, e.bounds->east, e.bounds->north}
+                         : nlohmann::json(nullptr);
+  j["minzoom"] = e.min_zoom;
+  j["maxzoom"] = e.max_zoom;
+  j["frames"] = e.frames;
+  j["time_s"] = {{"first", e.first_time_s ? nlohmann::json(*e.first_time_s) : nlohmann::json(nullptr)},
+                 {"last", e.last_time_s ? nlohmann::json(*e.last_time_s) : nlohmann::json(nullptr)}};
+  j["layers"] = e.layers;
+  j["tilejson"] = "/missions/" + e.id + "/tiles.json";
+  return j;
+}
+
+}  // namespace
+
+CatalogServer::CatalogServer(ServerOptions options, std::string folder)
+    : options_(std::move(options)), catalog_(std::move(folder)), http_(std::make_unique<BacklogServer>()) {
+  http_->new_task_queue = [n = options_.threads] { return new httplib::ThreadPool(static_cast<size_t>(n)); };
+  http_->set_keep_alive_max_count(10000);  // httplib's default (5) reconnects every 5 tiles
+  http_->set_keep_alive_timeout(5);
+  http_->set_tcp_nodelay(true);
+  http_->set_socket_options([](socket_t sock) {  // no SO_REUSEPORT: a port in use must fail Bind()
+    int yes = 1;
+    ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+  });
+  Routes();
+}
+
+CatalogServer::~CatalogServer() {
+  Stop();
+}
+
+void CatalogServer::RefreshLocked() {
+  const auto now = std::chrono::steady_clock::now();
+  if (scanned_ == std::chrono::steady_clock::time_point{} || now - scanned_ > std::chrono::seconds(1)) {
+    listing_ = catalog_.Scan();
+    scanned_ = now;
+  }
+}
+
+std::vector<CatalogEntry> CatalogServer::Missions() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  RefreshLocked();
+  return listing_;
+}
+
+std::pair<CatalogEntry, std::shared_ptr<TileSource>> CatalogServer::Mission(const std::string& id) {
+  std::lock_guard<std::mutex> lock(mutex_);  // a tile request copies one entry, not the listing
+  RefreshLocked();
+  for (const CatalogEntry& e : listing_) {
+    if (e.id != id) continue;
+    if (!e.available) throw ApiError(404, "mission '" + id + "' is unavailable: " + e.reason);
+    auto& source = sources_[e.path];
+    if (!source) source = std::make_shared<TileSource>(e.path, 4, 16u << 20);
+    source->SetExternalWriter(e.state == "building");  // tiles still change: short cache
+    return {e, source};
+  }
+  throw ApiError(404, "no mission '" + id + "' in " + catalog_.folder());
+}
+
+void CatalogServer::Routes() {
+  httplib::Server& s = *http_;
+  s.Get("/api/missions", Guard([this](const httplib::Request&, httplib::Response& res) {
+          nlohmann::json list = nlohmann::json::array();
+          for (const auto& e : Missions()) list.push_back(EntryJson(e));
+          res.set_header("Cache-Control", "no-cache");
+          SendJson(res, list);
+        }));
+  s.Get(R"(/missions/([a-z0-9_-]+)/tiles(/[a-z0-9_]{1,32})?\.json)",
+        Guard([this](const httplib::Request& req, httplib::Response& res) {
+          auto [entry, tiles] = Mission(req.matches[1]);
+          const std::string layer = req.matches[2].length() > 0 ? std::string(req.matches[2]).substr(1) : "";
+          if (!layer.empty() && !tiles->IsLayer(layer)) throw ApiError(404, "no layer '" + layer + "'");
+          std::map<std::string, std::string> metadata = tiles->Metadata(layer);
+          for (auto it = metadata.begin(); it != metadata.end();)
+            it = it->first.rfind("layer.", 0) == 0 ? metadata.erase(it) : std::next(it);
+          nlohmann::json j = MetadataToTileJson(metadata, tiles->Format());
+          const std::string host = req.has_header("Host") ? req.get_header_value("Host") : "127.0.0.1";
+          j["tiles"] = {"http://" + host + "/missions/" + entry.id + "/tiles/" + (layer.empty() ? "" : layer + "/") +
+                        "{z}/{x}/{y}." + tiles->Format()};
+          if (!j.contains("name")) j["name"] = entry.name;
+          j["seamap_layers"] = tiles->Layers();
+          res.set_header("Cache-Control", "no-cache");
+          SendJson(res, j);
+        }));
+  s.Get(R"(/missions/([a-z0-9_-]+)/tiles/(.+))", Guard([this](const httplib::Request& req, httplib::Response& res) {
+          auto [entry, tiles] = Mission(req.matches[1]);
+          std::optional<std::string> if_none_match;
+          if (req.has_header("If-None-Match")) if_none_match = req.get_header_value("If-None-Match");
+          TileAnswer a = AnswerTile(*tiles, entry.state == "building", std::string(req.matches[2]), if_none_match);
+          res.status = a.status;
+          for (const auto& [name, value] : a.headers) res.set_header(name, value);
+          if (a.body) res.set_content(a.body->data(), a.body->size(), a.content_type.c_str());
+        }));
+  s.Get(R"(/api/.*)", [](const httplib::Request& req, httplib::Response& res) {
+    SendJson(res, {{"error", "no such API in a catalogue: " + req.path + " (see /api/missions)"}}, 404);
+  });
+  // The console's first page in a catalogue is the mission picker.
+  s.set_pre_routing_handler([](const httplib::Request& req, httplib::Response& res) {
+    if (req.path != "/" && req.path != "/index.html") return httplib::Server::HandlerResponse::Unhandled;
+    res.set_redirect("/missions.html");
+    return httplib::Server::HandlerResponse::Handled;
+  });
+  if (!options_.web_dir.empty()) {
+    s.set_file_extension_and_mimetype_mapping("js", "text/javascript");
+    s.set_file_extension_and_mimetype_mapping("json", "application/json");
+    if (!s.set_mount_point("/", options_.web_dir))
+      throw InputError(options_.web_dir, 0, "--web", "is not a folder with the console's files");
+  }
+}
+
+void CatalogServer::Bind() {
+  options_.Check();
+  port_ = options_.port == 0                                  ? http_->bind_to_any_port(options_.host)
+          : http_->bind_to_port(options_.host, options_.port) ? options_.port
+                                                              : -1;
+  if (port_ <= 0)
+    throw InputError("", 0, "--port",
+                     "cannot listen on " + options_.host + ":" + std::to_string(options_.port) + " (in use?)");
+  static_cast<BacklogServer*>(http_.get())->RaiseBacklog();
+}
+
+void CatalogServer::Start() {
+  thread_ = std::thread([this] { http_->listen_after_bind(); });
+  for (int i = 0; i < 2500 && !http_->is_running(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+}
+
+void CatalogServer::Stop() {
+  if (http_) http_->stop();
+  if (thread_.joinable()) thread_.join();
+}
+
+}  // namespace seamap::server

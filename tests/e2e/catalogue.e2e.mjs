@@ -1,0 +1,101 @@
+// `seamap serve FOLDER` in headless Chromium: the mission picker lists every
+// map of the folder (a broken one with its reason), shows the chosen
+// mission's tiles from its own prefix, and picks up a dive copied in later.
+import fs from 'node:fs';
+import os from 'node:os';
+import path from 'node:path';
+import {fileURLToPath} from 'node:url';
+import {Checks, killAll, run, startProcess, stopProcess, waitFor, waitForOutput} from './harness.mjs';
+
+const here = path.dirname(fileURLToPath(import.meta.url));
+const sourceDir = path.resolve(process.env.SEAMAP_SOURCE_DIR || path.join(here, '..', '..'));
+const seamap = process.env.SEAMAP_BIN || path.join(sourceDir, 'build', 'seamap');
+const artifacts = path.resolve(process.env.SEAMAP_ARTIFACTS || fs.mkdtempSync(path.join(os.tmpdir(), 'seamap-e2e-artifacts-')));
+const checks = new Checks();
+const watchdog = setTimeout(() => {
+  console.log('not ok - test finished within 120 s');
+  killAll();
+  process.exit(1);
+}, 120000);
+
+let browser = null;
+let server = null;
+const work = fs.mkdtempSync(path.join(os.tmpdir(), 'seamap-catalogue-e2e-'));
+try {
+  const survey = path.join(work, 'survey');
+  const map = path.join(work, 'map.mbtiles');
+  const folder = path.join(work, 'missions');
+  await run(seamap, ['simulate', '--out', survey, '--frames', '12', '--line-length', '2', '--seed', '3', '--quiet']);
+  await run(seamap, ['build', '--images', path.join(survey, 'photo'), '--nav', path.join(survey, 'nav.csv'),
+    '--camera', path.join(survey, 'camera.json'), '--origin', '43.1,131.9', '--quiet', '--out', map]);
+  fs.mkdirSync(folder);
+  fs.copyFileSync(map, path.join(folder, 'dive_a.mbtiles'));
+  fs.copyFileSync(map, path.join(folder, 'dive_b.mbtiles'));
+  fs.writeFileSync(path.join(folder, 'broken.mbtiles'), 'half-copied');
+  server = startProcess(seamap, ['serve', folder, '--host', '127.0.0.1', '--port', '0',
+    '--web', path.join(sourceDir, 'web')]);
+  await waitForOutput(server, /serving http:\/\/127\.0\.0\.1:\d+\//, 20000);
+  const base = /serving (http:\/\/127\.0\.0\.1:\d+\/)/.exec(server.output)[1];
+  checks.ok('catalogue server is listening', base);
+
+  const {chromium} = await import('playwright-core');
+  browser = await chromium.launch({
+    executablePath: process.env.SEAMAP_CHROMIUM || '/usr/bin/chromium',
+    args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-background-networking'],
+  });
+  const page = await browser.newPage({viewport: {width: 1100, height: 700}});
+  page.setDefaultTimeout(15000);
+  const errors = [];
+  page.on('pageerror', e => errors.push(e.message));
+  const tileRequests = [];
+  page.on('request', r => { if (/\/missions\/[^/]+\/tiles\/\d+/.test(r.url())) tileRequests.push(r.url()); });
+
+  await checks.run('the picker lists every mission, the broken one with its reason', async () => {
+    await page.goto(base);
+    await page.waitForSelector('body[data-ready="true"]');
+    const items = await page.$$eval('#missions li', lis => lis.map(li => ({id: li.dataset.id,
+      available: li.dataset.available, text: li.textContent})));
+    if (items.length !== 3) throw new Error(JSON.stringify(items));
+    const broken = items.find(i => i.id === 'broken');
+    if (!broken || broken.available !== 'false' || !/not a database|cannot open/.test(broken.text)) {
+      throw new Error(JSON.stringify(broken));
+    }
+    return items.map(i => i.id).join(', ');
+  });
+
+  await checks.run('picking a mission shows its tiles from its own prefix', async () => {
+    await page.click('#missions li[data-id="dive_b"]');
+    await page.waitForSelector('body[data-mission="dive_b"]');
+    await page.waitForFunction(() => document.querySelectorAll('img.leaflet-tile-loaded').length > 0);
+    await waitFor('tiles of dive_b', () => tileRequests.some(u => u.includes('/missions/dive_b/tiles/')));
+    const wrong = tileRequests.filter(u => !u.includes('/missions/dive_b/'));
+    if (wrong.length) throw new Error(`tiles of another mission: ${wrong[0]}`);
+    const loaded = await page.$$eval('img.leaflet-tile-loaded', imgs => imgs.filter(i => i.naturalWidth === 256).length);
+    if (!loaded) throw new Error('no tile drawn');
+    if (!page.url().endsWith('#dive_b')) throw new Error(page.url());
+    await page.screenshot({path: path.join(artifacts, 'catalogue-picker.png')});
+    return `${loaded} tiles drawn`;
+  });
+
+  await checks.run('a dive copied into the folder appears in the picker', async () => {
+    fs.copyFileSync(map, path.join(folder, 'dive c.mbtiles'));
+    await page.waitForSelector('#missions li[data-id="dive-c"]', {timeout: 10000});
+    return 'dive-c';
+  });
+
+  await checks.run('no script errors on the page', async () => {
+    if (errors.length) throw new Error(errors.join(' | '));
+    return '';
+  });
+} catch (error) {
+  checks.fail('catalogue end-to-end run', error);
+  if (server) console.log(`# server output:\n${server.output.slice(-2000).replace(/^/gm, '# ')}`);
+} finally {
+  if (browser) await browser.close().catch(() => {});
+  if (server) await stopProcess(server);
+  killAll();
+  fs.rmSync(work, {recursive: true, force: true});
+  clearTimeout(watchdog);
+}
+checks.summary();
+process.exit(checks.failed ? 1 : 0);

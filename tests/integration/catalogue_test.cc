@@ -1,0 +1,113 @@
+// `seamap serve FOLDER` on a real loopback port: the mission index, each
+// mission's TileJSON and tiles under its own prefix, 20 missions at once,
+// broken files listed with the reason, maps added while serving.
+#include <gtest/gtest.h>
+#include <httplib.h>
+
+#include <filesystem>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "core/tiles/tile_store.h"
+#include "tests/integration/survey_fixture.h"
+#include "tests/testing/child_process.h"
+
+namespace seamap {
+namespace {
+
+using testing::ChildProcess;
+using testing::Seamap;
+namespace fs = std::filesystem;
+
+const std::string& CatalogueMap() {
+  static const std::string path = [] {
+    const auto& survey = testing::SharedSurvey("catalogue", "--frames 12 --line-length 2 --seed 3");
+    const std::string p = survey.dir + "/map.mbtiles";
+    std::string out;
+    EXPECT_EQ(Seamap(survey.BuildArgs() + " --out " + p, &out), 0) << out;
+    return p;
+  }();
+  return path;
+}
+
+nlohmann::json GetJson(httplib::Client& c, const std::string& path, int want_status = 200) {
+  auto res = c.Get(path);
+  EXPECT_TRUE(res) << path;
+  if (!res) return nullptr;
+  EXPECT_EQ(res->status, want_status) << path << ": " << res->body;
+  return nlohmann::json::parse(res->body, nullptr, false);
+}
+
+// The tile URL of the TileJSON, for one tile, as a path on the server.
+std::string TilePath(const nlohmann::json& tilejson, const TileId& t) {
+  std::string url = tilejson["tiles"][0].get<std::string>();
+  url = url.substr(url.find('/', std::string("http://").size()));  // drop scheme and host
+  for (auto [key, value] : {std::pair<std::string, int>{"{z}", t.z}, {"{x}", t.x}, {"{y}", t.y}})
+    url.replace(url.find(key), key.size(), std::to_string(value));
+  return url;
+}
+
+TEST(Catalogue, ServesTwentyMissionsEachUnderItsOwnPrefix) {
+  testing::TempDir dir;
+  const fs::path folder = dir / "missions";
+  fs::create_directories(folder);
+  for (int i = 1; i <= 20; ++i) fs::copy_file(CatalogueMap(), folder / ("dive" + std::to_string(i) + ".mbtiles"));
+  testing::WriteFile(folder / "broken.mbtiles", "half a file");
+  auto store = OpenExistingMap(CatalogueMap(), false);
+  const auto ids = store->TileIds();
+  ASSERT_FALSE(ids.empty());
+
+  ChildProcess serve({testing::SeamapBinary(), "serve", folder.string(), "--host", "127.0.0.1", "--port", "0"},
+                     (dir / "serve.err").string());
+  auto line = serve.WaitForLine("serving", std::chrono::seconds(20));
+  ASSERT_TRUE(line);
+  EXPECT_NE(line->find("21 missions, 20 available"), std::string::npos) << *line;
+  httplib::Client api("127.0.0.1", testing::PortFromServingLine(*line));
+
+  const auto missions = GetJson(api, "/api/missions");
+  ASSERT_TRUE(missions.is_array());
+  ASSERT_EQ(missions.size(), 21u);
+  int served = 0;
+  for (const auto& m : missions) {
+    if (m["id"] == "broken") {
+      EXPECT_EQ(m["state"], "unavailable");
+      EXPECT_NE(m["reason"].get<std::string>().find("broken.mbtiles"), std::string::npos) << m.dump();
+      const auto error = GetJson(api, "/missions/broken/tiles.json", 404);
+      EXPECT_NE(error["error"].get<std::string>().find("unavailable"), std::string::npos);
+      continue;
+    }
+    EXPECT_EQ(m["state"], "complete");
+    EXPECT_EQ(m["frames"], 12);
+    EXPECT_EQ(m["bounds"].size(), 4u);
+    EXPECT_EQ(m["layers"][0], "raw");
+    const auto tilejson = GetJson(api, m["tilejson"].get<std::string>());
+    ASSERT_TRUE(tilejson.is_object());
+    // Each mission's tiles are its own: every tile of a few, one of each of the others.
+    const size_t n = served < 2 ? ids.size() : 1;
+    for (size_t i = 0; i < n; ++i) {
+      const TileId t = ids[(i + served) % ids.size()];
+      auto res = api.Get(TilePath(tilejson, t));
+      ASSERT_TRUE(res);
+      ASSERT_EQ(res->status, 200) << TilePath(tilejson, t);
+      const auto bytes = store->GetTile(t);
+      EXPECT_EQ(res->body, std::string(bytes->begin(), bytes->end()));
+    }
+    ++served;
+  }
+  EXPECT_EQ(served, 20);
+  const auto none = GetJson(api, "/missions/nope/tiles/1/0/0.png", 404);
+  EXPECT_NE(none["error"].get<std::string>().find("no mission 'nope'"), std::string::npos) << none.dump();
+  EXPECT_EQ(GetJson(api, "/missions/dive1/tiles/1/0/0.png", 204).is_discarded(), true);  // no tile there
+
+  // A dive copied in while serving appears (the listing is at most a second old).
+  fs::copy_file(CatalogueMap(), folder / "new dive.mbtiles");
+  std::this_thread::sleep_for(std::chrono::milliseconds(1200));
+  bool found = false;
+  for (const auto& m : GetJson(api, "/api/missions"))
+    if (m["id"] == "new-dive") found = GetJson(api, m["tilejson"].get<std::string>()).is_object();
+  EXPECT_TRUE(found);
+}
+
+}  // namespace
+}  // namespace seamap

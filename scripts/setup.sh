@@ -8,6 +8,7 @@ packages=(
   libopencv-dev libeigen3-dev libcpp-httplib-dev libevent-dev nlohmann-json3-dev
   libpng-dev libdeflate-dev libjpeg62-turbo-dev libsqlite3-dev sqlite3 libproj-dev proj-data libgtest-dev
   libceres-dev   # pose graphs (core/trajectory)
+  zlib1g-dev     # gzip of the live event stream (server/gzip_stream)
   gdal-bin   # tests open our MBTiles with gdalinfo
   libgdal-dev   # Cloud-Optimised GeoTIFF export (core/export)
 )

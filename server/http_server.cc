@@ -15,6 +15,8 @@
 #include "core/tiles/folder_store.h"
 #include "core/util/error.h"
 #include "server/api_error.h"
+#include "server/event_filter.h"
+#include "server/gzip_stream.h"
 #include "server/photo_preview.h"
 #include "server/tile_answer.h"
 #include "server/track_feature.h"
@@ -104,6 +106,33 @@ bool Authorized(const httplib::Request& req, const std::string& token) {
   return diff == 0;
 }
 
+// How one event stream is cut to the client's needs (see server/README.md).
+struct StreamSettings {
+  EventFilter filter;
+  std::chrono::milliseconds batch{0};  // gather events this long into one write
+  bool coalesce = false;               // drop superseded tile/pose/progress events of a batch
+  std::chrono::milliseconds heartbeat = kKeepAliveComment;
+  bool ping = false;  // an event the browser sees, not a comment
+};
+
+StreamSettings ParseStreamSettings(const httplib::Request& req) {
+  StreamSettings s;
+  s.filter = EventFilter::Parse(Param(req, "types"), Param(req, "layers"), Param(req, "zoom"), Param(req, "bbox"));
+  if (auto v = Param(req, "batch_ms")) {
+    const int64_t ms = ParseId(*v, "parameter 'batch_ms'");
+    if (ms > 10000) throw ApiError(400, "parameter 'batch_ms': expected 0..10000 milliseconds, got " + *v);
+    s.batch = std::chrono::milliseconds(ms);
+    s.coalesce = ms > 0;
+  }
+  if (auto v = Param(req, "heartbeat_s")) {
+    const int64_t sec = ParseId(*v, "parameter 'heartbeat_s'");
+    if (sec < 1 || sec > 60) throw ApiError(400, "parameter 'heartbeat_s': expected 1..60 seconds, got " + *v);
+    s.heartbeat = std::chrono::seconds(sec);
+    s.ping = true;
+  }
+  return s;
+}
+
 }  // namespace
 
 HttpServer::HttpServer(ServerOptions options, TileSource* tiles, MissionState* mission, DetectionRegistry* detections,
@@ -150,6 +179,7 @@ void HttpServer::Routes() {
     if (!j.contains("name")) j["name"] = "SeaMap mission";
     if (!j.contains("attribution")) j["attribution"] = "";
     j["seamap_layers"] = tiles_->Layers();
+    j["seamap_formats"] = tiles_->Formats();  // the stored format first, then what it is also served as
     res.set_header("Access-Control-Allow-Origin", "*");
     res.set_header("Cache-Control", "no-cache");
     SendJson(res, j);
@@ -270,6 +300,14 @@ void HttpServer::Routes() {
            }));
 
   s.Get("/api/events", [this](const httplib::Request& req, httplib::Response& res) {
+    // Bad parameters are refused before the stream counts against the cap.
+    StreamSettings settings;
+    try {
+      settings = ParseStreamSettings(req);
+    } catch (const ApiError& e) {
+      SendError(res, e.status(), e.what());
+      return;
+    }
     if (streams_.fetch_add(1) >= options_.max_streams) {
       streams_.fetch_sub(1);
       res.set_header("Retry-After", "10");
@@ -277,38 +315,65 @@ void HttpServer::Routes() {
       return;
     }
     uint64_t cursor = events_->LastId();
-    if (req.has_header("Last-Event-ID")) {
+    std::optional<std::string> resume;
+    if (req.has_header("Last-Event-ID")) resume = req.get_header_value("Last-Event-ID");
+    if (auto after = Param(req, "after")) resume = *after;  // a new stream with other filters goes on from here
+    if (resume) {
       try {
-        const uint64_t last = std::stoull(req.get_header_value("Last-Event-ID"));
+        const uint64_t last = std::stoull(*resume);
         if (last <= cursor) cursor = last;  // a later id comes from an earlier server run
       } catch (const std::exception&) {
       }
     }
     auto position = std::make_shared<uint64_t>(cursor);
     auto greeted = std::make_shared<bool>(false);
+    std::shared_ptr<GzipStream> gzip;
+    if (AcceptsGzip(req.get_header_value("Accept-Encoding"))) {
+      gzip = std::make_shared<GzipStream>();
+      res.set_header("Content-Encoding", "gzip");
+      res.set_header("Vary", "Accept-Encoding");
+    }
     res.set_header("Cache-Control", "no-cache");
     res.set_header("X-Accel-Buffering", "no");
     res.set_chunked_content_provider(
         "text/event-stream",
-        [this, position, greeted](size_t, httplib::DataSink& sink) {
+        [this, position, greeted, gzip, settings](size_t, httplib::DataSink& sink) {
+          auto send = [&](const std::string& text) {
+            if (!gzip) return sink.write(text.data(), text.size());
+            const std::string packed = gzip->Write(text);
+            return sink.write(packed.data(), packed.size());
+          };
           if (!*greeted) {
             *greeted = true;
-            const std::string hello = "retry: 2000\n: seamap events\n\n";
-            return sink.write(hello.data(), hello.size());
+            return send("retry: 2000\n: seamap events\n\n");
           }
-          auto events = events_->WaitAfter(*position, kKeepAliveComment);
+          auto events = events_->WaitAfter(*position, settings.heartbeat);
+          if (!events.empty() && settings.batch.count() > 0 && !events_->closed()) {
+            // Gather what comes in the next moments into one write (and one coalesced batch).
+            std::this_thread::sleep_for(settings.batch);
+            events = events_->WaitAfter(*position, std::chrono::milliseconds(0));
+          }
+          if (!events.empty()) *position = events.back().id;
           std::string out;
-          for (const Event& e : events) {
-            out += FormatEvent(e);
-            *position = e.id;
-          }
+          std::vector<Event> kept;
+          for (Event& e : events)
+            if (settings.filter.Keep(e)) kept.push_back(std::move(e));
+          if (settings.coalesce) kept = Coalesce(std::move(kept));
+          for (const Event& e : kept) out += FormatEvent(e);
           if (events_->closed()) {  // shutting down: deliver the last events (e.g. "complete"), then end
-            if (!out.empty()) sink.write(out.data(), out.size());
+            if (!out.empty()) send(out);
+            if (gzip) {
+              const std::string tail = gzip->Finish();
+              sink.write(tail.data(), tail.size());
+            }
             sink.done();
             return true;
           }
-          if (out.empty()) out = ": keep-alive\n\n";
-          return sink.write(out.data(), out.size());
+          if (out.empty() && !events.empty()) return true;  // all filtered out: wait for the next
+          if (out.empty())
+            out = settings.ping ? "event: ping\ndata: {\"last_id\":" + std::to_string(*position) + "}\n\n"
+                                : ": keep-alive\n\n";
+          return send(out);
         },
         [this](bool) { streams_.fetch_sub(1); });
   });

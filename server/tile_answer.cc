@@ -48,10 +48,16 @@ TileAnswer AnswerTile(TileSource& tiles, bool building, std::string_view path,
     TilePath t = ParseTilePath(path);
     const std::string format = tiles.Format();
     const bool same = t.ext == format || (format == "jpg" && t.ext == "jpeg");
-    if (!same) return Error(404, "this mission's tiles are ." + format + ", not ." + t.ext);
+    const auto offered = tiles.Formats();
+    const bool transcoded = !same && std::find(offered.begin(), offered.end(), t.ext) != offered.end();
+    if (!same && !transcoded) {
+      std::string names;
+      for (const auto& f : offered) names += (names.empty() ? "." : " or .") + f;
+      return Error(404, "this mission's tiles are " + names + ", not ." + t.ext);
+    }
     std::optional<Tile> tile;
     try {
-      tile = tiles.Get(t.layer, t.id);
+      tile = transcoded ? tiles.GetAs(t.layer, t.id, t.ext) : tiles.Get(t.layer, t.id);
     } catch (const std::out_of_range&) {
       return Error(404, "no layer '" + t.layer + "'");
     }
@@ -68,7 +74,7 @@ TileAnswer AnswerTile(TileSource& tiles, bool building, std::string_view path,
       a.status = 304;
       return a;
     }
-    a.content_type = MimeForExtension(format);
+    a.content_type = MimeForExtension(transcoded ? t.ext : format);
     a.body = tile->bytes;
     return a;
   } catch (const ApiError& e) {

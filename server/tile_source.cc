@@ -1,5 +1,8 @@
 #include "server/tile_source.h"
 
+#include "server/tile_transcoder.h"
+
+#include <algorithm>
 #include <sstream>
 #include <stdexcept>
 
@@ -27,7 +30,8 @@ TileSource::TileSource(const std::string& path, int readers, size_t cache_bytes,
     : path_(path),
       folder_(!IsMBTilesPath(path)),
       live_metadata_(live_metadata),
-      shard_cap_(std::max<size_t>(1, cache_bytes / kShards)) {
+      shard_cap_(std::max<size_t>(1, cache_bytes / kShards)),
+      transcoder_(std::make_unique<TileTranscoder>()) {
   const int n = folder_ ? 1 : std::max(1, readers);  // folder reads need no connection
   for (int i = 0; i < n; ++i) {
     auto reader = std::make_unique<Reader>();
@@ -209,6 +213,19 @@ bool TileSource::IsLayer(const std::string& name) {
 
 std::string TileSource::Format() {
   return Snapshot()->format;
+}
+
+std::vector<std::string> TileSource::Formats() {
+  return TileTranscoder::OfferedFor(Format());
+}
+
+std::optional<Tile> TileSource::GetAs(const std::string& layer, const TileId& id, const std::string& ext) {
+  const auto offered = Formats();
+  if (std::find(offered.begin(), offered.end(), ext) == offered.end())
+    throw std::invalid_argument("this mission's tiles are not offered as ." + ext);
+  auto source = Get(layer, id);
+  if (!source || ext == offered.front()) return source;
+  return transcoder_->Get(layer, id, *source, ext);
 }
 
 }  // namespace seamap::server

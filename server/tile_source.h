@@ -20,6 +20,8 @@
 
 namespace seamap::server {
 
+class TileTranscoder;
+
 struct Tile {
   std::shared_ptr<const std::string> bytes;
   std::string etag;  // strong, quoted: "\"0123456789abcdef\""
@@ -48,6 +50,12 @@ class TileSource {
   std::vector<std::string> Layers();
   std::string Format();  // tile file extension: png, jpg, webp
   bool IsLayer(const std::string& name);
+  // The tile in another format than the stored one (PNG served as WebP), or
+  // nullopt where the mission has no tile. Throws std::out_of_range for an
+  // unknown layer, std::invalid_argument for a format not offered.
+  std::optional<Tile> GetAs(const std::string& layer, const TileId& id, const std::string& ext);
+  // Formats this map's tiles are served in: the stored one first.
+  std::vector<std::string> Formats();
 
  private:
   struct Reader {
@@ -114,6 +122,8 @@ class TileSource {
   CacheShard shards_[kShards];
   size_t shard_cap_;
   std::atomic<bool> external_writer_{false};
+
+  std::unique_ptr<TileTranscoder> transcoder_;
 
   std::mutex refresh_mutex_;
   std::shared_ptr<const MetadataSnapshot> snapshot_;  // std::atomic_load / atomic_store

@@ -156,14 +156,94 @@ TEST_F(HttpServerTest, JsonIsGzippedForClientsThatAcceptIt) {
   EXPECT_EQ(tile->body, Text(mission_.tiles.at(TileId{3, 4, 2})));
 }
 
-TEST_F(HttpServerTest, TheEventStreamIsNeverCompressed) {
+TEST_F(HttpServerTest, TheEventStreamIsGzippedAndFlushedEventByEvent) {
   Start();
-  // Browsers always send Accept-Encoding; a compressed stream would sit in the compressor's buffer.
+  // Each write is flushed (Z_SYNC_FLUSH): an event is readable as soon as it is sent.
   EventStream stream(server_->port(), {{"Accept-Encoding", "gzip, deflate"}});
   ASSERT_TRUE(stream.WaitFor(Greeted));
-  EXPECT_EQ(stream.header("Content-Encoding"), "");
+  EXPECT_EQ(stream.header("Content-Encoding"), "gzip");
   events_.Publish("tile", "{}");
-  EXPECT_TRUE(stream.WaitForEvents(1));
+  ASSERT_TRUE(stream.WaitForEvents(1));
+  events_.Publish("pose", R"({"frame":1})");
+  ASSERT_TRUE(stream.WaitForEvents(2));
+  EXPECT_EQ(stream.Events()[1].data, R"({"frame":1})");
+
+  EventStream plain(server_->port(), {{"Accept-Encoding", "gzip;q=0, identity"}});
+  ASSERT_TRUE(plain.WaitFor(Greeted));
+  EXPECT_EQ(plain.header("Content-Encoding"), "");
+}
+
+// A console on a weak link asks only for what it shows: the layers, zoom
+// levels and area in view, batched, superseded updates dropped.
+TEST_F(HttpServerTest, AStreamCarriesOnlyTheLayersZoomsAndAreaAsked) {
+  Start();
+  auto tile = [](const std::string& layer, int z, int x, int y, const std::string& version) {
+    return json{{"layer", layer}, {"z", z}, {"x", x}, {"y", y}, {"version", version}}.dump();
+  };
+  // 3/4/2 lies at lon 0..45, lat 40.98..66.51; 3/0/0 far from it.
+  const std::string query = "/api/events?layers=,enhanced&zoom=3-4&bbox=10,45,20,50&types=tile,pose";
+  EventStream filtered(server_->port(), {}, query);
+  ASSERT_TRUE(filtered.WaitFor(Greeted));
+  EXPECT_EQ(filtered.status(), 200);
+  events_.Publish("tile", tile("", 3, 4, 2, "a"));          // kept
+  events_.Publish("tile", tile("other", 3, 4, 2, "b"));     // another layer
+  events_.Publish("tile", tile("", 5, 16, 8, "c"));         // another zoom
+  events_.Publish("tile", tile("", 3, 0, 0, "d"));          // out of the area
+  events_.Publish("track", R"({"seq":1})");                 // not asked for
+  events_.Publish("tile", tile("enhanced", 4, 8, 5, "e"));  // kept
+  events_.Publish("pose", R"({"frame":2})");                // kept
+  ASSERT_TRUE(filtered.WaitForEvents(3));
+  auto got = filtered.Events();
+  ASSERT_EQ(got.size(), 3u);
+  EXPECT_EQ(json::parse(got[0].data)["version"], "a");
+  EXPECT_EQ(json::parse(got[1].data)["version"], "e");
+  EXPECT_EQ(got[2].type, "pose");
+  EXPECT_EQ(got[2].id, std::to_string(events_.LastId()));
+
+  // A new stream with other filters goes on after the last id it saw.
+  EventStream next(server_->port(), {}, "/api/events?types=track&after=" + got[0].id);
+  ASSERT_TRUE(next.WaitForEvents(1));
+  EXPECT_EQ(next.Events()[0].data, R"({"seq":1})");
+
+  for (const auto& [q, needle] : std::vector<std::pair<std::string, std::string>>{{"types=tile,nope", "types"},
+                                                                                  {"zoom=3-x", "zoom"},
+                                                                                  {"zoom=9-3", "zoom"},
+                                                                                  {"bbox=1,2,3", "bbox"},
+                                                                                  {"bbox=20,0,10,5", "bbox"},
+                                                                                  {"batch_ms=99999", "batch_ms"},
+                                                                                  {"heartbeat_s=0", "heartbeat_s"}})
+    ExpectError(Get("/api/events?" + q), 400, needle, q);
+}
+
+TEST_F(HttpServerTest, ABatchedStreamSendsTheLastOfRepeatedUpdates) {
+  Start();
+  const auto tile = [](const std::string& version) {
+    return json{{"layer", ""}, {"z", 3}, {"x", 4}, {"y", 2}, {"version", version}}.dump();
+  };
+  const uint64_t before = events_.LastId();
+  events_.Publish("tile", tile("v1"));
+  events_.Publish("pose", R"({"frame":1})");
+  events_.Publish("track", R"({"seq":1})");
+  events_.Publish("tile", tile("v2"));
+  events_.Publish("pose", R"({"frame":2})");
+  events_.Publish("track", R"({"seq":2})");
+  // Resuming from before them: all six come in one batch, superseded ones dropped.
+  EventStream batched(server_->port(), {}, "/api/events?batch_ms=300&after=" + std::to_string(before));
+  ASSERT_TRUE(batched.WaitForEvents(4));
+  std::vector<std::string> got;
+  for (const auto& e : batched.Events()) got.push_back(e.type + " " + e.data);
+  EXPECT_EQ(got, (std::vector<std::string>{"track {\"seq\":1}", "tile " + tile("v2"), "pose {\"frame\":2}",
+                                           "track {\"seq\":2}"}));
+}
+
+TEST_F(HttpServerTest, AHeartbeatStreamSendsPingsTheBrowserSees) {
+  Start();
+  EventStream stream(server_->port(), {}, "/api/events?heartbeat_s=1");
+  ASSERT_TRUE(stream.WaitForEvents(1));
+  const auto ping = stream.Events()[0];
+  EXPECT_EQ(ping.type, "ping");
+  EXPECT_EQ(ping.id, "") << "a ping must not move the browser's Last-Event-ID";
+  EXPECT_EQ(json::parse(ping.data)["last_id"], events_.LastId());
 }
 
 TEST_F(HttpServerTest, TheConsoleIsServedFromTheWebDir) {

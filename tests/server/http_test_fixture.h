@@ -107,12 +107,13 @@ inline std::vector<SseEvent> ParseEvents(const std::string& text) {
 // An open GET /api/events in a thread of its own, collecting what arrives.
 class EventStream {
  public:
-  EventStream(int port, httplib::Headers headers = {}) : client_("127.0.0.1", port) {
+  EventStream(int port, httplib::Headers headers = {}, std::string target = "/api/events")
+      : client_("127.0.0.1", port), target_(std::move(target)) {
     client_.set_read_timeout(120);
     for (const auto& [k, v] : headers) headers_sent_.emplace(k, v);
     thread_ = std::thread([this] {
       auto res = client_.Get(
-          "/api/events", headers_sent_,
+          target_.c_str(), headers_sent_,
           [this](const httplib::Response& r) {
             std::lock_guard<std::mutex> lock(mutex_);
             status_ = r.status;
@@ -169,6 +170,7 @@ class EventStream {
 
  private:
   httplib::Client client_;
+  std::string target_;
   httplib::Headers headers_sent_;
   std::thread thread_;
   std::mutex mutex_;

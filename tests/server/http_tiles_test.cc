@@ -97,9 +97,55 @@ TEST_F(HttpServerTest, MalformedOrOutOfRangeTilePathsAre400WithAJsonError) {
 
 TEST_F(HttpServerTest, AnotherExtensionThanTheMissionsFormatIs404) {
   Start();
-  ExpectError(Get("/tiles/3/4/2.jpg"), 404, ".png", "jpg");
-  ExpectError(Get("/tiles/3/4/2.webp"), 404, ".png", "webp");
+  ExpectError(Get("/tiles/3/4/2.jpg"), 404, ".png or .webp", "jpg");
+  ExpectError(Get("/tiles/3/4/2.gif"), 404, ".png", "gif");
   ExpectError(Get("/tiles/enhanced/3/4/2.jpeg"), 404, ".png", "layer jpeg");
+}
+
+// A weak link asks for .webp: the PNG tile transcoded (alpha kept), with an
+// ETag tied to the PNG's, so a rewritten tile is never served stale.
+TEST_F(HttpServerTest, PngTilesAreAlsoServedAsWebpForAWeakLink) {
+  Start();
+  const auto png = mission_.tiles.at(TileId{3, 4, 2});
+  auto res = Get("/tiles/3/4/2.webp");
+  ASSERT_TRUE(res);
+  ASSERT_EQ(res->status, 200) << res->body;
+  EXPECT_EQ(res->get_header_value("Content-Type"), "image/webp");
+  EXPECT_EQ(res->body.compare(0, 4, "RIFF"), 0);
+  EXPECT_EQ(res->body.compare(8, 4, "WEBP"), 0);
+  // Same picture, within what lossy coding allows.
+  auto mean_difference = [](const std::string& webp, const std::vector<uint8_t>& png_bytes) {
+    const cv::Mat a = cv::imdecode(std::vector<uint8_t>(webp.begin(), webp.end()), cv::IMREAD_COLOR);
+    const cv::Mat b = cv::imdecode(png_bytes, cv::IMREAD_COLOR);
+    if (a.empty() || a.size() != b.size()) return 1e9;
+    cv::Mat diff;
+    cv::absdiff(a, b, diff);
+    return cv::mean(diff)[0] + cv::mean(diff)[1] + cv::mean(diff)[2];
+  };
+  EXPECT_LE(mean_difference(res->body, png), 15.0);
+
+  const std::string etag = res->get_header_value("ETag");
+  const std::string png_etag = QuotedVersion(png);
+  EXPECT_EQ(etag, png_etag.substr(0, png_etag.size() - 1) + ".webp\"");
+  auto again = Get("/tiles/3/4/2.webp", {{"If-None-Match", etag}});
+  ASSERT_TRUE(again);
+  EXPECT_EQ(again->status, 304);
+
+  const auto replaced = test::Png(16, 16, 250);
+  writer_->PutTile(TileId{3, 4, 2}, replaced);
+  writer_->Flush();
+  tiles_->Invalidate("", TileId{3, 4, 2});
+  auto fresh = Get("/tiles/3/4/2.webp", {{"If-None-Match", etag}});
+  ASSERT_TRUE(fresh);
+  EXPECT_EQ(fresh->status, 200) << "the browser's WebP copy is of the old tile";
+  EXPECT_LE(mean_difference(fresh->body, replaced), 15.0);
+  EXPECT_GT(mean_difference(fresh->body, png), 100.0) << "the new tile, not the old one";
+
+  auto layer = Get("/tiles/enhanced/3/4/2.webp");
+  ASSERT_TRUE(layer);
+  EXPECT_EQ(layer->status, 200);
+  EXPECT_EQ(Get("/tiles/3/7/7.webp")->status, 204) << "no tile there";
+  EXPECT_EQ(json::parse(Get("/tiles.json")->body)["seamap_formats"], json::array({"png", "webp"}));
 }
 
 TEST_F(HttpServerTest, LayerTilesAreServedUnderTheLayerName) {

@@ -10,6 +10,17 @@ const L = window.L;
 
 const escapeClass = name => String(name).toLowerCase().replace(/[^a-z0-9_-]/g, '_');
 
+// One colour per class, the same in every session (a hash of the name).
+export function classColour(name) {
+  let h = 0;
+  for (const c of String(name)) h = (h * 31 + c.codePointAt(0)) >>> 0;
+  return `hsl(${(h * 137.508) % 360}, 85%, 58%)`;
+}
+
+// A detector's score as a percentage; operator marks have none.
+const scoreText = p => (p.source === 'operator' || p.score === null || p.score === undefined
+  ? null : `${(Number(p.score) * 100).toFixed(0)}%`);
+
 export class Detections {
   constructor(map, {canEdit, frame}) {
     this.map = map;
@@ -53,7 +64,7 @@ export class Detections {
     const editable = p.source === 'operator' && this.canEdit();
     const icon = L.divIcon({
       className: `detection-icon ${p.source === 'operator' ? 'operator' : 'detected'} class-${escapeClass(p.class)}`,
-      html: `<span data-detection-id="${id}" title="${escapeHtml(p.class)}"></span>`,
+      html: `<span data-detection-id="${id}" title="${escapeHtml(p.class)}" style="background:${classColour(p.class)}"></span>`,
       iconSize: [18, 18],
       iconAnchor: [9, 9],
       popupAnchor: [0, -8],
@@ -105,14 +116,41 @@ export class Detections {
       items.push(el('li', {dataset: {id, class: p.class, source: p.source}, tabindex: '0',
         onclick: () => this.focus(id),
         onkeydown: event => { if (event.key === 'Enter') this.focus(id); }},
-        el('span', {class: `swatch ${p.source === 'operator' ? 'operator' : 'detected'}`}),
+        el('span', {class: `swatch ${p.source === 'operator' ? 'operator' : 'detected'}`, style: `background:${classColour(p.class)}`}),
         el('strong', {}, p.class),
-        ` ${p.source === 'operator' ? 'mark' : (Number(p.score) * 100).toFixed(0) + '%'}`,
+        ` ${scoreText(p) ?? 'mark'}`,
         p.time_s !== null && p.time_s !== undefined ? el('small', {}, ` t ${formatTime(p.time_s)}`) : null));
     }
     list.replaceChildren(...items);
     list.dataset.count = String(items.length);
     $('#detection-count').textContent = String(this.features.size);
+    this.renderLegend(classes);
+  }
+
+  // The class colours on the map, with counts; a click filters by the class.
+  renderLegend(classes) {
+    if (!this.legend) {
+      const Legend = L.Control.extend({
+        options: {position: 'bottomright'},
+        onAdd: () => {
+          const box = L.DomUtil.create('div', 'class-legend');
+          L.DomEvent.disableClickPropagation(box);
+          return box;
+        },
+      });
+      this.legend = new Legend().addTo(this.map);
+    }
+    const box = this.legend.getContainer();
+    box.hidden = classes.length === 0;
+    const count = c => [...this.features.values()].filter(f => f.properties.class === c).length;
+    box.replaceChildren(...classes.map(c => el('div', {class: 'entry', dataset: {class: c},
+      title: 'show only this class', onclick: () => {
+        this.filter = this.filter === c ? '' : c;
+        this.render();
+      }},
+    el('span', {class: 'swatch', style: `background:${classColour(c)}`}), `${c} (${count(c)})`)),
+    el('div', {class: 'shapes'}, '● detected ◆ operator mark'));
+    box.dataset.filter = this.filter;
   }
 
   focus(id) {
@@ -136,8 +174,8 @@ export class Detections {
     const box = el('div', {class: 'detection-popup', dataset: {id}},
       el('h3', {class: 'popup-class'}, p.class),
       el('dl', {},
-        el('dt', {}, 'score'), el('dd', {}, p.score === undefined || p.score === null ? '–' : Number(p.score).toFixed(2)),
-        el('dt', {}, 'source'), el('dd', {}, p.source || '–'),
+        scoreText(p) ? [el('dt', {}, 'score'), el('dd', {class: 'popup-score'}, Number(p.score).toFixed(2))] : null,
+        el('dt', {}, 'source'), el('dd', {}, p.source === 'operator' ? 'operator mark' : (p.source || '–')),
         el('dt', {}, 'position'), el('dd', {}, where),
         el('dt', {}, 'time'), el('dd', {}, formatTime(p.time_s)),
         p.note ? [el('dt', {}, 'note'), el('dd', {}, p.note)] : null),
@@ -155,7 +193,9 @@ export class Detections {
     return el('form', {class: 'mark-form', onsubmit: async event => {
       event.preventDefault();
       try {
-        const feature = await send('PATCH', `/api/detections/${id}`, {properties: {class: cls.value.trim(), note: note.value}});
+        // A Feature with only properties: the geometry stays where it is.
+        const feature = await send('PATCH', `/api/detections/${id}`,
+          {type: 'Feature', properties: {class: cls.value.trim(), note: note.value}});
         this.upsert(feature);
         toast('mark saved');
       } catch (error) {
@@ -172,7 +212,7 @@ export class Detections {
   async move(id, latlng) {
     try {
       const feature = await send('PATCH', `/api/detections/${id}`,
-        {type: 'Feature', geometry: {type: 'Point', coordinates: [latlng.lng, latlng.lat]}, properties: {}});
+        {type: 'Feature', geometry: {type: 'Point', coordinates: [latlng.lng, latlng.lat]}});
       this.upsert(feature);
     } catch (error) {
       toast(`move failed: ${error.message}`);

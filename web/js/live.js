@@ -52,6 +52,14 @@ function describeTrajectory(t) {
   return `trajectory: ${t.mode} filter online`;
 }
 
+// 75 -> "1 min 15 s", 4000 -> "1 h 07 min".
+export function formatDuration(seconds) {
+  const s = Math.max(0, Math.round(seconds));
+  if (s < 60) return `${s} s`;
+  if (s < 3600) return `${Math.floor(s / 60)} min ${String(s % 60).padStart(2, '0')} s`;
+  return `${Math.floor(s / 3600)} h ${String(Math.floor(s / 60) % 60).padStart(2, '0')} min`;
+}
+
 export function showStatus(status) {
   if (!status) return;
   const bar = $('#progress');
@@ -61,8 +69,12 @@ export function showStatus(status) {
   bar.dataset.state = status.state || '';
   const label = $('#progress-label');
   const pct = (fraction * 100).toFixed(0);
-  const rate = status.frames_per_s ? ` · ${Number(status.frames_per_s).toFixed(1)} frames/s` : '';
-  label.textContent = `${status.state || ''}${status.replay ? ' (replay)' : ''} · ${status.frames_done ?? 0}/${status.frames_total ?? '?'} frames · ${pct}%${rate}`;
+  const fps = Number(status.frames_per_s) || 0;
+  const rate = fps ? ` · ${fps.toFixed(1)} frames/s` : '';
+  const left = Number(status.frames_total) - Number(status.frames_done);
+  const eta = status.state === 'building' && fps > 0 && left > 0 ? ` · ${formatDuration(left / fps)} left` : '';
+  label.textContent = `${status.state || ''}${status.replay ? ' (replay)' : ''} · ${status.frames_done ?? 0}/${status.frames_total ?? '?'} frames · ${pct}%${rate}${eta}`;
+  label.dataset.eta = eta ? String(Math.round(left / fps)) : '';
   $('#mission-name').textContent = status.name || 'SeaMap';
   const tiles = $('#tiles-written');
   if (tiles) tiles.textContent = `${status.tiles_written ?? 0} tiles written, ${status.frames_rejected ?? 0} frames rejected`;

@@ -2,15 +2,20 @@
 
 import {getJSON, getToken, setToken} from './api.js';
 import {$, toast} from './dom.js';
+
+const L = window.L;
 import {LiveEvents} from './events.js';
 import {exportData} from './export.js';
 import {localFrame} from './geo.js';
 import {Detections} from './detections.js';
 import {Measure} from './measure.js';
 import {Photos} from './photos.js';
+import {link} from './link.js';
 import {Vehicle, showStatus} from './live.js';
 import {Tracks} from './tracks.js';
-import {addPhotoLayers, createMap, cursorReadout, initialView} from './map.js';
+import {addPhotoLayers, createMap, cursorReadout, initialView, viewScope} from './map.js';
+import {readViewState, writeViewState} from './url_state.js';
+import {fillHelp, keyboardShortcuts, showFollowing, toggleHelp, viewControls} from './view_controls.js';
 
 let status = null;
 const canEdit = () => Boolean(status) && status.writable !== false && (!status.token_required || Boolean(getToken()));
@@ -41,11 +46,21 @@ async function start() {
   showEditing();
 
   let photoLayers = tilesResult.status === 'fulfilled' ? tilesResult.value : null;
-  if (photoLayers) initialView(map, photoLayers.tilejson, status);
-  else {
-    toast(`no map yet: ${tilesResult.reason.message}`);
-    initialView(map, {}, status);
-  }
+  const wanted = readViewState();
+  const chooseLayer = name => {
+    const layer = name && photoLayers && photoLayers.distinct.get(name);
+    if (!layer || layer === photoLayers.active) return;
+    map.removeLayer(photoLayers.active);
+    layer.addTo(map);
+    photoLayers.active = layer;
+  };
+  const firstView = () => {
+    if (wanted.center) map.setView(wanted.center, wanted.zoom);
+    else initialView(map, photoLayers ? photoLayers.tilejson : {}, status);
+  };
+  if (photoLayers) chooseLayer(wanted.layer);
+  else toast(`no map yet: ${tilesResult.reason.message}`);
+  firstView();
 
   const origin = status && Array.isArray(status.origin) ? status.origin : null;
   cursorReadout(map, $('#cursor'), origin);
@@ -65,6 +80,14 @@ async function start() {
   ]);
 
   const tileLayerFor = name => photoLayers && (photoLayers.layers.get(name) || photoLayers.main);
+  const setBuilding = () => {
+    for (const layer of new Set(photoLayers ? photoLayers.layers.values() : [])) layer.setBuilding(status?.state === 'building');
+  };
+  setBuilding();
+  // The stream carries only the tiles of the view: reopened when the view leaves what it asked for.
+  live.scope = () => viewScope(map, photoLayers);
+  if (live.lastId === null && status && status.event_seq !== undefined) live.lastId = String(status.event_seq);
+  live.reopen();
   let retryingTiles = false;
   live
     .on('tile', event => tileLayerFor(event.layer)?.refreshTile(event))
@@ -76,11 +99,14 @@ async function start() {
       status = {...status, ...next};
       showStatus(status);
       tracks.update(status);
+      setBuilding();
       if (!photoLayers && !retryingTiles) {        // the map had no tiles at start
         retryingTiles = true;
         addPhotoLayers(map).then(result => {
           photoLayers = result;
-          initialView(map, result.tilejson, status);
+          setBuilding();
+          if (!wanted.center) initialView(map, result.tilejson, status);
+          live.reopen();
         }).catch(() => {}).finally(() => { retryingTiles = false; });
       }
     })
@@ -107,17 +133,91 @@ async function start() {
     radio.addEventListener('change', () => {
       setMode(radio.value);
       if (radio.value === 'measure') measure.clear();
+      if (document.body.classList.contains('panel-open') && matchMedia('(max-width: 720px)').matches) {
+        document.body.classList.remove('panel-open');   // on a phone: back to the map to click it
+      }
     });
   }
-  $('#follow').addEventListener('change', event => {
-    vehicle.follow = event.target.checked;
-    if (vehicle.follow && vehicle.marker.getLatLng()) map.panTo(vehicle.marker.getLatLng());
+  const hasVehicle = () => map.hasLayer(vehicle.marker);
+  const setFollow = on => {
+    vehicle.follow = Boolean(on);
+    showFollowing(vehicle.follow);
+    if (vehicle.follow && hasVehicle()) map.panTo(vehicle.marker.getLatLng(), {animate: false});
+    saveView();
+  };
+  $('#follow').addEventListener('change', event => setFollow(event.target.checked));
+  map.on('dragstart', () => { if (vehicle.follow) setFollow(false); });
+
+  // Fit the mission: the track and the map's bounds together.
+  const fitMission = () => {
+    let bounds = L.latLngBounds(tracks.estimated.points);
+    const b = photoLayers?.tilejson?.bounds;
+    if (Array.isArray(b) && b.length === 4 && b[2] > b[0]) bounds = bounds.extend([[b[1], b[0]], [b[3], b[2]]]);
+    if (hasVehicle()) bounds.extend(vehicle.marker.getLatLng());
+    if (!bounds.isValid()) return;
+    setFollow(false);
+    map.fitBounds(bounds, {padding: [20, 20], maxZoom: photoLayers ? photoLayers.main.options.maxNativeZoom : 20});
+  };
+  const toVehicle = () => {
+    if (!hasVehicle()) return toast('no vehicle position yet');
+    map.setView(vehicle.marker.getLatLng(), Math.max(map.getZoom(), map.getMaxZoom() - 4), {animate: false});
+  };
+  const fullscreen = () => {
+    if (document.fullscreenElement) document.exitFullscreen?.();
+    else document.documentElement.requestFullscreen?.().catch(() => toast('fullscreen is not allowed here'));
+  };
+  viewControls(map, {fit: fitMission, vehicle: toVehicle, toggleFollow: () => setFollow(!vehicle.follow),
+    fullscreen, help: () => toggleHelp()});
+  fillHelp();
+  $('#help-close').addEventListener('click', () => toggleHelp(false));
+
+  // Coordinates to the clipboard: key c (under the pointer) or a long press / right click.
+  let pointer = null;
+  map.on('mousemove', event => { pointer = event.latlng; });
+  map.on('mouseout', () => { pointer = null; });
+  const copyAt = latlng => {
+    if (!latlng) return toast('point at the map first');
+    const text = `${latlng.lat.toFixed(7)}, ${latlng.lng.toFixed(7)}`;
+    navigator.clipboard?.writeText(text).then(() => toast(`copied ${text}`), () => toast(text));
+    if (!navigator.clipboard) toast(text);
+  };
+  map.on('contextmenu', event => copyAt(event.latlng));
+
+  // The view in the URL, and the event stream following the view.
+  function saveView() {
+    writeViewState({center: map.getCenter(), zoom: map.getZoom(),
+      layer: photoLayers && photoLayers.active !== photoLayers.main ? photoLayers.nameOf(photoLayers.active) : null,
+      follow: vehicle.follow});
+  }
+  let viewTimer = null;
+  map.on('moveend zoomend baselayerchange', () => {
+    clearTimeout(viewTimer);
+    viewTimer = setTimeout(() => { saveView(); live.viewChanged(); }, 300);
   });
-  map.on('dragstart', () => {
-    if (vehicle.follow) {
-      vehicle.follow = false;
-      $('#follow').checked = false;
-    }
+  if (wanted.follow) setFollow(true);
+
+  // Layer opacity, low-bandwidth mode, lossless tiles.
+  $('#layer-opacity').addEventListener('input', event => {
+    for (const layer of new Set(photoLayers ? photoLayers.layers.values() : [])) layer.setOpacity(Number(event.target.value));
+  });
+  const lowBox = $('#low-bandwidth');
+  lowBox.checked = link.lowBandwidth;
+  lowBox.addEventListener('change', () => link.setLowBandwidth(lowBox.checked));
+  const losslessBox = $('#lossless-tiles');
+  losslessBox.checked = link.lossless;
+  losslessBox.addEventListener('change', () => link.setLossless(losslessBox.checked));
+  $('#connection').addEventListener('click', () => {
+    document.body.classList.add('panel-open');
+    $('#view').scrollIntoView({block: 'start'});
+  });
+  link.show();
+
+  keyboardShortcuts({
+    f: fitMission, v: toVehicle, l: () => setFollow(!vehicle.follow), u: fullscreen, '?': () => toggleHelp(),
+    c: () => copyAt(pointer), b: () => { link.setLowBandwidth(!link.lowBandwidth); lowBox.checked = link.lowBandwidth; },
+    p: () => setMode('photos'), m: () => { setMode('measure'); measure.clear(); },
+    a: () => { if (canEdit()) setMode('mark'); },
+    Escape: () => { toggleHelp(false); map.closePopup(); },
   });
 
   $('#token').value = getToken();
@@ -141,7 +241,7 @@ async function start() {
   });
 
   // For debugging from the browser console and for the end-to-end test.
-  window.seamap = {map, live, track: tracks.estimated, tracks, detections, photos, measure, vehicle,
+  window.seamap = {map, live, link, track: tracks.estimated, tracks, detections, photos, measure, vehicle, fitMission, toVehicle, setFollow,
     get layers() { return photoLayers; }, get status() { return status; }};
   document.body.dataset.ready = 'true';
 }

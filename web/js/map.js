@@ -3,6 +3,7 @@
 
 import {getJSON} from './api.js';
 import {formatLatLon, formatMetres, localFrame} from './geo.js';
+import {link} from './link.js';
 import {LiveTileLayer} from './tile_layer.js';
 
 const L = window.L;
@@ -27,10 +28,19 @@ function layerNames(tilejson) {
   return [];
 }
 
+// The tile URL in the format for the link: WebP where the server offers it
+// for a PNG map (a fifth of the bytes), unless the operator wants lossless.
+export function tileUrl(tilejson) {
+  const url = tilejson.tiles[0];
+  const formats = Array.isArray(tilejson.seamap_formats) ? tilejson.seamap_formats : [];
+  if (link.lossless || !formats.includes('webp') || formats[0] === 'webp') return url;
+  return url.replace(/\.(png|jpg|jpeg)(\?|$)/, '.webp$2');
+}
+
 function tileLayerFrom(tilejson) {
   const maxzoom = tilejson.maxzoom ?? 22;
   const minzoom = tilejson.minzoom ?? 0;
-  return new LiveTileLayer(tilejson.tiles[0], {
+  const layer = new LiveTileLayer(tileUrl(tilejson), {
     maxNativeZoom: maxzoom,
     maxZoom: maxzoom + OVERZOOM,
     minNativeZoom: minzoom,
@@ -40,6 +50,8 @@ function tileLayerFrom(tilejson) {
     keepBuffer: 2,
     updateWhenZooming: false,
   });
+  layer.tilejson = tilejson;
+  return layer;
 }
 
 // Loads /tiles.json (and /tiles/{layer}.json for extra layers), adds the
@@ -50,6 +62,7 @@ export async function addPhotoLayers(map) {
   const names = layerNames(tilejson);
   const layers = new Map();
   const mainName = names[0] || 'map';
+  main.eventLayer = '';       // tile events name the main map ""
   layers.set(mainName, main);
   for (const name of names.slice(1)) {
     try {
@@ -59,6 +72,7 @@ export async function addPhotoLayers(map) {
     } catch {
       layers.set(name, tileLayerFrom({...tilejson, tiles: [`/tiles/${name}/{z}/{x}/{y}.${tilejson.format || 'png'}`]}));
     }
+    if (layers.get(name) !== main) layers.get(name).eventLayer = name;
   }
   main.addTo(map);
   map.setMaxZoom(main.options.maxZoom);
@@ -67,7 +81,34 @@ export async function addPhotoLayers(map) {
   if (distinct.size > 1) {
     L.control.layers(Object.fromEntries(distinct), null, {collapsed: true, position: 'topright'}).addTo(map);
   }
-  return {layers, main, tilejson};
+  const result = {layers, main, tilejson, active: main, distinct,
+    nameOf: layer => [...distinct].find(([, l]) => l === layer)?.[0] || mainName};
+  map.on('baselayerchange', event => { result.active = event.layer; });
+  // The operator switched lossless tiles on or off: reload in the other format.
+  link.onModeChange(() => {
+    for (const layer of new Set(layers.values())) {
+      const url = tileUrl(layer.tilejson);
+      if (url !== layer._url) layer.setUrl(url);
+    }
+  });
+  return result;
+}
+
+// What the live stream should carry for this view: tile events of the layer
+// shown, at the zoom its tiles are fetched at, around the view (half a
+// screen of margin, so small pans need no new stream).
+export function viewScope(map, photoLayers) {
+  if (!photoLayers || !map._loaded) return {};
+  const layer = photoLayers.active;
+  const zoom = layer._tileZoom ?? Math.round(Math.max(layer.options.minNativeZoom ?? 0,
+    Math.min(layer.options.maxNativeZoom ?? 22, map.getZoom())));
+  const b = map.getBounds();
+  const view = [b.getWest(), b.getSouth(), b.getEast(), b.getNorth()];
+  const padded = b.pad(0.5);
+  const clamp = (v, lo, hi) => Math.max(lo, Math.min(hi, v));
+  const bbox = [clamp(padded.getWest(), -180, 180), clamp(padded.getSouth(), -85.06, 85.06),
+    clamp(padded.getEast(), -180, 180), clamp(padded.getNorth(), -85.06, 85.06)];
+  return {layer: layer.eventLayer ?? '', zoom, view, bbox};
 }
 
 // The first view: the map's bounds, else its centre, else the vehicle.
@@ -98,4 +139,7 @@ export function cursorReadout(map, element, origin) {
   };
   map.on('mousemove', event => show(event.latlng));
   map.on('click', event => show(event.latlng));
+  // A readout of where the pointer was is wrong once it has left the map.
+  map.on('mouseout', () => { element.textContent = ''; });
+  map.getContainer().addEventListener('mouseleave', () => { element.textContent = ''; });
 }

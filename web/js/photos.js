@@ -18,8 +18,15 @@ export class Photos {
     $('#photo-viewer').addEventListener('click', event => {
       if (event.target.id === 'photo-viewer') this.closeViewer();
     });
+    this.frames = [];
+    this.index = -1;
+    $('#photo-prev').addEventListener('click', () => this.step(-1));
+    $('#photo-next').addEventListener('click', () => this.step(1));
     document.addEventListener('keydown', event => {
+      if ($('#photo-viewer').hidden) return;
       if (event.key === 'Escape') this.closeViewer();
+      if (event.key === 'ArrowLeft') this.step(-1);
+      if (event.key === 'ArrowRight') this.step(1);
     });
   }
 
@@ -46,9 +53,15 @@ export class Photos {
     list.replaceChildren(...frames.map(frame => this.item(frame)));
     list.dataset.state = 'ready';
     list.dataset.count = String(frames.length);
+    this.frames = frames;
     if (frames.length) {
       this.outline(frames[0], true);
       document.body.dataset.panel = 'photos';
+      // On a phone the list is in the collapsed panel: open it at the photos.
+      if (matchMedia('(max-width: 720px)').matches) {
+        document.body.classList.add('panel-open');
+        $('#photos').scrollIntoView({block: 'start'});
+      }
     }
   }
 
@@ -71,7 +84,15 @@ export class Photos {
       {color: '#00e5ff', weight: 1.5, fill: false, interactive: false}).addTo(this.footprints);
   }
 
+  // Previous / next photo of the list in the viewer.
+  step(delta) {
+    if (!this.frames.length) return;
+    this.open(this.frames[(this.index + delta + this.frames.length) % this.frames.length]);
+  }
+
   open(frame) {
+    this.index = this.frames.indexOf(frame);
+    $('#photo-prev').disabled = $('#photo-next').disabled = this.frames.length < 2;
     this.outline(frame, true);
     const viewer = $('#photo-viewer');
     const img = $('#photo-full');

@@ -2,16 +2,36 @@
 // them: URLs carry ?v=VERSION (the tile's ETag) from the versions announced
 // by `tile` events, and a rewritten tile on screen gets its new image only
 // once that image has loaded, so it never blinks.
+//
+// On a weak link a tile on screen is fetched again at most every few seconds
+// (the newest version then), however often it is repainted. While the map is
+// building, a tile that is still being painted is marked pending
+// (`data-pending`, drawn faded with a dashed edge) until it has been left
+// alone for a while, so a half-painted tile never passes for finished imagery.
+
+import {link} from './link.js';
 
 const L = window.L;
 
 const key = (z, x, y) => `${z}/${x}/${y}`;
+const REFRESH_MS = 2000;       // at most one new image per tile on screen per this
+const REFRESH_LOW_MS = 10000;  // in low-bandwidth mode
+const SETTLED_MS = 6000;       // a tile without a new version this long is finished
 
 export const LiveTileLayer = L.TileLayer.extend({
   initialize(url, options) {
     L.TileLayer.prototype.initialize.call(this, url, options);
     this._versions = new Map();
+    this._changed = new Map();  // key -> time of the last tile event
+    this._timers = new Map();   // key -> pending refresh timer
+    this._shown = new Map();    // key -> time the last refresh was shown
     this.refreshed = 0;
+    this.building = false;
+    this.on('tileloadstart', event => { event.tile.__started = performance.now(); });
+    this.on('tileload', event => {
+      if (event.tile.__started) link.tileTime(performance.now() - event.tile.__started);
+    });
+    this._settleTimer = setInterval(() => this._settle(), 1000);
   },
 
   getTileUrl(coords) {
@@ -26,20 +46,58 @@ export const LiveTileLayer = L.TileLayer.extend({
     tile.dataset.tile = key(z, coords.x, coords.y);
     const version = this._versions.get(tile.dataset.tile);
     if (version) tile.dataset.version = version;
+    this._markPending(tile, tile.dataset.tile);
     return tile;
   },
 
+  // The mission's state: once it is no longer building, nothing is pending.
+  setBuilding(building) {
+    this.building = Boolean(building);
+    this._settle();
+  },
+
+  _markPending(img, k) {
+    const changed = this._changed.get(k);
+    const pending = this.building && changed !== undefined && performance.now() - changed < SETTLED_MS;
+    if (pending) img.dataset.pending = 'true';
+    else delete img.dataset.pending;
+  },
+
+  _settle() {
+    if (!this._map) return;
+    for (const entry of Object.values(this._tiles)) {
+      if (entry.el.dataset.pending) this._markPending(entry.el, entry.el.dataset.tile);
+    }
+  },
+
   // Called for a `tile` event: remember the version, swap the image of the
-  // tile if it is on screen.
+  // tile if it is on screen (not sooner than the refresh interval allows).
   refreshTile({z, x, y, version}) {
     const k = key(z, x, y);
     if (this._versions.get(k) === version) return;
     this._versions.set(k, version);
+    this._changed.set(k, performance.now());
     if (!this._map || z !== this._tileZoom) return;
     const entry = this._tiles[`${x}:${y}:${z}`];
     if (!entry) return;
+    this._markPending(entry.el, k);
+    if (this._timers.has(k)) return;  // a refresh is already due: it takes the newest version
+    const interval = link.lowBandwidth ? REFRESH_LOW_MS : REFRESH_MS;
+    const wait = Math.max(0, (this._shown.get(k) ?? -Infinity) + interval - performance.now());
+    this._timers.set(k, setTimeout(() => {
+      this._timers.delete(k);
+      this._swap(x, y, z);
+    }, wait));
+  },
+
+  _swap(x, y, z) {
+    const k = key(z, x, y);
+    const version = this._versions.get(k);
+    const entry = this._tiles[`${x}:${y}:${z}`];
+    if (!this._map || !entry) return;
     const img = entry.el;
     const url = this.getTileUrl(entry.coords);
+    this._shown.set(k, performance.now());
     if (!entry.loaded) {
       // Still loading its first image: Leaflet's own handlers finish the job.
       img.src = url;
@@ -47,7 +105,9 @@ export const LiveTileLayer = L.TileLayer.extend({
       return;
     }
     const next = new Image();
+    const started = performance.now();
     next.onload = () => {
+      link.tileTime(performance.now() - started);
       // Skip when a newer version came meanwhile or the tile left the screen.
       const current = this._tiles[`${x}:${y}:${z}`];
       if (this._versions.get(k) !== version || !current || current.el !== img) return;
@@ -58,6 +118,7 @@ export const LiveTileLayer = L.TileLayer.extend({
       img.src = url;
       img.dataset.version = version;
       img.dataset.refreshed = String(Number(img.dataset.refreshed || 0) + 1);
+      this._markPending(img, k);
       this.refreshed++;
       this.fire('tilerefresh', {tile: img, coords: entry.coords, version});
     };

@@ -1,0 +1,143 @@
+// The console's traffic on a weak link: a real `seamap replay` at 4x of a
+// simulated survey, the console following the vehicle one zoom level above
+// the finest, and the bytes Chromium receives (on the wire: compressed
+// bodies and headers, from the DevTools protocol) over a fixed window.
+// The budget is 0.3 Mbit/s (issue 21); the test also checks that the
+// operator still sees what the link saves on: tiles painted and refreshed,
+// the vehicle and the track moving.
+//
+//   node tests/e2e/bandwidth.e2e.mjs
+//
+// Environment as console.e2e.mjs (SEAMAP_BIN, SEAMAP_SOURCE_DIR,
+// SEAMAP_ARTIFACTS), plus SEAMAP_BW_BUDGET_MBPS (default 0.3) and
+// SEAMAP_BW_REPORT=1 (print the figure only, no budget check: scripts/bench.sh).
+
+import fs from 'node:fs';
+import os from 'node:os';
+import path from 'node:path';
+import {fileURLToPath} from 'node:url';
+import {Checks, freePort, killAll, run, sleep, startProcess, stopProcess, waitFor, waitForOutput} from './harness.mjs';
+
+const here = path.dirname(fileURLToPath(import.meta.url));
+const sourceDir = path.resolve(process.env.SEAMAP_SOURCE_DIR || path.join(here, '..', '..'));
+const seamap = process.env.SEAMAP_BIN || path.join(sourceDir, 'build', 'seamap');
+const artifacts = path.resolve(process.env.SEAMAP_ARTIFACTS || fs.mkdtempSync(path.join(os.tmpdir(), 'seamap-bw-artifacts-')));
+const budgetMbps = Number(process.env.SEAMAP_BW_BUDGET_MBPS || 0.3);
+const reportOnly = process.env.SEAMAP_BW_REPORT === '1';
+const FRAMES = 400;          // 80 s of survey: 20 s at 4x
+const SPEED = '4';
+const WINDOW_MS = 10000;
+const TOTAL_TIMEOUT_MS = 120000;
+
+const checks = new Checks();
+let browser = null;
+let server = null;
+let work = null;
+
+const watchdog = setTimeout(() => {
+  console.log(`not ok - test finished within ${TOTAL_TIMEOUT_MS / 1000} s`);
+  killAll();
+  process.exit(1);
+}, TOTAL_TIMEOUT_MS);
+process.on('exit', killAll);
+
+// Bytes on the wire per request: streamed chunks as they come, topped up to
+// the request's total (headers included) when it finishes.
+function wireMeter(cdp) {
+  const perRequest = new Map();
+  const meter = {counting: false, bytes: 0, byType: {}};
+  const typeOf = new Map();
+  const add = (id, n) => {
+    if (n <= 0) return;
+    perRequest.set(id, (perRequest.get(id) || 0) + n);
+    if (!meter.counting) return;
+    meter.bytes += n;
+    const type = typeOf.get(id) || 'other';
+    meter.byType[type] = (meter.byType[type] || 0) + n;
+  };
+  cdp.on('Network.requestWillBeSent', e => {
+    const url = e.request.url;
+    typeOf.set(e.requestId, url.includes('/api/events') ? 'events' : url.includes('/tiles/') ? 'tiles' : 'other');
+  });
+  cdp.on('Network.dataReceived', e => add(e.requestId, e.encodedDataLength));
+  cdp.on('Network.loadingFinished', e => add(e.requestId, e.encodedDataLength - (perRequest.get(e.requestId) || 0)));
+  return meter;
+}
+
+async function main() {
+  if (!fs.existsSync(seamap)) throw new Error(`no seamap binary at ${seamap}`);
+  fs.mkdirSync(artifacts, {recursive: true});
+  const {chromium} = await import('playwright-core');
+  work = fs.mkdtempSync(path.join(os.tmpdir(), 'seamap-bw-'));
+  const survey = path.join(work, 'survey');
+  await run(seamap, ['simulate', '--out', survey, '--frames', String(FRAMES), '--quiet']);
+  const port = await freePort();
+  server = startProcess(seamap, ['replay', survey, '--speed', SPEED, '--out', path.join(work, 'mission.mbtiles'),
+    '--port', String(port), '--web', path.join(sourceDir, 'web'), '--quiet']);
+  await waitForOutput(server, new RegExp(`serving http://127\\.0\\.0\\.1:${port}/`), 20000);
+  const base = `http://127.0.0.1:${port}/`;
+
+  browser = await chromium.launch({
+    executablePath: process.env.SEAMAP_CHROMIUM || '/usr/bin/chromium',
+    args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-background-networking'],
+  });
+  const page = await browser.newPage({viewport: {width: 1280, height: 800}});
+  const cdp = await page.context().newCDPSession(page);
+  await cdp.send('Network.enable');
+  const meter = wireMeter(cdp);
+  await page.goto(base, {waitUntil: 'domcontentloaded'});
+  await page.waitForSelector('body[data-ready="true"]', {timeout: 20000});
+  // The view: following the vehicle one zoom level above the finest.
+  await waitFor('a first pose', () => page.evaluate(() => window.seamap.status?.last_pose || window.seamap.track.points.length));
+  await page.check('#follow');
+  await page.evaluate(() => {
+    const {map, layers} = window.seamap;
+    map.setZoom((layers ? layers.main.options.maxNativeZoom : map.getZoom()) - 1, {animate: false});
+  });
+  await sleep(1000);
+
+  const before = await page.evaluate(() => ({
+    track: window.seamap.track.points.length,
+    refreshed: window.seamap.layers ? window.seamap.layers.main.refreshed : 0,
+  }));
+  meter.counting = true;
+  await sleep(WINDOW_MS);
+  meter.counting = false;
+  const after = await page.evaluate(() => ({
+    track: window.seamap.track.points.length,
+    refreshed: window.seamap.layers ? window.seamap.layers.main.refreshed : 0,
+    state: document.querySelector('#progress').dataset.state,
+  }));
+  await page.screenshot({path: path.join(artifacts, 'console-bandwidth.png')});
+
+  const mbps = meter.bytes * 8 / (WINDOW_MS / 1000) / 1e6;
+  const parts = Object.entries(meter.byType).map(([k, v]) => `${k} ${(v * 8 / (WINDOW_MS / 1000) / 1000).toFixed(0)} kbit/s`).join(', ');
+  console.log(`# console traffic during a ${SPEED}x replay: ${mbps.toFixed(3)} Mbit/s over ${WINDOW_MS / 1000} s (${parts})`);
+  if (after.state === 'complete') throw new Error('the replay ended inside the window: the figure is not a live one');
+  await checks.run('the console keeps up while it saves bytes', async () => {
+    if (after.track <= before.track) throw new Error(`track did not grow (${before.track} -> ${after.track})`);
+    if (after.refreshed <= before.refreshed) throw new Error('no tile on screen was refreshed in the window');
+    return `track ${before.track} -> ${after.track}, ${after.refreshed - before.refreshed} tiles refreshed`;
+  });
+  if (!reportOnly) {
+    await checks.run(`traffic within ${budgetMbps} Mbit/s`, async () => {
+      if (mbps > budgetMbps) throw new Error(`${mbps.toFixed(3)} Mbit/s (${parts})`);
+      return `${mbps.toFixed(3)} Mbit/s`;
+    });
+  }
+}
+
+try {
+  await main();
+} catch (error) {
+  checks.fail('bandwidth run', error);
+  if (server) console.log(`# server output:\n${server.output.slice(-3000).replace(/^/gm, '# ')}`);
+} finally {
+  if (browser) await browser.close().catch(() => {});
+  if (server) await stopProcess(server);
+  killAll();
+  if (work) fs.rmSync(work, {recursive: true, force: true});
+  clearTimeout(watchdog);
+}
+checks.summary();
+process.exit(checks.failed ? 1 : 0);

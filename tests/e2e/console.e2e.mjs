@@ -16,6 +16,7 @@ import fs from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
 import {fileURLToPath} from 'node:url';
+import {checkConsoleTools} from './console_tools.mjs';
 import {checkCorrectedTracks} from './corrected_tracks.mjs';
 import {Checks, freePort, killAll, run, sleep, startProcess, stopProcess, waitFor, waitForOutput} from './harness.mjs';
 
@@ -25,7 +26,7 @@ const seamap = process.env.SEAMAP_BIN || path.join(sourceDir, 'build', 'seamap')
 const correctedTool = process.env.SEAMAP_CORRECTED_MISSION || path.join(path.dirname(seamap), 'corrected_mission');
 const artifacts = path.resolve(process.env.SEAMAP_ARTIFACTS || fs.mkdtempSync(path.join(os.tmpdir(), 'seamap-e2e-artifacts-')));
 const speed = process.env.SEAMAP_E2E_SPEED || '0.75';
-const FRAMES = 80;
+const FRAMES = 200;   // about 50 s of replay: the server (--exit-when-done) outlives the checks
 const TOTAL_TIMEOUT_MS = 200000;   // a hung browser or server never hangs ctest
 
 const checks = new Checks();
@@ -247,6 +248,8 @@ async function main() {
     return `mark ${id}`;
   });
 
+  await checkConsoleTools({browser, page, checks, base, shot});
+
   await checks.run('a map click lists the covering photos and one opens full size', async () => {
     // Click a track point from early in the survey (surely painted by now).
     const point = await page.evaluate(() => {
@@ -270,6 +273,13 @@ async function main() {
     const size = await page.$eval('#photo-full', img => [img.naturalWidth, img.naturalHeight]);
     if (size[0] <= 256 && size[1] <= 256) throw new Error(`full-size photo is only ${size.join('x')}`);
     await shot(page, 'console-photo');
+    if (count > 1) {
+      const first = await page.getAttribute('#photo-full', 'src');
+      await page.click('#photo-next');
+      await waitFor('the next photo', async () => (await page.getAttribute('#photo-full', 'src')) !== first, {timeoutMs: 5000});
+      await page.click('#photo-prev');
+      await waitFor('the previous photo again', async () => (await page.getAttribute('#photo-full', 'src')) === first, {timeoutMs: 5000});
+    }
     await page.click('#photo-viewer-close');
     return `${count} photos, full size ${size.join('x')}`;
   });
@@ -285,7 +295,33 @@ async function main() {
     if (!shown) throw new Error('panel did not open');
     await shot(page, 'console-phone');
     await page.click('#panel-toggle');
-    return 'ok';
+    await sleep(400);
+    // The progress stays on screen, and a map click shows the photo list.
+    const progress = await page.$eval('#progress-label', el => {
+      const r = el.getBoundingClientRect();
+      return r.width > 20 && r.right <= window.innerWidth + 1 ? el.textContent : '';
+    });
+    if (!/frames/.test(progress)) throw new Error(`progress label not visible at phone width ("${progress}")`);
+    const point = await page.evaluate(() => {
+      const {map, track} = window.seamap;
+      const ll = track.points[Math.floor(track.points.length / 3)];
+      map.setView(ll, map.getZoom(), {animate: false});
+      const p = map.latLngToContainerPoint(ll);
+      const box = map.getContainer().getBoundingClientRect();
+      return {x: box.left + p.x + 3, y: box.top + p.y + 3};
+    });
+    await page.evaluate(() => { document.querySelector('#photo-list').dataset.state = ''; });
+    await page.mouse.click(point.x, point.y);
+    await page.waitForSelector('#photo-list[data-state="ready"]', {timeout: 10000});
+    await sleep(400);
+    const visible = await page.$eval('#photo-list li', li => {
+      const r = li.getBoundingClientRect();
+      return r.left >= -1 && r.right <= window.innerWidth + 1 && r.top >= 0 && r.bottom <= window.innerHeight + 1;
+    });
+    if (!visible) throw new Error('the photo list is not on screen after a map click');
+    await shot(page, 'console-phone-photos');
+    await page.click('#panel-toggle');
+    return `progress "${progress}", photos on screen`;
   });
 
   await checks.run('no script errors on the page', async () => {

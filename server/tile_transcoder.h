@@ -18,7 +18,7 @@ namespace seamap::server {
 
 class TileTranscoder {
  public:
-  explicit TileTranscoder(int webp_quality = 75, size_t cache_bytes = 32u << 20);
+  explicit TileTranscoder(int webp_quality = 65, size_t cache_bytes = 32u << 20);
 
   // Formats a map stored as `stored` can also be served as (besides itself).
   static std::vector<std::string> OfferedFor(const std::string& stored);

@@ -7,7 +7,7 @@
 const LOW_KEY = 'seamap.lowBandwidth';
 const LOSSLESS_KEY = 'seamap.losslessTiles';
 const SILENT_MS = 25000;       // two missed pings (heartbeat_s=10) and some slack
-const SLOW_TILE_MS = 2500;     // a tile taking longer than this on average: a slow link
+const SLOW_TILE_MS = 3000;     // refreshed tiles (one image at a time) taking this long, median: a slow link
 const CATCH_UP_MS = 1500;
 
 class Link {
@@ -60,7 +60,8 @@ class Link {
     this.set('offline');
   }
 
-  // How long a tile image took (from the tile layer).
+  // How long a refreshed tile's image took (from the tile layer; first loads
+  // queue behind each other in the browser and would say nothing of the link).
   tileTime(ms) {
     this.tileMs.push(ms);
     if (this.tileMs.length > 8) this.tileMs.shift();
@@ -68,8 +69,9 @@ class Link {
   }
 
   get slow() {
-    if (this.tileMs.length < 3) return false;
-    return this.tileMs.reduce((a, b) => a + b, 0) / this.tileMs.length > SLOW_TILE_MS;
+    if (this.tileMs.length < 4) return false;
+    const sorted = [...this.tileMs].sort((a, b) => a - b);
+    return sorted[Math.floor(sorted.length / 2)] > SLOW_TILE_MS;
   }
 
   check() {

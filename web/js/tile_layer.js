@@ -14,7 +14,7 @@ import {link} from './link.js';
 const L = window.L;
 
 const key = (z, x, y) => `${z}/${x}/${y}`;
-const REFRESH_MS = 2000;       // at most one new image per tile on screen per this
+const REFRESH_MS = 3000;       // at most one new image per tile on screen per this
 const REFRESH_LOW_MS = 10000;  // in low-bandwidth mode
 const SETTLED_MS = 6000;       // a tile without a new version this long is finished
 
@@ -27,11 +27,35 @@ export const LiveTileLayer = L.TileLayer.extend({
     this._shown = new Map();    // key -> time the last refresh was shown
     this.refreshed = 0;
     this.building = false;
-    this.on('tileloadstart', event => { event.tile.__started = performance.now(); });
-    this.on('tileload', event => {
-      if (event.tile.__started) link.tileTime(performance.now() - event.tile.__started);
-    });
     this._settleTimer = setInterval(() => this._settle(), 1000);
+    this._stale = new Set();    // tiles kept off screen (keepBuffer) whose refresh waits until they are seen
+  },
+
+  onAdd(map) {
+    L.TileLayer.prototype.onAdd.call(this, map);
+    map.on('moveend', this._refreshStale, this);
+  },
+
+  onRemove(map) {
+    map.off('moveend', this._refreshStale, this);
+    L.TileLayer.prototype.onRemove.call(this, map);
+  },
+
+  // Is the tile on screen (not one Leaflet keeps just outside it)?
+  _inView(x, y) {
+    const range = this._pxBoundsToTileRange(this._getTiledPixelBounds(this._map.getCenter()));
+    return x >= range.min.x && x <= range.max.x && y >= range.min.y && y <= range.max.y;
+  },
+
+  _refreshStale() {
+    for (const k of [...this._stale]) {
+      const [z, x, y] = k.split('/').map(Number);
+      if (z !== this._tileZoom || !this._tiles[`${x}:${y}:${z}`]) this._stale.delete(k);
+      else if (this._inView(x, y)) {
+        this._stale.delete(k);
+        this._swap(x, y, z);
+      }
+    }
   },
 
   getTileUrl(coords) {
@@ -95,6 +119,10 @@ export const LiveTileLayer = L.TileLayer.extend({
     const version = this._versions.get(k);
     const entry = this._tiles[`${x}:${y}:${z}`];
     if (!this._map || !entry) return;
+    if (!this._inView(x, y)) {  // off screen: fetched when it comes back into view
+      this._stale.add(k);
+      return;
+    }
     const img = entry.el;
     const url = this.getTileUrl(entry.coords);
     this._shown.set(k, performance.now());

@@ -45,7 +45,7 @@ export function viewControls(map, actions) {
       button(box, {id: 'view-fit', text: '⤢', title: 'fit the mission (f)', onClick: actions.fit});
       button(box, {id: 'view-vehicle', text: '◎', title: 'jump to the vehicle (v)', onClick: actions.vehicle});
       button(box, {id: 'view-follow', text: '⇢', title: 'follow the vehicle (l)', onClick: actions.toggleFollow});
-      button(box, {id: 'view-fullscreen', text: '⛶', title: 'fullscreen (u)', onClick: actions.fullscreen});
+      button(box, {id: 'view-fullscreen', text: '□', title: 'fullscreen (u)', onClick: actions.fullscreen});
       button(box, {id: 'view-help', text: '?', title: 'keyboard shortcuts (?)', onClick: actions.help});
       L.DomEvent.disableClickPropagation(box);
       return box;

@@ -154,3 +154,10 @@ export_figures() {
 if [[ "${SEAMAP_BENCH_SERVE:-1}" == 1 ]]; then
   "$root/scripts/bench_serve.sh" "$seamap" "$out/gray.mbtiles" "$out/gray" "$out/serve"
 fi
+# The console's traffic on a weak link: bytes Chromium receives during a 4x replay (issue 21 budget 0.3 Mbit/s).
+if [[ "${SEAMAP_BENCH_CONSOLE:-1}" == 1 && -x /usr/bin/chromium && -d "$root/node_modules/playwright-core" ]]; then
+  for low in 0 1; do
+    SEAMAP_BIN="$seamap" SEAMAP_BW_REPORT=1 SEAMAP_BW_LOW=$low node "$root/tests/e2e/bandwidth.e2e.mjs" 2>/dev/null |
+      sed -n 's/^# console traffic/console traffic/p'
+  done
+fi

@@ -315,16 +315,16 @@ void HttpServer::Routes() {
       return;
     }
     uint64_t cursor = events_->LastId();
-    std::optional<std::string> resume;
-    if (req.has_header("Last-Event-ID")) resume = req.get_header_value("Last-Event-ID");
-    if (auto after = Param(req, "after")) resume = *after;  // a new stream with other filters goes on from here
-    if (resume) {
+    // after=ID opens a stream with other filters where the last one stopped;
+    // the browser's own reconnect of it sends Last-Event-ID too, which is later.
+    std::optional<uint64_t> resume;
+    for (const std::string& text : {req.get_header_value("Last-Event-ID"), Param(req, "after").value_or("")}) {
       try {
-        const uint64_t last = std::stoull(*resume);
-        if (last <= cursor) cursor = last;  // a later id comes from an earlier server run
+        if (!text.empty()) resume = std::max(resume.value_or(0), static_cast<uint64_t>(std::stoull(text)));
       } catch (const std::exception&) {
       }
     }
+    if (resume && *resume <= cursor) cursor = *resume;  // a later id comes from an earlier server run
     auto position = std::make_shared<uint64_t>(cursor);
     auto greeted = std::make_shared<bool>(false);
     std::shared_ptr<GzipStream> gzip;

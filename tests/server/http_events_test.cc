@@ -204,6 +204,14 @@ TEST_F(HttpServerTest, AStreamCarriesOnlyTheLayersZoomsAndAreaAsked) {
   EventStream next(server_->port(), {}, "/api/events?types=track&after=" + got[0].id);
   ASSERT_TRUE(next.WaitForEvents(1));
   EXPECT_EQ(next.Events()[0].data, R"({"seq":1})");
+  // The browser's reconnect of that stream sends Last-Event-ID (later than
+  // after=): it goes on from there, nothing is delivered twice.
+  EventStream reconnected(server_->port(), {{"Last-Event-ID", std::to_string(events_.LastId())}},
+                          "/api/events?types=track,pose&after=" + got[0].id);
+  ASSERT_TRUE(reconnected.WaitFor(Greeted));
+  events_.Publish("track", R"({"seq":2})");
+  ASSERT_TRUE(reconnected.WaitForEvents(1));
+  EXPECT_EQ(reconnected.Events()[0].data, R"({"seq":2})");
 
   for (const auto& [q, needle] : std::vector<std::pair<std::string, std::string>>{{"types=tile,nope", "types"},
                                                                                   {"zoom=3-x", "zoom"},

@@ -237,6 +237,19 @@ void HttpServer::Routes() {
           SendJson(res, {{"frames", frames}});
         }));
 
+  s.Get("/api/footprints", Guard([this](const httplib::Request& req, httplib::Response& res) {
+          auto bbox = Param(req, "bbox");
+          if (!bbox) throw ApiError(400, "parameter 'bbox' is required (west,south,east,north)");
+          const EventFilter area = EventFilter::Parse(std::nullopt, std::nullopt, std::nullopt, bbox);
+          size_t limit = 2000;
+          if (auto v = Param(req, "limit"))
+            limit = std::max<int64_t>(1, std::min<int64_t>(20000, ParseId(*v, "parameter 'limit'")));
+          nlohmann::json features = nlohmann::json::array();
+          for (const auto& f : mission_->FramesMeeting(*area.bbox, limit)) features.push_back(FootprintFeature(f));
+          res.set_header("Cache-Control", "no-cache");
+          SendJson(res, {{"type", "FeatureCollection"}, {"features", features}});
+        }));
+
   s.Get(R"(/api/frames/([^/]+))", Guard([this](const httplib::Request& req, httplib::Response& res) {
           const int64_t id = ParseId(req.matches[1], "frame id");
           auto f = id > INT_MAX ? std::nullopt : mission_->Frame(static_cast<int>(id));

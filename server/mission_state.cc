@@ -229,6 +229,35 @@ std::vector<FrameRecord> MissionState::FramesCovering(const LatLon& p, size_t li
   return out;
 }
 
+std::vector<FrameRecord> MissionState::FramesMeeting(const LatLonBounds& b, size_t limit) const {
+  std::vector<FrameRecord> out;
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (const FrameRecord& f : frames_) {
+    if (out.size() >= limit) break;
+    if (f.status != "used") continue;
+    double west = 180, east = -180, south = 90, north = -90;
+    for (const auto& c : f.footprint) {
+      west = std::min(west, c.lon), east = std::max(east, c.lon);
+      south = std::min(south, c.lat), north = std::max(north, c.lat);
+    }
+    if (east < b.west || west > b.east || north < b.south || south > b.north) continue;
+    out.push_back(f);
+  }
+  return out;
+}
+
+nlohmann::json FootprintFeature(const FrameRecord& f) {
+  nlohmann::json ring = nlohmann::json::array();
+  for (const auto& c : f.footprint) ring.push_back({c.lon, c.lat});
+  ring.push_back({f.footprint[0].lon, f.footprint[0].lat});  // GeoJSON rings are closed
+  return {
+      {"type", "Feature"},
+      {"id", f.id},
+      {"geometry", {{"type", "Polygon"}, {"coordinates", {ring}}}},
+      {"properties",
+       {{"id", f.id}, {"image", f.image}, {"time_s", f.time_s ? nlohmann::json(*f.time_s) : nlohmann::json(nullptr)}}}};
+}
+
 std::optional<FrameRecord> MissionState::Frame(int id) const {
   std::lock_guard<std::mutex> lock(mutex_);
   auto it = std::lower_bound(frames_.begin(), frames_.end(), id, [](const FrameRecord& f, int v) { return f.id < v; });

@@ -13,6 +13,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/geo/web_mercator.h"
+
 #include "core/tiles/tile_store.h"
 
 namespace seamap::server {
@@ -56,6 +58,8 @@ class MissionState {
   // Used frames whose footprint contains the point, nearest footprint centre first.
   std::vector<FrameRecord> FramesCovering(const LatLon& point, size_t limit) const;
   std::optional<FrameRecord> Frame(int id) const;
+  // Used frames whose footprint meets the bounds, in id order; at most `limit`.
+  std::vector<FrameRecord> FramesMeeting(const LatLonBounds& bounds, size_t limit) const;
 
  private:
   mutable std::mutex mutex_;
@@ -81,6 +85,9 @@ bool FootprintContains(const std::array<LatLon, 4>& footprint, const LatLon& poi
 // and `nav`, the navigation's pose {lat, lon, altitude_m, depth_m, heading_deg,
 // pitch_deg, roll_deg} where the frame was placed with a corrected one (else null).
 nlohmann::json FrameJson(const FrameRecord& frame);
+// A frame's footprint as a GeoJSON Feature (Polygon; properties id, image,
+// time_s): what a footprints layer draws, without the rest of the record.
+nlohmann::json FootprintFeature(const FrameRecord& frame);
 nlohmann::json PoseJson(const FrameRecord& frame);
 // {seq, lat, lon, time_s, nav: {lat, lon, heading_deg} or null}: a `track` event.
 nlohmann::json TrackPointJson(const TrackPoint& point);

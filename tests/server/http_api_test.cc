@@ -112,6 +112,35 @@ TEST_F(HttpServerTest, FramesCoveringAPointNearestFirst) {
   EXPECT_TRUE(GetJson("/api/frames?lat=44&lon=6")["frames"].empty());
 }
 
+// The footprints layer: every used frame's outline meeting the view, compact.
+TEST_F(HttpServerTest, FootprintsMeetingABoxAsPolygons) {
+  Start();
+  const json all = GetJson("/api/footprints?bbox=4.999,42.999,5.001,43.001");
+  ASSERT_EQ(all["type"], "FeatureCollection");
+  std::vector<int> ids;
+  for (const auto& f : all["features"]) ids.push_back(f["id"].get<int>());
+  EXPECT_EQ(ids, (std::vector<int>{0, 1})) << "the rejected frame 2 is not drawn, frame 3 is elsewhere";
+  const json f0 = all["features"][0];
+  EXPECT_EQ(f0["geometry"]["type"], "Polygon");
+  const json ring = f0["geometry"]["coordinates"][0];
+  ASSERT_EQ(ring.size(), 5u);
+  EXPECT_EQ(ring[0], ring[4]) << "a closed ring";
+  EXPECT_EQ(f0["properties"]["image"], "frame_0.png");
+  EXPECT_FALSE(f0["properties"].contains("footprint")) << "outlines only, not whole frame records";
+  const json frame0 = GetJson("/api/frames/0");
+  EXPECT_EQ(ring[0], frame0["footprint"][0]);
+  // A box that only frame 1's footprint reaches (it extends further north-east).
+  std::vector<int> ne;
+  const json ne_answer = GetJson("/api/footprints?bbox=5.00025,43.00025,5.001,43.001");
+  for (const auto& f : ne_answer["features"])
+    ne.push_back(f["id"].get<int>());
+  EXPECT_EQ(ne, std::vector<int>{1}) << ne_answer.dump();
+  EXPECT_TRUE(GetJson("/api/footprints?bbox=6,44,6.1,44.1")["features"].empty());
+  EXPECT_EQ(GetJson("/api/footprints?bbox=4.999,42.999,5.001,43.001&limit=1")["features"].size(), 1u);
+  ExpectError(Get("/api/footprints"), 400, "'bbox'", "no bbox");
+  ExpectError(Get("/api/footprints?bbox=1,2,3"), 400, "'bbox'", "3 numbers");
+}
+
 TEST_F(HttpServerTest, FramesQueryNeedsAValidPoint) {
   Start();
   ExpectError(Get("/api/frames?lon=5"), 400, "'lat'", "no lat");

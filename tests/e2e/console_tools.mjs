@@ -26,10 +26,15 @@ export async function checkConsoleTools({browser, page, checks, base, shot}) {
     await page.check('#mode-mark');
     const box = await page.$eval('#map', el => {
       const r = el.getBoundingClientRect();
-      return {x: r.left + r.width * 0.6, y: r.top + r.height * 0.4};
+      return {x: r.left + r.width * 0.3, y: r.top + r.height * 0.7};
     });
-    await page.mouse.click(box.x, box.y);
-    await page.waitForSelector('.leaflet-popup .new-mark', {timeout: 5000});
+    // (A click while the map still settles can be taken for a drag: try twice.)
+    for (let attempt = 0; attempt < 2; ++attempt) {
+      await sleep(500);
+      await page.mouse.click(box.x, box.y);
+      if (await page.waitForSelector('.leaflet-popup .new-mark', {timeout: 5000}).catch(() => null)) break;
+    }
+    await page.waitForSelector('.leaflet-popup .new-mark', {timeout: 1000});
     await page.fill('.leaflet-popup .new-mark input[name="class"]', 'e2e-rock');
     await page.fill('.leaflet-popup .new-mark input[name="note"]', 'added by clicking');
     await page.click('.leaflet-popup .new-mark button[type="submit"]');
@@ -217,5 +222,36 @@ export async function checkConsoleTools({browser, page, checks, base, shot}) {
     await page.keyboard.press('Escape');
     await page.waitForSelector('#help', {state: 'hidden', timeout: 2000});
     return `${keys} shortcuts`;
+  });
+
+  await checks.run('the footprints layer outlines the photos in view; a click opens one', async () => {
+    await page.evaluate(() => window.seamap.fitMission());
+    await sleep(300);
+    await page.check('#footprints');
+    const drawn = await waitFor('footprints drawn', async () => {
+      const n = await page.$$eval('path.footprint', paths => paths.length);
+      return n > 0 ? n : 0;
+    }, {timeoutMs: 5000});
+    const bbox = await page.evaluate(() => {
+      const b = window.seamap.map.getBounds().pad(0.2);
+      return [b.getWest(), b.getSouth(), b.getEast(), b.getNorth()].map(v => v.toFixed(7)).join(',');
+    });
+    const api = await (await fetch(new URL(`api/footprints?bbox=${bbox}`, base))).json();
+    if (Math.abs(api.features.length - drawn) > 3) throw new Error(`${drawn} drawn, the API lists ${api.features.length}`);
+    const id = await page.evaluate(() => {
+      const {footprints, photos} = window.seamap;
+      const some = footprints.layer.getLayers()[Math.floor(footprints.layer.getLayers().length / 2)];
+      some.fire('click', {latlng: some.getBounds().getCenter()});
+      return some.feature.properties.id;
+    });
+    await page.waitForSelector('#photo-full[data-state="loaded"]', {timeout: 10000});
+    const src = await page.getAttribute('#photo-full', 'src');
+    if (!src.includes(`/api/frames/${id}/image`)) throw new Error(`viewer shows ${src}, not frame ${id}`);
+    await page.click('#photo-next');
+    await waitFor('the next frame', async () => (await page.getAttribute('#photo-full', 'src')).includes(`/api/frames/${id + 1}/image`), {timeoutMs: 5000});
+    await shot(page, 'console-footprints');
+    await page.click('#photo-viewer-close');
+    await page.uncheck('#footprints');
+    return `${drawn} outlines, frame ${id} opened, then ${id + 1}`;
   });
 }

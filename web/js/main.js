@@ -6,6 +6,7 @@ import {$, toast} from './dom.js';
 const L = window.L;
 import {LiveEvents} from './events.js';
 import {exportData} from './export.js';
+import {Footprints} from './footprints.js';
 import {localFrame} from './geo.js';
 import {Detections} from './detections.js';
 import {Measure} from './measure.js';
@@ -72,6 +73,7 @@ async function start() {
   const detections = new Detections(map, {canEdit, frame});
   const photos = new Photos(map);
   const measure = new Measure(map);
+  const footprints = new Footprints(map, id => photos.openId(id));
   if (status) vehicle.update(status.last_pose);
 
   await Promise.allSettled([
@@ -81,6 +83,7 @@ async function start() {
 
   const tileLayerFor = name => photoLayers && (photoLayers.layers.get(name) || photoLayers.main);
   const setBuilding = () => {
+    footprints.building = status?.state === 'building';
     for (const layer of new Set(photoLayers ? photoLayers.layers.values() : [])) layer.setBuilding(status?.state === 'building');
   };
   setBuilding();
@@ -241,7 +244,7 @@ async function start() {
   });
 
   // For debugging from the browser console and for the end-to-end test.
-  window.seamap = {map, live, link, track: tracks.estimated, tracks, detections, photos, measure, vehicle, fitMission, toVehicle, setFollow,
+  window.seamap = {map, live, link, track: tracks.estimated, tracks, detections, photos, measure, footprints, vehicle, fitMission, toVehicle, setFollow,
     get layers() { return photoLayers; }, get status() { return status; }};
   document.body.dataset.ready = 'true';
 }

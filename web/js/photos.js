@@ -84,6 +84,20 @@ export class Photos {
       {color: '#00e5ff', weight: 1.5, fill: false, interactive: false}).addTo(this.footprints);
   }
 
+  // Opens one frame by id (a footprint clicked): its neighbours by id are previous/next.
+  async openId(id) {
+    try {
+      const frame = await getJSON(`/api/frames/${id}`);
+      this.frames = [frame];
+      const neighbours = await Promise.allSettled([getJSON(`/api/frames/${id - 1}`), getJSON(`/api/frames/${id + 1}`)]);
+      if (neighbours[0].status === 'fulfilled') this.frames.unshift(neighbours[0].value);
+      if (neighbours[1].status === 'fulfilled') this.frames.push(neighbours[1].value);
+      this.open(frame);
+    } catch (error) {
+      toast(`photo ${id}: ${error.message}`);
+    }
+  }
+
   // Previous / next photo of the list in the viewer.
   step(delta) {
     if (!this.frames.length) return;

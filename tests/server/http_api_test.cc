@@ -132,8 +132,7 @@ TEST_F(HttpServerTest, FootprintsMeetingABoxAsPolygons) {
   // A box that only frame 1's footprint reaches (it extends further north-east).
   std::vector<int> ne;
   const json ne_answer = GetJson("/api/footprints?bbox=5.00025,43.00025,5.001,43.001");
-  for (const auto& f : ne_answer["features"])
-    ne.push_back(f["id"].get<int>());
+  for (const auto& f : ne_answer["features"]) ne.push_back(f["id"].get<int>());
   EXPECT_EQ(ne, std::vector<int>{1}) << ne_answer.dump();
   EXPECT_TRUE(GetJson("/api/footprints?bbox=6,44,6.1,44.1")["features"].empty());
   EXPECT_EQ(GetJson("/api/footprints?bbox=4.999,42.999,5.001,43.001&limit=1")["features"].size(), 1u);

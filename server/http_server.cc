@@ -357,7 +357,7 @@ void HttpServer::Bind() {
   if (backend <= 0) throw InputError("", 0, "--port", "cannot open the server's loopback port");
   static_cast<BacklogServer*>(http_.get())->RaiseBacklog();
   const int loops = static_cast<int>(std::max(1u, std::min(4u, std::thread::hardware_concurrency())));
-  front_ = std::make_unique<TileFrontEnd>(tiles_, mission_, backend, loops);
+  front_ = std::make_unique<TileFrontEnd>(tiles_, mission_, backend, loops, kMaxBody);
   port_ = front_->Bind(options_.host, options_.port);
 }
 

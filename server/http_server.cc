@@ -18,6 +18,7 @@
 #include "server/photo_preview.h"
 #include "server/tile_answer.h"
 #include "server/track_feature.h"
+#include "server/utf8.h"
 
 namespace seamap::server {
 namespace {
@@ -34,9 +35,15 @@ class BacklogServer : public httplib::Server {
 };
 constexpr auto kKeepAliveComment = std::chrono::seconds(15);
 
+// Messages quote what clients sent, which need not be UTF-8: such bytes
+// become U+FFFD instead of a 500 from the JSON library.
+std::string Dump(const nlohmann::json& j) {
+  return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
 void SendJson(httplib::Response& res, const nlohmann::json& j, int status = 200) {
   res.status = status;
-  res.set_content(j.dump(), "application/json");
+  res.set_content(Dump(j), "application/json");
 }
 
 void SendError(httplib::Response& res, int status, const std::string& message) {
@@ -72,6 +79,12 @@ double ParseCoordinate(const httplib::Request& req, const char* name, double lo,
 }
 
 nlohmann::json ParseBody(const httplib::Request& req) {
+  if (auto bad = FirstInvalidUtf8(req.body)) {
+    char byte[8];
+    std::snprintf(byte, sizeof byte, "0x%02X", static_cast<unsigned char>(req.body[*bad]));
+    throw ApiError(400, "body: not valid UTF-8 (byte " + std::string(byte) + " at offset " + std::to_string(*bad) +
+                            "); JSON must be UTF-8 (RFC 8259)");
+  }
   try {
     return nlohmann::json::parse(req.body);
   } catch (const nlohmann::json::exception& e) {
@@ -334,7 +347,7 @@ void HttpServer::Routes() {
                           : res.status == 413 ? "request body too large (limit 64 KiB)"
                           : res.status == 400 ? "bad request"
                                               : "error " + std::to_string(res.status);
-    res.set_content(nlohmann::json{{"error", message}}.dump(), "application/json");
+    res.set_content(Dump({{"error", message}}), "application/json");
     return httplib::Server::HandlerResponse::Handled;
   }));
   s.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr ep) {
@@ -346,7 +359,7 @@ void HttpServer::Routes() {
     } catch (...) {
     }
     res.status = 500;
-    res.set_content(nlohmann::json{{"error", message}}.dump(), "application/json");
+    res.set_content(Dump({{"error", message}}), "application/json");
   });
 }
 

@@ -23,6 +23,35 @@ std::string Chunk(const std::string& data) {
 
 // --- bodies ---------------------------------------------------------------------------
 
+TEST_F(HttpServerTest, BodiesThatAreNotUtf8Are400) {
+  Start();
+  auto client = Client();
+  const std::string feature = R"({"type":"Feature","geometry":{"type":"Point","coordinates":[5,43]},)";
+  struct Case {
+    std::string body, what;
+  };
+  for (const Case& c : std::vector<Case>{
+           {feature + "\"properties\":{\"class\":\"x\xff\"}}", "FF in a string"},
+           {feature + "\"properties\":{\"class\":\"\xc0\xaf\"}}", "an overlong '/'"},
+           {feature + "\"properties\":{\"class\":\"\xed\xa0\x80\"}}", "a surrogate"},
+           {"\xfe\xff{}", "a UTF-16 byte order mark"},
+           {feature + "\"properties\":{\"class\":\"caf\xc3\"}}", "cut short"},
+       }) {
+    auto res = client->Post("/api/detections", c.body, "application/json");
+    ExpectError(res, 400, "not valid UTF-8", c.what);
+  }
+  ExpectError(client->Patch("/api/detections/2", "{\"note\":\"\xff\"}", "application/json"), 400, "UTF-8", "patch");
+  // A message that quotes a client's bytes stays JSON.
+  ExpectError(Get("/api/frames/%FF%FE"), 400, "frame id", "an id that is not UTF-8");
+  EXPECT_EQ(StoredDetections().size(), 2u);
+  // Real UTF-8 is stored as sent.
+  json accented = Mark(5, 43, "\xc3\xa9pave");
+  auto created = client->Post("/api/detections", accented.dump(), "application/json");
+  ASSERT_TRUE(created);
+  EXPECT_EQ(created->status, 201) << created->body;
+  EXPECT_EQ(json::parse(created->body)["properties"]["class"], "\xc3\xa9pave");
+}
+
 TEST_F(HttpServerTest, AChunkedBodyWithinTheLimitIsServedAndTheConnectionGoesOn) {
   Start();
   const std::string mark = Mark(5.0, 43.0, "chunked").dump();

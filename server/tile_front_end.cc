@@ -239,8 +239,11 @@ struct TileFrontEnd::Connection {
   // epoll_ctl calls per tile. True when the connection is gone.
   bool Flush() {
     // The client stopped writing: close once all it asked for is answered,
-    // or at once when a request for httplib was cut short.
-    if (client_eof && !raw && (!in_flight || RequestPending()) && !close_after_write) StopReading();
+    // or at once when a request for httplib was cut short, unless httplib
+    // has begun to answer it already (e.g. a 403 sent before the body was
+    // read): that answer goes out whole first.
+    const bool answering = in_flight && !in_flight->between_answers();
+    if (client_eof && !raw && (!in_flight || (RequestPending() && !answering)) && !close_after_write) StopReading();
     evbuffer* out = bufferevent_get_output(client);
     if (evbuffer_get_length(out) > 0) {
       // bufferevent keeps its output's start frozen outside its own write

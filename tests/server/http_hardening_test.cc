@@ -2,6 +2,7 @@
 // sites' pages (Origin), --allow-origin and CORS, the token check the
 // console makes, symbolic links out of web/, bodies that are not UTF-8 and
 // chunked bodies over the limit.
+#include "server/catalog_server.h"
 #include "tests/server/http_test_fixture.h"
 #include "tests/server/raw_http.h"
 
@@ -230,6 +231,23 @@ TEST_F(HttpServerTest, SymbolicLinksOutOfTheWebFolderAreNotFollowed) {
   auto index = Get("/");
   ASSERT_TRUE(index);
   EXPECT_EQ(index->status, 200);
+}
+
+TEST_F(HttpServerTest, ACatalogueDoesNotFollowLinksOutOfTheWebFolderEither) {
+  std::filesystem::create_symlink(dir_ / "secret.txt", web_ / "leak.txt");
+  std::filesystem::create_directories(dir_ / "maps");
+  CatalogServer catalogue(Options(), (dir_ / "maps").string());
+  catalogue.Bind();
+  catalogue.Start();
+  httplib::Client client("127.0.0.1", catalogue.port());
+  auto leak = client.Get("/leak.txt");
+  ASSERT_TRUE(leak);
+  EXPECT_EQ(leak->status, 404);
+  EXPECT_EQ(leak->body.find("TOP SECRET"), std::string::npos);
+  auto js = client.Get("/js/app.js");
+  ASSERT_TRUE(js);
+  EXPECT_EQ(js->status, 200);
+  catalogue.Stop();
 }
 
 TEST_F(HttpServerTest, AWebFolderThatIsItselfALinkIsServed) {

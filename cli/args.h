@@ -16,6 +16,8 @@ class Args {
   Args(int argc, char** argv, int first, std::set<std::string> flags = {});
 
   std::optional<std::string> Get(const std::string& name);
+  // Every value of an option given more than once (`--allow-origin A --allow-origin B`).
+  std::vector<std::string> GetAll(const std::string& name);
   std::string Require(const std::string& name);
   std::string GetOr(const std::string& name, const std::string& fallback);
   double GetDouble(const std::string& name, double fallback);
@@ -29,7 +31,8 @@ class Args {
   void RejectUnknown() const;
 
  private:
-  std::map<std::string, std::string> values_;
+  std::map<std::string, std::string> values_;  // the last value of each option
+  std::map<std::string, std::vector<std::string>> all_values_;
   std::set<std::string> flags_set_;
   std::set<std::string> known_flags_;
   std::set<std::string> used_;

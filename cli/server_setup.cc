@@ -14,7 +14,9 @@ const char* kServerOptionsHelp =
     "  --token TEXT        writes (operator marks) need 'Authorization: Bearer TEXT'\n"
     "  --web DIR           the console's files (default: the web/ folder of this checkout)\n"
     "  --threads N         request threads, one per open connection (default 96)\n"
-    "  --max-streams N     live event streams at once (default 32)\n";
+    "  --max-streams N     live event streams at once (default 32)\n"
+    "  --allow-origin URL  another site whose pages may write, e.g. http://10.0.0.5:3000\n"
+    "                      (repeatable; pages of other sites are refused writes, 403)\n";
 
 server::ServerOptions ReadServerOptions(Args& args, const std::optional<nlohmann::json>& config_server,
                                         const std::string& source) {
@@ -25,6 +27,7 @@ server::ServerOptions ReadServerOptions(Args& args, const std::optional<nlohmann
   o.token = args.GetOr("token", o.token);
   o.threads = args.GetInt("threads", o.threads);
   o.max_streams = args.GetInt("max-streams", o.max_streams);
+  for (const std::string& origin : args.GetAll("allow-origin")) o.allow_origins.push_back(origin);
   const char* env = std::getenv("SEAMAP_WEB_DIR");
   o.web_dir = args.GetOr("web", env ? env : SEAMAP_WEB_DIR);
   o.Check();

@@ -14,7 +14,7 @@ namespace seamap::cli {
 extern const char* kServerOptionsHelp;
 
 // The config's "server" object (from the file `source`), then --host, --port,
-// --token, --web, --threads, --max-streams on top; Check()ed.
+// --token, --web, --threads, --max-streams, --allow-origin on top; Check()ed.
 server::ServerOptions ReadServerOptions(Args& args, const std::optional<nlohmann::json>& config_server,
                                         const std::string& source);
 

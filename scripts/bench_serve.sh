@@ -3,7 +3,8 @@
 # export) and from `seamap serve` (the MBTiles), loaded with wrk, 64
 # connections asking for random existing tiles; then the same load on a
 # mission a replay is writing; and one of 20 missions of a catalogue
-# (`seamap serve FOLDER`). Prints requests/s, p50, p99, errors, ratio.
+# (`seamap serve FOLDER`). Prints requests/s, p50, p99, errors, ratio;
+# then the peak memory under a 64 MiB chunked POST (bench_hostile_serve.sh).
 #   bench_serve.sh SEAMAP_BIN MISSION.mbtiles SURVEY_DIR OUT_DIR
 set -euo pipefail
 seamap="$1" mission="$2" survey="$3"
@@ -104,3 +105,6 @@ for i in $(seq -w 1 20); do cp "$mission" "$catalogue/dive$i.mbtiles"; done
 pids+=($!)
 wait_port 18184
 report "seamap serve FOLDER (20 missions)" "$(load catalogue 18184 /missions/dive07/tiles)"
+
+# Peak memory under a hostile upload (64 MiB chunked POST, refused with 413).
+"$(dirname "$0")/bench_hostile_serve.sh" "$seamap" "$mission" "$out" 18185

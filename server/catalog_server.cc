@@ -4,6 +4,7 @@
 #include <sys/socket.h>
 
 #include <filesystem>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 
@@ -11,6 +12,7 @@
 #include "core/util/error.h"
 #include "server/api_error.h"
 #include "server/tile_answer.h"
+#include "server/web_root.h"
 
 namespace seamap::server {
 namespace {
@@ -149,7 +151,14 @@ void CatalogServer::Routes() {
     SendJson(res, {{"error", "no such API in a catalogue: " + req.path + " (see /api/missions)"}}, 404);
   });
   // The console's first page in a catalogue is the mission picker.
-  s.set_pre_routing_handler([](const httplib::Request& req, httplib::Response& res) {
+  std::optional<WebRoot> web_root;
+  if (!options_.web_dir.empty()) web_root.emplace(options_.web_dir);
+  s.set_pre_routing_handler([web_root](const httplib::Request& req, httplib::Response& res) {
+    // httplib's file handler follows links: one out of web/ is not there.
+    if (web_root && (req.method == "GET" || req.method == "HEAD") && !web_root->MayServe(req.path)) {
+      SendJson(res, {{"error", "not found"}}, 404);
+      return httplib::Server::HandlerResponse::Handled;
+    }
     if (req.path != "/" && req.path != "/index.html") return httplib::Server::HandlerResponse::Unhandled;
     res.set_redirect("/missions.html");
     return httplib::Server::HandlerResponse::Handled;

@@ -20,6 +20,8 @@
 #include "server/photo_preview.h"
 #include "server/tile_answer.h"
 #include "server/track_feature.h"
+#include "server/utf8.h"
+#include "server/web_root.h"
 
 namespace seamap::server {
 namespace {
@@ -36,9 +38,15 @@ class BacklogServer : public httplib::Server {
 };
 constexpr auto kKeepAliveComment = std::chrono::seconds(15);
 
+// Messages quote what clients sent, which need not be UTF-8: such bytes
+// become U+FFFD instead of a 500 from the JSON library.
+std::string Dump(const nlohmann::json& j) {
+  return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
 void SendJson(httplib::Response& res, const nlohmann::json& j, int status = 200) {
   res.status = status;
-  res.set_content(j.dump(), "application/json");
+  res.set_content(Dump(j), "application/json");
 }
 
 void SendError(httplib::Response& res, int status, const std::string& message) {
@@ -74,6 +82,12 @@ double ParseCoordinate(const httplib::Request& req, const char* name, double lo,
 }
 
 nlohmann::json ParseBody(const httplib::Request& req) {
+  if (auto bad = FirstInvalidUtf8(req.body)) {
+    char byte[8];
+    std::snprintf(byte, sizeof byte, "0x%02X", static_cast<unsigned char>(req.body[*bad]));
+    throw ApiError(400, "body: not valid UTF-8 (byte " + std::string(byte) + " at offset " + std::to_string(*bad) +
+                            "); JSON must be UTF-8 (RFC 8259)");
+  }
   try {
     return nlohmann::json::parse(req.body);
   } catch (const nlohmann::json::exception& e) {
@@ -138,6 +152,7 @@ StreamSettings ParseStreamSettings(const httplib::Request& req) {
 HttpServer::HttpServer(ServerOptions options, TileSource* tiles, MissionState* mission, DetectionRegistry* detections,
                        EventHub* events)
     : options_(std::move(options)),
+      origins_(options_.allow_origins),
       tiles_(tiles),
       mission_(mission),
       detections_(detections),
@@ -199,12 +214,17 @@ void HttpServer::Routes() {
     for (const auto& [name, value] : a.headers) res.set_header(name, value);
     if (a.body) res.set_content(a.body->data(), a.body->size(), a.content_type.c_str());
   };
-  s.set_pre_routing_handler([serve_tile](const httplib::Request& req, httplib::Response& res) {
+  std::optional<WebRoot> web_root;
+  if (!options_.web_dir.empty()) web_root.emplace(options_.web_dir);
+  s.set_pre_routing_handler([this, serve_tile, web_root](const httplib::Request& req, httplib::Response& res) {
     const bool is_tile = (req.method == "GET" || req.method == "HEAD") && req.path.rfind("/tiles/", 0) == 0 &&
                          !(req.path.size() > 5 && req.path.compare(req.path.size() - 5, 5, ".json") == 0);
-    if (!is_tile) return httplib::Server::HandlerResponse::Unhandled;
-    serve_tile(req, res);
-    return httplib::Server::HandlerResponse::Handled;
+    if (is_tile) {
+      serve_tile(req, res);
+      return httplib::Server::HandlerResponse::Handled;
+    }
+    return Screen(req, res, web_root ? &*web_root : nullptr) ? httplib::Server::HandlerResponse::Handled
+                                                             : httplib::Server::HandlerResponse::Unhandled;
   });
 
   s.Get("/api/status", Guard([this](const httplib::Request&, httplib::Response& res) {
@@ -290,9 +310,17 @@ void HttpServer::Routes() {
   auto require_token = [this](const httplib::Request& req, httplib::Response& res) {
     if (Authorized(req, options_.token)) return true;
     res.set_header("WWW-Authenticate", "Bearer realm=\"seamap\"");
-    SendError(res, 401, "writing needs 'Authorization: Bearer TOKEN' (the server's --token)");
+    SendError(res, 401,
+              req.has_header("Authorization")
+                  ? "wrong token: 'Authorization: Bearer TOKEN' must give the server's --token"
+                  : "writing needs 'Authorization: Bearer TOKEN' (the server's --token)");
     return false;
   };
+  // The console checks a token as soon as it is entered, before any write.
+  s.Get("/api/auth", Guard([require_token](const httplib::Request& req, httplib::Response& res) {
+          res.set_header("Cache-Control", "no-store");
+          if (require_token(req, res)) res.status = 204;
+        }));
   s.Post("/api/detections", Guard([this, require_token](const httplib::Request& req, httplib::Response& res) {
            if (!require_token(req, res)) return;
            nlohmann::json feature = detections_->Create(ParseBody(req));
@@ -412,7 +440,7 @@ void HttpServer::Routes() {
                           : res.status == 413 ? "request body too large (limit 64 KiB)"
                           : res.status == 400 ? "bad request"
                                               : "error " + std::to_string(res.status);
-    res.set_content(nlohmann::json{{"error", message}}.dump(), "application/json");
+    res.set_content(Dump({{"error", message}}), "application/json");
     return httplib::Server::HandlerResponse::Handled;
   }));
   s.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr ep) {
@@ -424,8 +452,44 @@ void HttpServer::Routes() {
     } catch (...) {
     }
     res.status = 500;
-    res.set_content(nlohmann::json{{"error", message}}.dump(), "application/json");
+    res.set_content(Dump({{"error", message}}), "application/json");
   });
+}
+
+bool HttpServer::Screen(const httplib::Request& req, httplib::Response& res, const WebRoot* web_root) const {
+  // (get_header_value returns a copy: kept here for the views below.)
+  const std::string origin_field = req.get_header_value("Origin");
+  const std::string fetch_site_field = req.get_header_value("Sec-Fetch-Site");
+  const std::optional<std::string_view> origin =
+      req.has_header("Origin") ? std::optional<std::string_view>(origin_field) : std::nullopt;
+  // CORS for the integrations the operator allowed (--allow-origin).
+  if (origin && origins_.Allowed(*origin)) {
+    res.set_header("Access-Control-Allow-Origin", std::string(*origin));
+    res.set_header("Vary", "Origin");
+    res.set_header("Access-Control-Expose-Headers", "Location");
+    if (req.method == "OPTIONS" && req.has_header("Access-Control-Request-Method")) {  // a preflight
+      res.set_header("Access-Control-Allow-Methods", "GET, POST, PATCH, DELETE");
+      res.set_header("Access-Control-Allow-Headers", "Authorization, Content-Type");
+      res.set_header("Access-Control-Max-Age", "600");
+      res.status = 204;
+      return true;
+    }
+  }
+  if (!OriginPolicy::IsSafeMethod(req.method)) {
+    const std::optional<std::string_view> fetch_site =
+        req.has_header("Sec-Fetch-Site") ? std::optional<std::string_view>(fetch_site_field) : std::nullopt;
+    if (auto why = origins_.RefuseWrite(req.get_header_value("Host"), origin, fetch_site)) {
+      SendError(res, 403, *why);
+      return true;
+    }
+  }
+  // httplib's file handler comes before the routes and follows links: a
+  // link out of web/ is answered as if the file were not there.
+  if (web_root && (req.method == "GET" || req.method == "HEAD") && !web_root->MayServe(req.path)) {
+    SendError(res, 404, "not found");
+    return true;
+  }
+  return false;
 }
 
 void HttpServer::Bind() {
@@ -435,7 +499,7 @@ void HttpServer::Bind() {
   if (backend <= 0) throw InputError("", 0, "--port", "cannot open the server's loopback port");
   static_cast<BacklogServer*>(http_.get())->RaiseBacklog();
   const int loops = static_cast<int>(std::max(1u, std::min(4u, std::thread::hardware_concurrency())));
-  front_ = std::make_unique<TileFrontEnd>(tiles_, mission_, backend, loops);
+  front_ = std::make_unique<TileFrontEnd>(tiles_, mission_, backend, loops, kMaxBody);
   port_ = front_->Bind(options_.host, options_.port);
 }
 

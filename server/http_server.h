@@ -11,13 +11,16 @@
 #include "server/detection_registry.h"
 #include "server/event_hub.h"
 #include "server/mission_state.h"
+#include "server/origin_policy.h"
 #include "server/server_options.h"
 #include "server/tile_front_end.h"
 #include "server/tile_source.h"
 
 namespace httplib {
 class Server;
-}
+struct Request;
+struct Response;
+}  // namespace httplib
 
 namespace seamap::server {
 
@@ -38,8 +41,12 @@ class HttpServer {
 
  private:
   void Routes();
+  // What is answered before routing (true: `res` is the answer): CORS for
+  // allowed origins, cross-site writes refused (403), links out of web/ (404).
+  bool Screen(const httplib::Request& req, httplib::Response& res, const class WebRoot* web_root) const;
 
   ServerOptions options_;
+  OriginPolicy origins_;
   TileSource* tiles_;
   MissionState* mission_;
   DetectionRegistry* detections_;

@@ -103,7 +103,8 @@ RequestHead ParseRequestHead(std::string_view bytes, const RequestHeadLimits& li
   // Header fields "name: value" up to the blank line.
   RequestHead head;
   std::optional<size_t> content_length;
-  bool close = false, keep_alive = false, pass_on = false, to_backend = false;
+  bool close = false, keep_alive = false, to_backend = false;
+  int transfer_encodings = 0;  // fields; only one "chunked" is served
   while (true) {
     if (pos >= head_end) return ran_out(limits.max_head_bytes);
     if (bytes[pos] == '\r' || bytes[pos] == '\n') {
@@ -136,7 +137,11 @@ RequestHead ParseRequestHead(std::string_view bytes, const RequestHeadLimits& li
       if (content_length && *content_length != length) return Refuse("two Content-Lengths");
       content_length = length;
     } else if (IEquals(name, "transfer-encoding")) {
-      pass_on = true;  // a chunked body: the front end does not follow it
+      // httplib reads a body as chunked only for exactly this value, and to
+      // the close for any other: the front end would lose the request's end.
+      if (!IEquals(value, "chunked") || ++transfer_encodings > 1)
+        return Refuse("only 'Transfer-Encoding: chunked' is served", 501);
+      head.chunked = true;
     } else if (IEquals(name, "expect") || IEquals(name, "upgrade")) {
       to_backend = true;  // 100-continue, another protocol: the backend's business
     } else if (IEquals(name, "if-none-match")) {
@@ -146,13 +151,19 @@ RequestHead ParseRequestHead(std::string_view bytes, const RequestHeadLimits& li
       keep_alive = keep_alive || HasToken(value, "keep-alive");
     }
   }
-  if (pass_on) return Verdict(Kind::kPassOn);
   // Where a request ends must be the same for httplib: it reads a body only
   // for these methods, and one without a length up to the close.
   const bool takes_body = method == "POST" || method == "PUT" || method == "PATCH" || method == "DELETE";
-  if (!takes_body && content_length.value_or(0) > 0) return Refuse("a body on a request that takes none");
-  if (takes_body && method != "DELETE" && !content_length) return Refuse("a body needs a Content-Length", 411);
   head.http_1_0 = version == "HTTP/1.0";  // HTTP/1.2 and later are taken as 1.1
+  if (head.chunked) {
+    // Both lengths is how requests are smuggled past a proxy (RFC 9112 6.3).
+    if (content_length) return Refuse("both Transfer-Encoding and Content-Length");
+    if (head.http_1_0) return Refuse("Transfer-Encoding in an HTTP/1.0 request");
+    if (!takes_body) return Refuse("a body on a request that takes none");
+  }
+  if (!takes_body && content_length.value_or(0) > 0) return Refuse("a body on a request that takes none");
+  if (takes_body && method != "DELETE" && !content_length && !head.chunked)
+    return Refuse("a body needs a Content-Length", 411);
   head.keep_alive = !close && (!head.http_1_0 || keep_alive);
   head.head_only = method == "HEAD";
   const std::optional<std::string_view> tile = TilePath(target);
@@ -161,7 +172,7 @@ RequestHead ParseRequestHead(std::string_view bytes, const RequestHeadLimits& li
     head.tile_path = std::string(*tile);
   } else {
     head.kind = Kind::kBackend;
-    head.body_bytes = content_length.value_or(0);
+    head.body_bytes = content_length.value_or(0);  // 0 with chunked: the chunks say
     head.if_none_match.reset();
   }
   return head;

@@ -19,21 +19,22 @@ struct RequestHead {
   enum class Kind {
     kNeedMore,  // no verdict yet: wait for more bytes
     kTile,      // a plain tile GET/HEAD: answer it here
-    kBackend,   // a well-formed request for the backend: `size` + `body_bytes` long
-    kPassOn,    // everything from here on goes to the backend, byte for byte
-                // (a head over the limits, a chunked body)
+    kBackend,   // a well-formed request for the backend: `size` + `body_bytes` long,
+                // or `size` and a chunked body (`chunked`: ChunkedRequestBody frames it)
     kRefuse,    // not HTTP/1.x (RFC 9112): answer `status` and close
   };
   Kind kind = Kind::kNeedMore;
   size_t size = 0;                           // kTile, kBackend: the head, blank line included
   size_t body_bytes = 0;                     // kBackend: Content-Length
+  bool chunked = false;                      // kBackend: "Transfer-Encoding: chunked"
   bool head_only = false;                    // HEAD: the answer has no body
   bool keep_alive = true;                    // else the connection closes after the answer
   bool http_1_0 = false;                     // a kept connection must then be announced ("Connection: keep-alive")
   std::string tile_path;                     // kTile: after "/tiles/", no query: "z/x/y.ext" or "layer/z/x/y.ext"
   std::optional<std::string> if_none_match;  // kTile; several fields are joined with ", "
-  int status = 400;        // kRefuse: 400; 411 a body without a length; 414, 431 over the limits; 505 not HTTP/1.x
-  const char* error = "";  // kRefuse: what is wrong
+  int status = 400;                          // kRefuse: 400; 411 a body without a length; 414, 431 over the limits;
+                                             // 501 a transfer coding other than chunked; 505 not HTTP/1.x
+  const char* error = "";                    // kRefuse: what is wrong
 };
 
 // Looks at the start of what a client sent (it may hold several pipelined

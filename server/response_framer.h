@@ -22,6 +22,8 @@ class ResponseFramer {
   // The answer cannot be followed (a body up to the close, a protocol switch,
   // not HTTP): relay everything from now on, byte for byte.
   bool lost() const { return state_ == State::kLost; }
+  // Nothing of the answer (past interim 1xx ones) has come yet.
+  bool between_answers() const { return state_ == State::kHead && line_.empty(); }
   // The answer said "Connection: close": the backend closes after it.
   bool close() const { return close_; }
 

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/util/error.h"
+#include "server/origin_policy.h"
 
 namespace seamap::server {
 namespace {
@@ -43,10 +44,24 @@ ServerOptions ServerOptions::FromJson(const nlohmann::json& server, const std::s
       if (key == "host" && o.host.empty()) throw InputError(source, 0, field, "expected an address, got \"\"");
       continue;
     }
+    if (key == "allow_origins") {
+      if (!value.is_array()) throw InputError(source, 0, field, "expected an array of origins, got " + value.dump());
+      for (const auto& origin : value) {
+        if (!origin.is_string()) throw InputError(source, 0, field, "expected origin strings, got " + origin.dump());
+        o.allow_origins.push_back(origin.get<std::string>());
+      }
+      try {
+        OriginPolicy::Check(o.allow_origins);
+      } catch (const InputError& e) {
+        throw InputError(source, 0, field, e.detail());
+      }
+      continue;
+    }
     const IntSetting* setting = nullptr;
     for (const IntSetting& s : kIntSettings)
       if (key == s.key) setting = &s;
-    if (!setting) throw InputError(source, 0, field, "unknown key (known: host, port, token, threads, max_streams)");
+    if (!setting)
+      throw InputError(source, 0, field, "unknown key (known: host, port, token, threads, max_streams, allow_origins)");
     if (!value.is_number_integer()) throw InputError(source, 0, field, "expected a whole number, got " + value.dump());
     const int64_t v = value.get<int64_t>();
     if (v < setting->lo || v > setting->hi) throw InputError(source, 0, field, RangeError(*setting, v));
@@ -60,6 +75,7 @@ void ServerOptions::Check() const {
   for (const IntSetting& s : kIntSettings)
     if (this->*(s.field) < s.lo || this->*(s.field) > s.hi)
       throw InputError("", 0, s.option, RangeError(s, this->*(s.field)));
+  OriginPolicy::Check(allow_origins);
   if (!web_dir.empty()) {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(std::filesystem::path(web_dir) / "index.html", ec))

@@ -3,6 +3,7 @@
 // the config file's "server" object, then the command line on top (see
 // cli/server_setup), then Check()ed.
 #include <string>
+#include <vector>
 
 #include <nlohmann/json_fwd.hpp>
 
@@ -16,9 +17,12 @@ struct ServerOptions {
   int threads = 96;       // request threads (one per open connection)
   int max_streams = 32;   // concurrent /api/events streams, on top of `threads`
   std::string photo_dir;  // where to find photos whose recorded path is gone
+  // Other sites whose pages may write (and get CORS answers), e.g.
+  // "http://10.0.0.5:3000"; see origin_policy.h.
+  std::vector<std::string> allow_origins;
 
   // The defaults with the config file's "server" object applied (host, port,
-  // token, threads, max_streams). Unknown keys, wrong types and values out of
+  // token, threads, max_streams, allow_origins). Unknown keys, wrong types and values out of
   // range are InputErrors naming `source` (the file) and the key, e.g.
   // "config.json: field 'server.port': expected 0..65535, got 70000".
   static ServerOptions FromJson(const nlohmann::json& server, const std::string& source);

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "core/util/error.h"
+#include "server/chunked_request.h"
 #include "server/mission_state.h"
 #include "server/request_head.h"
 #include "server/response_framer.h"
@@ -50,10 +51,14 @@ const char* Reason(int status) {
       return "Not Found";
     case 411:
       return "Length Required";
+    case 413:
+      return "Content Too Large";
     case 414:
       return "URI Too Long";
     case 431:
       return "Request Header Fields Too Large";
+    case 501:
+      return "Not Implemented";
     case 505:
       return "HTTP Version Not Supported";
     default:
@@ -76,8 +81,17 @@ RequestHead NextHead(evbuffer* in) {
   return ParseRequestHead({reinterpret_cast<const char*>(evbuffer_pullup(in, static_cast<ev_ssize_t>(n))), n}, kLimits);
 }
 
-// How many bytes at the start of `in` belong to the response `framer` follows.
-size_t Frame(evbuffer* in, ResponseFramer* framer) {
+bool Ended(const ResponseFramer& f) {
+  return f.done() || f.lost();
+}
+bool Ended(const ChunkedRequestBody& b) {
+  return b.done() || b.refused();
+}
+
+// How many bytes at the start of `in` belong to the response or the chunked
+// request body `framer` follows.
+template <typename Framer>
+size_t Frame(evbuffer* in, Framer* framer) {
   const int chunks = evbuffer_peek(in, -1, nullptr, nullptr, 0);
   std::vector<evbuffer_iovec> v(static_cast<size_t>(std::max(chunks, 0)));
   evbuffer_peek(in, -1, nullptr, v.data(), chunks);
@@ -85,7 +99,7 @@ size_t Frame(evbuffer* in, ResponseFramer* framer) {
   for (const evbuffer_iovec& chunk : v) {
     const size_t used = framer->Feed({static_cast<const char*>(chunk.iov_base), chunk.iov_len});
     taken += used;
-    if (used < chunk.iov_len || framer->done() || framer->lost()) break;
+    if (used < chunk.iov_len || Ended(*framer)) break;
   }
   return taken;
 }
@@ -109,17 +123,20 @@ struct TileFrontEnd::Loop {
 
 // One client connection. Requests are taken one at a time, in order: tiles
 // are answered here; any other request is relayed to httplib, and the next
-// request waits until httplib's answer has ended (ResponseFramer). What the
-// front end cannot follow (a chunked upload, an answer without a length)
-// turns the connection into a byte-for-byte relay for good (`raw`).
+// request waits until httplib's answer has ended (ResponseFramer). A chunked
+// upload is relayed as it arrives, framed and held to the body limit
+// (ChunkedRequestBody). What the front end cannot follow (an answer without
+// a length, a protocol switch) turns the connection into a byte-for-byte
+// relay for good (`raw`).
 struct TileFrontEnd::Connection {
   TileFrontEnd* owner;
   Loop* loop;
   bufferevent* client = nullptr;
-  bufferevent* backend = nullptr;             // opened on the first request for httplib
-  std::optional<ResponseFramer> in_flight{};  // httplib's answer being relayed
-  size_t request_left = 0;                    // bytes of the relayed request still to send
-  bool close_after_answer = false;            // the relayed request or its answer ends the connection
+  bufferevent* backend = nullptr;              // opened on the first request for httplib
+  std::optional<ResponseFramer> in_flight{};   // httplib's answer being relayed
+  size_t request_left = 0;                     // bytes of the relayed request still to send
+  std::optional<ChunkedRequestBody> chunks{};  // its chunked body, after those bytes
+  bool close_after_answer = false;             // the relayed request or its answer ends the connection
   bool raw = false;
   bool close_after_write = false;
   bool client_eof = false;
@@ -161,11 +178,8 @@ struct TileFrontEnd::Connection {
           if (!OpenBackend()) return;
           in_flight.emplace(h.head_only);
           request_left = h.size + h.body_bytes;
+          if (h.chunked) chunks.emplace(owner->max_body_bytes_);
           close_after_answer = !h.keep_alive;
-          break;
-        case RequestHead::Kind::kPassOn:
-          if (!OpenBackend()) return;
-          raw = true;
           break;
       }
     }
@@ -195,10 +209,11 @@ struct TileFrontEnd::Connection {
     if (!r.keep_alive) StopReading();
   }
 
-  // A head that is not HTTP/1.x or is too long: 400 (414, 431, 505), and the
-  // connection ends (where the next request would start is unknown).
-  void Refuse(int status, const char* error) {
-    const std::string body = std::string("{\"error\":\"") + (status == 400 ? "bad request: " : "") + error + "\"}";
+  // A head that is not HTTP/1.x or is too long: 400 (414, 431, 501, 505),
+  // and the connection ends (where the next request would start is
+  // unknown). Also a chunked body that is malformed or too large (400, 413).
+  void Refuse(int status, const std::string& error) {
+    const std::string body = "{\"error\":\"" + std::string(status == 400 ? "bad request: " : "") + error + "\"}";
     const std::string reply = "HTTP/1.1 " + std::to_string(status) + " " + Reason(status) +
                               "\r\nContent-Type: application/json\r\nContent-Length: " + std::to_string(body.size()) +
                               "\r\nConnection: close\r\n\r\n" + body;
@@ -224,8 +239,11 @@ struct TileFrontEnd::Connection {
   // epoll_ctl calls per tile. True when the connection is gone.
   bool Flush() {
     // The client stopped writing: close once all it asked for is answered,
-    // or at once when a request for httplib was cut short.
-    if (client_eof && !raw && (!in_flight || request_left > 0) && !close_after_write) StopReading();
+    // or at once when a request for httplib was cut short, unless httplib
+    // has begun to answer it already (e.g. a 403 sent before the body was
+    // read): that answer goes out whole first.
+    const bool answering = in_flight && !in_flight->between_answers();
+    if (client_eof && !raw && (!in_flight || (RequestPending() && !answering)) && !close_after_write) StopReading();
     evbuffer* out = bufferevent_get_output(client);
     if (evbuffer_get_length(out) > 0) {
       // bufferevent keeps its output's start frozen outside its own write
@@ -266,13 +284,34 @@ struct TileFrontEnd::Connection {
     return true;
   }
 
+  // Part of the relayed request has still to come from the client.
+  bool RequestPending() const { return request_left > 0 || (chunks && !chunks->done()); }
+
   // Sends what has arrived of the relayed request.
   void SendRequest() {
     evbuffer* in = bufferevent_get_input(client);
     const size_t n = std::min(request_left, evbuffer_get_length(in));
     evbuffer_remove_buffer(in, bufferevent_get_output(backend), n);
     request_left -= n;
+    if (request_left == 0 && chunks && !chunks->done()) {
+      const size_t body = Frame(in, &*chunks);
+      if (chunks->refused()) return RefuseBody();
+      evbuffer_remove_buffer(in, bufferevent_get_output(backend), body);
+    }
     if (Queued(backend) > kMaxQueuedBytes) bufferevent_disable(client, EV_READ);
+  }
+
+  // A chunked body over the limit or malformed: httplib, which has part of
+  // it, is hung up on (it gives the request up); the client gets the answer
+  // and the connection closes, the rest of its body unread.
+  void RefuseBody() {
+    const bool between_answers = in_flight->between_answers();  // e.g. after a "100 Continue"
+    DropBackend();
+    in_flight.reset();
+    const ChunkedRequestBody body = std::move(*chunks);
+    chunks.reset();
+    if (between_answers) return Refuse(body.status(), body.error());
+    StopReading();  // httplib had begun an answer: it cannot be followed by ours
   }
 
   // Raw mode: the client said all it will say; tell httplib once it has it
@@ -327,8 +366,10 @@ struct TileFrontEnd::Connection {
       if (c->in_flight->lost()) {
         c->raw = true;
       } else if (c->in_flight->done()) {
-        if (c->close_after_answer || c->in_flight->close()) c->StopReading();
+        // Answered before the whole request was sent: where the next one starts is unknown.
+        if (c->close_after_answer || c->in_flight->close() || c->RequestPending()) c->StopReading();
         c->in_flight.reset();
+        c->chunks.reset();
         c->raw = evbuffer_get_length(in) > 0;  // more than was asked for: stop following
         c->Serve();
         c->ResumeReading();
@@ -386,8 +427,8 @@ std::once_flag g_threads_once;
 
 }  // namespace
 
-TileFrontEnd::TileFrontEnd(TileSource* tiles, MissionState* mission, int backend_port, int loops)
-    : tiles_(tiles), mission_(mission), backend_port_(backend_port) {
+TileFrontEnd::TileFrontEnd(TileSource* tiles, MissionState* mission, int backend_port, int loops, size_t max_body_bytes)
+    : tiles_(tiles), mission_(mission), backend_port_(backend_port), max_body_bytes_(max_body_bytes) {
   std::call_once(g_threads_once, [] { evthread_use_pthreads(); });  // loops are stopped from other threads
   for (int i = 0; i < std::max(1, loops); ++i) loops_.push_back(std::make_unique<Loop>());
 }

@@ -23,7 +23,9 @@ class MissionState;
 
 class TileFrontEnd {
  public:
-  TileFrontEnd(TileSource* tiles, MissionState* mission, int backend_port, int loops);
+  // `max_body_bytes`: the limit of a chunked request body (httplib enforces
+  // it for bodies with a Content-Length).
+  TileFrontEnd(TileSource* tiles, MissionState* mission, int backend_port, int loops, size_t max_body_bytes);
   ~TileFrontEnd();
 
   // Listens on host:port (0: any free port); throws InputError naming
@@ -41,6 +43,7 @@ class TileFrontEnd {
   TileSource* tiles_;
   MissionState* mission_;
   int backend_port_;
+  size_t max_body_bytes_;
   int listen_fd_ = -1;
   std::vector<std::unique_ptr<Loop>> loops_;
   std::vector<std::unique_ptr<std::pair<TileFrontEnd*, Loop*>>> contexts_;  // listener callback arguments

@@ -13,6 +13,7 @@
 // already running instead of starting one).
 
 import fs from 'node:fs';
+import http from 'node:http';
 import os from 'node:os';
 import path from 'node:path';
 import {fileURLToPath} from 'node:url';
@@ -214,6 +215,67 @@ async function main() {
     });
     if (response.status !== 401) throw new Error(`POST without token answered ${response.status}`);
     return '401 without it';
+  });
+
+  await checks.run('a wrong token is reported as soon as it is entered, before any write', async () => {
+    const status = await (await fetch(new URL('api/status', base))).json();
+    if (!status.token_required) return 'server needs no token';
+    const writes = [];
+    const watch = request => {
+      if (!['GET', 'HEAD', 'OPTIONS'].includes(request.method())) writes.push(`${request.method()} ${request.url()}`);
+    };
+    page.on('request', watch);
+    try {
+      const stateSays = text => page.waitForFunction(
+        t => document.querySelector('#token-state').textContent.includes(t), text, {timeout: 5000});
+      await page.fill('#token', `${token}-wrong`);
+      await page.click('#token-form button[type="submit"]');
+      await stateSays('wrong token');
+      if (await page.evaluate(() => document.body.classList.contains('can-edit'))) {
+        throw new Error('marks are still editable with the wrong token');
+      }
+      if (await page.evaluate(() => localStorage.getItem('seamap.token'))) throw new Error('the wrong token was kept');
+      if (writes.length) throw new Error(`writes were sent: ${writes.join(', ')}`);
+      await page.fill('#token', token);
+      await page.click('#token-form button[type="submit"]');
+      await stateSays('token set');
+      if (!await page.evaluate(() => document.body.classList.contains('can-edit'))) {
+        throw new Error('the right token did not allow editing');
+      }
+      if (writes.length) throw new Error(`writes were sent: ${writes.join(', ')}`);
+    } finally {
+      page.off('request', watch);
+    }
+    return 'said at once, no write sent';
+  });
+
+  await checks.run('a page of another site cannot write (403), even as a plain form', async () => {
+    // The review's attack: a text/plain form POST from another site's page.
+    const before = (await (await fetch(new URL('api/detections', base))).json()).features.length;
+    const mark = JSON.stringify({type: 'Feature', geometry: {type: 'Point', coordinates: [0, 0]},
+      properties: {class: 'forged', note: ''}}).slice(0, -3);
+    const evil = http.createServer((request, response) => {
+      response.setHeader('Content-Type', 'text/html');
+      response.end(`<form method="POST" action="${base}api/detections" enctype="text/plain">` +
+        `<input name='${mark}' value='"}}'></form><script>document.forms[0].submit()</script>`);
+    });
+    const evilPort = await freePort();
+    await new Promise(resolve => evil.listen(evilPort, '127.0.0.1', resolve));
+    const other = await browser.newPage();
+    try {
+      const answer = other.waitForResponse(r => r.url().endsWith('/api/detections') && r.request().method() === 'POST');
+      await other.goto(`http://localhost:${evilPort}/`);  // localhost and 127.0.0.1 are different sites
+      const response = await answer;
+      if (response.status() !== 403) throw new Error(`the forged POST answered ${response.status()}`);
+      const text = await response.text();
+      if (!text.includes('cross-site write refused')) throw new Error(`answer: ${text}`);
+      const after = (await (await fetch(new URL('api/detections', base))).json()).features.length;
+      if (after !== before) throw new Error(`${after - before} detections were added`);
+      return `403: ${JSON.parse(text).error.slice(0, 60)}...`;
+    } finally {
+      await other.close();
+      evil.close();
+    }
   });
 
   await checks.run('an operator mark appears live and its popup opens', async () => {

@@ -26,6 +26,9 @@ TEST(ServerOptions, ReadsTheServerObjectOverTheDefaults) {
   EXPECT_EQ(o.host, ServerOptions{}.host);
   EXPECT_EQ(o.threads, ServerOptions{}.threads);
   EXPECT_NO_THROW(ServerOptions::FromJson(json::object(), "cfg.json").Check());
+  o = ServerOptions::FromJson(json::parse(R"({"allow_origins": ["http://10.0.0.5:3000", "https://a.example"]})"),
+                              "cfg.json");
+  EXPECT_EQ(o.allow_origins, (std::vector<std::string>{"http://10.0.0.5:3000", "https://a.example"}));
 }
 
 TEST(ServerOptions, BadKeysAreNamedWithTheFile) {
@@ -44,7 +47,12 @@ TEST(ServerOptions, BadKeysAreNamedWithTheFile) {
            {R"({"host": 5})", "server.host", "expected a string, got 5"},
            {R"({"host": ""})", "server.host", "expected an address"},
            {R"({"token": null})", "server.token", "expected a string, got null"},
-           {R"({"tokn": "x"})", "server.tokn", "unknown key (known: host, port, token, threads, max_streams)"},
+           {R"({"tokn": "x"})", "server.tokn",
+            "unknown key (known: host, port, token, threads, max_streams, allow_origins)"},
+           {R"({"allow_origins": "http://a.example"})", "server.allow_origins", "expected an array of origins"},
+           {R"({"allow_origins": [3]})", "server.allow_origins", "expected origin strings, got 3"},
+           {R"({"allow_origins": ["http://a.example/x"]})", "server.allow_origins",
+            "expected an origin: scheme://host[:port] with no path"},
            {R"([1])", "server", "expected an object, got [1]"},
        }) {
     try {
@@ -81,6 +89,9 @@ TEST(ServerOptions, CheckNamesTheCommandLineOption) {
   o = {};
   o.host = "";
   expect_error(o, "--host", "expected an address");
+  o = {};
+  o.allow_origins = {"10.0.0.5:3000"};
+  expect_error(o, "--allow-origin", "expected an origin: scheme://host[:port]");
   o = {};
   o.web_dir = dir.path().string();
   expect_error(o, "--web", "has no index.html");

@@ -12,6 +12,17 @@ export function setToken(token) {
   else localStorage.removeItem(TOKEN_KEY);
 }
 
+// Does `token` open writes? GET /api/auth answers 204 (yes, or no token is
+// needed) or 401, so a wrong token is caught when it is entered, not at the
+// first write. Throws ApiError when the server cannot say.
+export async function checkToken(token) {
+  const headers = token ? {Authorization: `Bearer ${token}`} : {};
+  const response = await fetch('/api/auth', {headers, cache: 'no-store'});
+  if (response.status === 204) return true;
+  if (response.status === 401) return false;
+  throw new ApiError(response.status, `token check: ${response.status} ${response.statusText}`);
+}
+
 export class ApiError extends Error {
   constructor(status, message) {
     super(message);

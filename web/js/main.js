@@ -1,6 +1,6 @@
 // Console start-up: wires the map, the live stream and the panel together.
 
-import {getJSON, getToken, setToken} from './api.js';
+import {checkToken, getJSON, getToken, setToken} from './api.js';
 import {$, toast} from './dom.js';
 
 const L = window.L;
@@ -19,6 +19,7 @@ import {readViewState, writeViewState} from './url_state.js';
 import {fillHelp, keyboardShortcuts, showFollowing, toggleHelp, viewControls} from './view_controls.js';
 
 let status = null;
+let tokenRefused = false;  // the last token entered (or saved) was wrong
 const canEdit = () => Boolean(status) && status.writable !== false && (!status.token_required || Boolean(getToken()));
 
 function showEditing() {
@@ -27,8 +28,28 @@ function showEditing() {
   if (!status) return;
   if (status.writable === false) state.textContent = 'this mission is read only';
   else if (!status.token_required) state.textContent = 'this server needs no token to edit marks';
+  else if (tokenRefused) state.textContent = 'wrong token: the server refused it; marks stay read only';
   else state.textContent = getToken() ? 'token set: marks can be edited' : 'read only: set the token to edit marks';
+  state.classList.toggle('refused', tokenRefused);
   if (!canEdit() && $('#mode-mark').checked) setMode('photos');
+}
+
+// Keeps `token` if the server takes it (checked at once, before any write);
+// a wrong one is dropped and said so. False when it was refused.
+async function acceptToken(token, entered) {
+  let right = true;
+  if (token && status && status.token_required) {
+    try {
+      right = await checkToken(token);
+    } catch (error) {
+      toast(`the token could not be checked (${error.message}); kept`);
+    }
+  }
+  tokenRefused = !right;
+  setToken(right ? token : '');
+  showEditing();
+  if (!right) toast(entered ? 'wrong token: the server refused it' : 'the saved token is wrong: enter it again');
+  return right;
 }
 
 function setMode(mode) {
@@ -45,6 +66,7 @@ async function start() {
   else toast(`status: ${statusResult.reason.message}`);
   showStatus(status);
   showEditing();
+  if (getToken()) acceptToken(getToken(), false);  // a saved token may be out of date
 
   let photoLayers = tilesResult.status === 'fulfilled' ? tilesResult.value : null;
   const wanted = readViewState();
@@ -224,13 +246,12 @@ async function start() {
   });
 
   $('#token').value = getToken();
-  $('#token-form').addEventListener('submit', event => {
+  $('#token-form').addEventListener('submit', async event => {
     event.preventDefault();
-    setToken($('#token').value.trim());
-    showEditing();
+    const accepted = await acceptToken($('#token').value.trim(), true);
     for (const feature of [...detections.features.values()]) detections.upsert(feature, false);
     detections.render();
-    toast(getToken() ? 'token set' : 'token cleared');
+    if (accepted) toast(getToken() ? 'token set' : 'token cleared');
   });
 
   for (const button of document.querySelectorAll('[data-export]')) {

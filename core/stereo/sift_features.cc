@@ -17,7 +17,7 @@ void SiftOptions::Check() const {
   if (!(clahe_clip >= 0)) throw InputError("", 0, "--clahe", "expected a number >= 0");
 }
 
-cv::Mat ToGray8(const cv::Mat& image) {
+cv::Mat StereoGray8(const cv::Mat& image) {
   cv::Mat gray = image;
   if (gray.channels() == 3) cv::cvtColor(gray, gray, cv::COLOR_BGR2GRAY);
   if (gray.channels() == 4) cv::cvtColor(gray, gray, cv::COLOR_BGRA2GRAY);
@@ -26,7 +26,7 @@ cv::Mat ToGray8(const cv::Mat& image) {
 }
 
 ImageFeatures DetectSift(const cv::Mat& image, const SiftOptions& options) {
-  cv::Mat gray = ToGray8(image);
+  cv::Mat gray = StereoGray8(image);
   if (options.clahe_clip > 0) cv::createCLAHE(options.clahe_clip, {8, 8})->apply(gray, gray);
   auto sift = cv::SIFT::create(options.max_features, 3, options.contrast_threshold, 10, 1.6, CV_8U);
   std::vector<cv::KeyPoint> keypoints;
@@ -51,7 +51,7 @@ ImageFeatures DetectSift(const cv::Mat& image, const SiftOptions& options) {
 
 cv::Point2d MeasureSiftOffsetPx(const cv::Mat& image, SiftOptions options) {
   options.offset_px = 0;
-  const cv::Mat gray = ToGray8(image);
+  const cv::Mat gray = StereoGray8(image);
   const ImageFeatures direct = DetectSift(gray, options);
   std::vector<double> bx, by;
   for (int axis = 0; axis < 2; ++axis) {  // mirrored left-right, then top-bottom

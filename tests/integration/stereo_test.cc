@@ -24,7 +24,8 @@ struct Scene {
   std::string root, calib, model;
 };
 
-// One scene and its model per test binary (seed 1, three overview and three approach pairs).
+// One scene and its model per test binary (seed 1, three overview and three approach pairs;
+// one sample per pixel to keep the test quick: the bench renders 2 x 2).
 const Scene& SharedScene() {
   static Scene scene = [] {
     Scene s;
@@ -33,7 +34,7 @@ const Scene& SharedScene() {
     s.calib = s.root + "/stereo.yaml";
     s.model = (s.dir->path() / "object.json").string();
     std::string log;
-    if (Seamap("simulate-stereo --out " + s.root + " --seed 1 --views 3", &log) != 0)
+    if (Seamap("simulate-stereo --out " + s.root + " --seed 1 --views 3 --supersample 1", &log) != 0)
       ADD_FAILURE() << "simulate-stereo failed:\n" << log;
     if (Seamap("stereo-model --calib " + s.calib + " --pairs " + s.root + "/overview --out " + s.model, &log) != 0)
       ADD_FAILURE() << "stereo-model failed:\n" << log;
@@ -131,6 +132,24 @@ TEST(Stereo, NoObjectInViewIsFoundFalseNotAWrongPose) {
   EXPECT_FALSE(empty["found"].get<bool>()) << empty.dump(2);
   EXPECT_TRUE(empty["object_from_camera"].is_null());
   EXPECT_FALSE(empty["reason"].get<std::string>().empty());
+
+  // Another object's model (seed 2: another layout, other textures) does not match this object.
+  const std::string other = (s.dir->path() / "other").string(), other_model = other + "/object.json";
+  std::string log;
+  ASSERT_EQ(Seamap("simulate-stereo --out " + other + " --seed 2 --views 1 --supersample 1", &log), 0) << log;
+  ASSERT_EQ(Seamap("stereo-model --calib " + other + "/stereo.yaml --pairs " + other + "/overview --out " + other_model,
+                   &log),
+            0)
+      << log;
+  const std::string out = (s.dir->path() / "other_pose.json").string();
+  ASSERT_EQ(Seamap("stereo-locate --calib " + s.calib + " --model " + other_model + " --pairs " + s.root +
+                       "/approach --views 3 --out " + out,
+                   &log),
+            0)
+      << log;
+  const auto wrong = ReadJson(out);
+  EXPECT_FALSE(wrong["found"].get<bool>()) << wrong.dump(2);
+  EXPECT_TRUE(wrong["object_from_camera"].is_null());
 }
 
 int RunFails(const std::string& args, std::string* log) {

@@ -9,7 +9,10 @@ namespace {
 
 // A 3 cm square of constant albedo at (x, y, 0) on an empty background, lit evenly.
 StereoScene Square(double x, double y) {
-  StereoScene scene;
+  StereoSceneOptions untextured;
+  untextured.object_texture = 0;  // constant albedo: the centroid is the square's centre
+  StereoScene scene = StereoScene::Plane(untextured);
+  scene.triangles.clear();
   const double h = 0.015;
   const Eigen::Vector3d a(x - h, y - h, 0), b(x + h, y - h, 0), c(x + h, y + h, 0), d(x - h, y + h, 0);
   scene.triangles.push_back({a, b, c, SceneMaterial::kValve});

@@ -72,6 +72,9 @@ for variant in variants:
                 entry["error_mm"] = 1000 * error(est, truth["approach"][pair], points)
                 entry["sigma_mm"] = 1000 * math.hypot(*r["uncertainty"]["position_sigma_m"])
             rows.setdefault((variant, method, views), []).append(entry)
+            print(f"  {variant} seed {seed} {method} x{views}: " +
+                  (f"{entry['error_mm']:.3f} mm (sigma {entry['sigma_mm']:.3f} mm)" if r["found"] else
+                   "not found: " + r.get("reason", log.strip()[-200:])), flush=True)
 
 print(f"{'stereo variant':<10} {'method':<8} views  scenes found  error mean / median / worst (mm)  >3sigma  "
       f"inliers  RMS px  features s/view  registration s/view")

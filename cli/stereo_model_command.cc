@@ -5,6 +5,7 @@
 
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "core/stereo/object_frame.h"
 #include "core/stereo/object_model.h"
 #include "core/util/error.h"
 
@@ -18,6 +19,8 @@ left camera frame of the first pair (x right, y down, z forward, metres).
   --pairs DIR        NAME_left.png + NAME_right.png, or left/ + right/ (sorted by NAME)
   --out FILE         the model (object.json)
   --name NAME        the object's class name (default: the --pairs folder's parent folder name)
+  --object-frame CSV the object's drawing frame: name,x,y,z,u_left,v_left[,u_right,v_right]
+                     (metres; pixels in the first overview pair)
   --no-bundle        skip the bundle adjustment over the overview pairs
   --max-features N   SIFT keypoints per image (default 4000)
   --contrast T       SIFT contrast threshold (default 0.02)
@@ -37,6 +40,7 @@ int RunStereoModel(int argc, char** argv, int first) {
   options.sift.max_features = args.GetInt("max-features", options.sift.max_features);
   options.sift.contrast_threshold = args.GetDouble("contrast", options.sift.contrast_threshold);
   std::string name = args.GetOr("name", "");
+  const std::string frame_csv = args.GetOr("object-frame", "");
   args.RejectUnknown();
   if (!args.positionals().empty())
     throw InputError("", 0, args.positionals()[0], "unexpected argument; see seamap stereo-model --help");
@@ -49,8 +53,18 @@ int RunStereoModel(int argc, char** argv, int first) {
   std::vector<LoadedPair> pairs;
   for (const PairFiles& f : ListStereoPairs(pairs_dir))
     pairs.push_back(LoadStereoPair(f, calibration.image_size, calib_path));
+  // Read before the long part, so that a bad file fails at once.
+  const std::vector<ObjectFramePoint> frame_points =
+      frame_csv.empty() ? std::vector<ObjectFramePoint>{} : ReadObjectFramePoints(frame_csv);
   ModelBuildReport report;
-  const ObjectModel model = BuildObjectModel(pairs, calibration, name, options, &report);
+  ObjectModel model = BuildObjectModel(pairs, calibration, name, options, &report);
+  if (!frame_csv.empty()) {
+    const ObjectFrameFit fit = FitObjectFrame(frame_points, calibration, frame_csv);
+    for (size_t k = 0; k < frame_points.size(); ++k)
+      std::printf("  %s: %.1f mm\n", frame_points[k].name.c_str(), 1000 * fit.residual_m[k]);
+    std::printf("object frame from %zu points: RMS %.1f mm\n", frame_points.size(), 1000 * fit.rms_m);
+    MoveModel(&model, fit.drawing_from_model);
+  }
   std::ofstream file(out);
   if (!file) throw InputError(out, 0, "--out", "cannot write the model");
   file << ModelToJson(model).dump() << "\n";

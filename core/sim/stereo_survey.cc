@@ -125,6 +125,18 @@ StereoSurveySummary SimulateStereoSurvey(const StereoSurveyOptions& options) {
   std::ofstream check(out / "truth" / "check_points.csv");
   check << "x,y,z\n";
   for (const auto& [name, p] : scene.check_points) check << cv::format("%.6f,%.6f,%.6f\n", p.x(), p.y(), p.z());
+  // The same points in --object-frame form: exact pixels in the first overview pair (raw = rectified
+  // up to the rig's toe-in; ProjectRaw gives the raw ones a user would click).
+  std::ofstream drawing(out / "truth" / "object_points.csv");
+  drawing << "name,x,y,z,u_left,v_left,u_right,v_right\n";
+  const Rigid first_from_scene = summary.overview.begin()->second.inverse();
+  int index = 0;
+  for (const auto& [name, p] : scene.check_points) {
+    const Eigen::Vector3d c = first_from_scene * p;
+    const cv::Point2d l = rig.ProjectRaw(c, false), r = rig.ProjectRaw(c, true);
+    drawing << cv::format("%s_%d,%.6f,%.6f,%.6f,%.4f,%.4f,%.4f,%.4f\n", name.c_str(), ++index, p.x(), p.y(), p.z(), l.x,
+                          l.y, r.x, r.y);
+  }
   nlohmann::json info = {{"format", "seamap-stereo-scene"},
                          {"seed", options.seed},
                          {"views", options.views},

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
@@ -114,6 +115,52 @@ TEST(Stereo, OneViewAndThreeViewsLocateTheObjectWithinThePapersErrors) {
   const double s3 = std::hypot(sigma[0].get<double>(), sigma[1].get<double>(), sigma[2].get<double>());
   EXPECT_GT(s3, 0);
   EXPECT_LT(e3, 4 * s3 + 0.0003);
+}
+
+TEST(Stereo, ObjectFrameFromDrawingPointsGivesPosesInTheDrawingFrame) {
+  const Scene& s = SharedScene();
+  testing::TempDir dir;
+  const std::string model = (dir / "drawing.json").string(), pose = (dir / "pose.json").string();
+  const std::string build = "stereo-model --calib " + s.calib + " --pairs " + s.root + "/overview --out " + model;
+  std::string log;
+  ASSERT_EQ(Seamap(build + " --object-frame " + s.root + "/truth/object_points.csv", &log), 0) << log;
+  EXPECT_EQ(ReadJson(model)["frame"], "drawing");
+  ASSERT_EQ(Seamap("stereo-locate --calib " + s.calib + " --model " + model + " --pairs " + s.root +
+                       "/approach --views 1 --out " + pose,
+                   &log),
+            0)
+      << log;
+  const auto result = ReadJson(pose);
+  ASSERT_TRUE(result["found"].get<bool>()) << result.dump(2);
+  // No conversion: the pose is compared with the scene's truth directly.
+  const auto truth = ReadJson(s.root + "/truth/poses.json");
+  const Rigid estimate = RigidFromJson(result["object_from_camera"], "pose", "object_from_camera");
+  const Rigid truth_pose = RigidFromJson(truth["approach"]["ap_001"], "truth", "ap_001");
+  EXPECT_LT(CheckPointError(estimate, truth_pose, CheckPoints(s.root)), 0.0028);
+
+  // Millimetres instead of metres, and points on a line, are errors naming the problem.
+  std::ifstream in(s.root + "/truth/object_points.csv");
+  std::string header, line, mm = "", collinear = "";
+  std::getline(in, header);
+  mm = collinear = header + "\n";
+  for (int k = 0; std::getline(in, line); ++k) {
+    std::stringstream row(line);
+    std::vector<std::string> cells;
+    std::string cell;
+    while (std::getline(row, cell, ',')) cells.push_back(cell);
+    mm += cells[0];
+    for (size_t c = 1; c < cells.size(); ++c)
+      mm += "," + (c <= 3 ? std::to_string(1000 * std::stod(cells[c])) : cells[c]);
+    mm += "\n";
+    collinear += cells[0] + "," + std::to_string(0.1 * k) + ",0,0," + cells[4] + "," + cells[5] + "," + cells[6] + "," +
+                 cells[7] + "\n";
+  }
+  testing::WriteFile(dir / "mm.csv", mm);
+  testing::WriteFile(dir / "line.csv", collinear);
+  EXPECT_EQ(Seamap(build + " --object-frame " + (dir / "mm.csv").string(), &log), 2);
+  EXPECT_NE(log.find("metres"), std::string::npos) << log;
+  EXPECT_EQ(Seamap(build + " --object-frame " + (dir / "line.csv").string(), &log), 2);
+  EXPECT_NE(log.find("collinear"), std::string::npos) << log;
 }
 
 TEST(Stereo, IcpBaselineGivesAPose) {

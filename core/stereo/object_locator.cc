@@ -1,5 +1,6 @@
 #include "core/stereo/object_locator.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <map>
@@ -57,7 +58,8 @@ void LocateOptions::Check() const {
 }
 
 std::string JudgePair(const Registration& reg, const StereoFrame& frame, const ObjectModel& model, cv::Size image_size,
-                      const LocateOptions& options) {
+                      const LocateOptions& options, bool* spread_only) {
+  if (spread_only) *spread_only = false;
   if (!reg.ok) return reg.failure;
   const int inliers = static_cast<int>(reg.inliers.size());
   if (inliers < options.min_inliers)
@@ -77,6 +79,7 @@ std::string JudgePair(const Registration& reg, const StereoFrame& frame, const O
   std::vector<cv::Point2f> hull;
   cv::convexHull(px, hull);
   const double hull_share = cv::contourArea(hull) / image_size.area();
+  if (spread_only) *spread_only = true;
   if (hull_share < options.min_hull_share)
     return cv::format("inliers cover %.2f %% of the image (need %.0f %%)", 100 * hull_share,
                       100 * options.min_hull_share);
@@ -84,6 +87,7 @@ std::string JudgePair(const Registration& reg, const StereoFrame& frame, const O
   const Eigen::Vector3d sv = Eigen::JacobiSVD<Eigen::MatrixXd>(centred).singularValues() / std::sqrt(inliers);
   if (sv[1] < options.min_spread_m)
     return cv::format("inliers lie on a line (spread %.3f m, need %.2f m)", sv[1], options.min_spread_m);
+  if (spread_only) *spread_only = false;
   return "";
 }
 
@@ -94,7 +98,7 @@ LocateResult LocateObject(const ObjectModel& model, const StereoCalibration& cal
   LocateResult result;
   std::vector<StereoFrame> frames;
   std::vector<Registration> regs;
-  std::vector<int> accepted;
+  std::vector<int> accepted, spread_only;
   for (const LoadedPair& p : pairs) {
     auto t0 = std::chrono::steady_clock::now();
     frames.push_back(MakeStereoFrame(p.name, p.left, p.right, calibration, options.sift, options.match));
@@ -105,7 +109,8 @@ LocateResult LocateObject(const ObjectModel& model, const StereoCalibration& cal
     regs.push_back(RegisterPair(model, frames.back(), rig, options.registration));
     const Registration& reg = regs.back();
     pr.registration_s = Seconds(t0);
-    pr.reason = JudgePair(reg, frames.back(), model, calibration.image_size, options);
+    bool only_spread = false;
+    pr.reason = JudgePair(reg, frames.back(), model, calibration.image_size, options, &only_spread);
     pr.accepted = pr.reason.empty();
     pr.single_object_from_camera = pr.object_from_camera = reg.object_from_camera;
     pr.matches = static_cast<int>(reg.matches.size());
@@ -116,12 +121,21 @@ LocateResult LocateObject(const ObjectModel& model, const StereoCalibration& cal
     result.features_s += pr.features_s;
     result.registration_s += pr.registration_s;
     if (pr.accepted) accepted.push_back(static_cast<int>(result.pairs.size()));
+    if (only_spread) spread_only.push_back(static_cast<int>(result.pairs.size()));
     result.pairs.push_back(pr);
   }
   if (accepted.empty()) {
     result.reason = "object not recognised: pair " + result.pairs[0].pair + ": " + result.pairs[0].reason;
     return result;
   }
+  // A pair whose inliers are good but cover a small patch (the object half out of view) cannot be
+  // trusted alone, but constrains the joint solution of accepted pairs, which is judged as a whole
+  // (agreement of every pair, joint RMS, position sigma).
+  for (int f : spread_only) {
+    result.pairs[f].accepted = result.pairs[f].joined = true;
+    accepted.push_back(f);
+  }
+  std::sort(accepted.begin(), accepted.end());
 
   const auto t_joint = std::chrono::steady_clock::now();
   for (int round = 0; round < 3; ++round) {
@@ -279,6 +293,7 @@ nlohmann::json LocateResultToJson(const LocateResult& r, const std::string& mode
     if (p.accepted) {
       v["object_from_camera"] = RigidToJson(p.object_from_camera);
       v["single_pair_object_from_camera"] = RigidToJson(p.single_object_from_camera);
+      if (p.joined) v["joined_despite"] = p.reason;
       views.push_back(v);
     } else {
       v["reason"] = p.reason;

@@ -36,6 +36,7 @@ struct LocateOptions {
 struct PairResult {
   std::string pair;
   bool accepted = false;
+  bool joined = false;                                  // failed only the spread test alone, solved with accepted pairs
   std::string reason;                                   // when not accepted
   Rigid single_object_from_camera = Rigid::Identity();  // this pair alone
   Rigid object_from_camera = Rigid::Identity();         // the joint solution

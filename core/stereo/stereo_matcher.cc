@@ -32,14 +32,14 @@ double Median(std::vector<double> v) {
 
 std::string EpipolarCheck::Describe() const {
   char text[200];
-  if (positive_fraction < 0.8 && positive_fraction < 0.5 && median_row_px <= 2)
+  if (row_ok_fraction >= 0.3 && positive_fraction < 0.5)
     std::snprintf(text, sizeof text, "left and right look swapped (%.0f %% of %d matches have negative disparity)",
                   100 * (1 - positive_fraction), matches);
-  else if (median_row_px > 2)
+  else if (row_ok_fraction < 0.3)
     std::snprintf(text, sizeof text,
-                  "not a stereo pair for this calibration (median row offset %.1f px over %d matches, expected "
-                  "<= 2 px)",
-                  median_row_px, matches);
+                  "not a stereo pair for this calibration (median row offset %.1f px over %d matches, only %.0f %% "
+                  "within 2 px)",
+                  median_row_px, matches, 100 * row_ok_fraction);
   else
     std::snprintf(text, sizeof text,
                   "not a stereo pair for this calibration (only %.0f %% of %d matches have positive disparity)",
@@ -56,16 +56,20 @@ EpipolarCheck CheckEpipolar(const ImageFeatures& left, const ImageFeatures& righ
   std::vector<std::vector<cv::DMatch>> knn;
   cv::BFMatcher(cv::NORM_L2).knnMatch(left.descriptors.rowRange(0, n), right.descriptors, knn, 2);
   std::vector<double> rows;
-  int positive = 0;
+  int positive = 0, row_ok = 0;
   for (const auto& m : knn) {
     if (m.size() < 2 || m[0].distance >= ratio * m[1].distance) continue;
     const cv::Point2d l = left.rect_px[m[0].queryIdx], r = right.rect_px[m[0].trainIdx];
     rows.push_back(std::abs(l.y - r.y));
-    positive += l.x - r.x > 0;
+    if (rows.back() <= 2) {
+      ++row_ok;
+      positive += l.x - r.x > 0;
+    }
   }
   check.matches = static_cast<int>(rows.size());
   check.median_row_px = Median(rows);
-  check.positive_fraction = rows.empty() ? 0 : static_cast<double>(positive) / rows.size();
+  check.row_ok_fraction = rows.empty() ? 0 : static_cast<double>(row_ok) / rows.size();
+  check.positive_fraction = row_ok ? static_cast<double>(positive) / row_ok : 0;
   return check;
 }
 

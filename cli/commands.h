@@ -15,4 +15,8 @@ int RunTrajectory(int argc, char** argv, int first);     // cli/trajectory_comma
 
 int RunTrajectoryEval(int argc, char** argv, int first);  // cli/trajectory_eval_command.cc
 
+int RunSimulateStereo(int argc, char** argv, int first);  // cli/stereo_simulate_command.cc
+int RunStereoModel(int argc, char** argv, int first);     // cli/stereo_model_command.cc
+int RunStereoLocate(int argc, char** argv, int first);    // cli/stereo_locate_command.cc
+
 }  // namespace seamap::cli

@@ -25,6 +25,9 @@ const char* kUsage =
     "  export          copy a map between MBTiles and a tile folder\n"
     "  trajectory      estimate a survey's trajectory from its photos (refine, vo, ekf)\n"
     "  trajectory-eval compare a trajectory with ground truth: ATE, drift, cross-pass seams\n"
+    "  simulate-stereo render a stereo scene of a subsea object with exact truth\n"
+    "  stereo-model    build an object model from stereo overview pairs\n"
+    "  stereo-locate   recognise the object in stereo pairs: the camera's pose in its frame\n"
     "\n"
     "Run 'seamap <command> --help' for a command's options.\n";
 
@@ -53,6 +56,9 @@ int main(int argc, char** argv) {
     if (command == "export") return RunExport(argc, argv, 2);
     if (command == "trajectory") return RunTrajectory(argc, argv, 2);
     if (command == "trajectory-eval") return RunTrajectoryEval(argc, argv, 2);
+    if (command == "simulate-stereo") return RunSimulateStereo(argc, argv, 2);
+    if (command == "stereo-model") return RunStereoModel(argc, argv, 2);
+    if (command == "stereo-locate") return RunStereoLocate(argc, argv, 2);
   } catch (const seamap::InputError& e) {
     std::fprintf(stderr, "seamap %s: error: %s\n", command.c_str(), e.what());
     return 2;

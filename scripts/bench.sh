@@ -7,6 +7,7 @@
 #   SEAMAP_BENCH_RUNS=5 ...     runs per build line (default 3; the median is shown)
 #   SEAMAP_BENCH_TRAJECTORY=0   skip the trajectory figures (refine, vo, ekf on the drifting survey)
 #   SEAMAP_BENCH_EXPORT=0       skip the export figures (PMTiles, GeoTIFF beside gdal_translate)
+#   SEAMAP_BENCH_STEREO=0       skip the stereo object figures; SEAMAP_BENCH_STEREO_SCENES=N (default 20)
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${SEAMAP_BUILD_DIR:-$root/build}"
@@ -151,6 +152,12 @@ export_figures() {
 }
 [[ "${SEAMAP_BENCH_EXPORT:-1}" == 1 ]] && export_figures
 [[ "${SEAMAP_BENCH_TRAJECTORY:-1}" == 1 ]] && trajectory_figures
+# Stereo object reference (docs/STEREO.md): check-point error with 1, 2, 3 pairs and ICP, clear and
+# degraded water, and few points (plain paint, haze, the object half out of view); the paper's figures beside.
+if [[ "${SEAMAP_BENCH_STEREO:-1}" == 1 ]]; then
+  stereo_scenes="${SEAMAP_BENCH_STEREO_SCENES:-20}"; [[ "$quick" == 1 ]] && stereo_scenes=3
+  python3 "$root/scripts/bench_stereo.py" "$seamap" "$out" "$stereo_scenes" clear,degraded,few
+fi
 if [[ "${SEAMAP_BENCH_SERVE:-1}" == 1 ]]; then
   "$root/scripts/bench_serve.sh" "$seamap" "$out/gray.mbtiles" "$out/gray" "$out/serve"
 fi

@@ -7,7 +7,8 @@ packages=(
   build-essential cmake pkg-config git
   libopencv-dev libeigen3-dev libcpp-httplib-dev libevent-dev nlohmann-json3-dev
   libpng-dev libdeflate-dev libjpeg62-turbo-dev libsqlite3-dev sqlite3 libproj-dev proj-data libgtest-dev
-  libceres-dev   # pose graphs (core/trajectory)
+  libceres-dev   # pose graphs (core/trajectory), the stereo pose's joint refinement (core/stereo)
+  libopencv-contrib-dev   # surface_matching: the ICP baseline of stereo-locate (core/stereo)
   zlib1g-dev     # gzip of the live event stream (server/gzip_stream)
   gdal-bin   # tests open our MBTiles with gdalinfo
   libgdal-dev   # Cloud-Optimised GeoTIFF export (core/export)

@@ -1,0 +1,155 @@
+#include "core/sim/stereo_survey.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "core/util/error.h"
+
+namespace seamap {
+namespace fs = std::filesystem;
+namespace {
+
+// A camera looking straight down from (x, y, z) with its x axis at `heading` (rad, from scene x towards y).
+Rigid DownLookingCamera(double x, double y, double z, double heading) {
+  Rigid t = Rigid::Identity();
+  const double c = std::cos(heading), s = std::sin(heading);
+  Eigen::Matrix3d r;
+  r.col(0) = Eigen::Vector3d(c, s, 0);   // image right
+  r.col(1) = Eigen::Vector3d(s, -c, 0);  // image down
+  r.col(2) = Eigen::Vector3d(0, 0, -1);  // optical axis, down
+  t.linear() = r;
+  t.translation() = Eigen::Vector3d(x, y, z);
+  return t;
+}
+
+void WritePair(const StereoImages& images, const fs::path& dir, const std::string& name) {
+  fs::create_directories(dir);
+  for (const auto& [side, image] : {std::pair{"left", images.left}, std::pair{"right", images.right}}) {
+    const fs::path path = dir / (name + "_" + side + ".png");
+    if (!cv::imwrite(path.string(), image)) throw InputError(path.string(), 0, "", "cannot write the image");
+  }
+}
+
+}  // namespace
+
+void StereoSurveyOptions::Check() const {
+  if (out_dir.empty()) throw InputError("", 0, "--out", "expected an output folder");
+  if (views < 1 || views > 20) throw InputError("", 0, "--views", "expected 1 to 20 pairs");
+  if (!(object_texture >= 0 && object_texture <= 2)) throw InputError("", 0, "--texture", "expected 0-2");
+  if (!(approach_offset_m >= 0 && approach_offset_m <= 2)) throw InputError("", 0, "--offset", "expected 0-2 m");
+  render.Check();
+}
+
+StereoCalibration SimulatedStereoRig() {
+  StereoCalibration c;
+  c.image_size = {1200, 900};
+  c.K1 = c.K2 = cv::Matx33d(1040, 0, 599.5, 0, 1040, 449.5, 0, 0, 1);
+  c.D1 = c.D2 = std::vector<double>(5, 0.0);
+  // A 0.3 deg toe-in about the vertical axis, so that rectification is exercised.
+  const double a = 0.3 * M_PI / 180;
+  c.R = cv::Matx33d(std::cos(a), 0, std::sin(a), 0, 1, 0, -std::sin(a), 0, std::cos(a));
+  c.T = cv::Vec3d(-0.25, 0, 0);
+  c.Rectify();
+  return c;
+}
+
+StereoSurveySummary SimulateStereoSurvey(const StereoSurveyOptions& options) {
+  options.Check();
+  const auto start = std::chrono::steady_clock::now();
+  const fs::path out(options.out_dir);
+  if (fs::exists(out) && !fs::is_empty(out) && !options.force)
+    throw InputError(options.out_dir, 0, "--out", "folder is not empty (use --force to replace)");
+  for (const char* sub : {"overview", "approach", "empty", "truth"}) fs::remove_all(out / sub);
+  fs::create_directories(out / "truth");
+
+  StereoSceneOptions scene_options;
+  scene_options.seed = options.seed;
+  scene_options.object_texture = options.object_texture;
+  const StereoScene scene = StereoScene::Wellhead(scene_options);
+  const StereoCalibration rig = SimulatedStereoRig();
+  SaveStereoCalibration(rig, (out / "stereo.yaml").string());
+
+  std::mt19937_64 rng(options.seed * 104729 + 3);
+  const auto uniform = [&](double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); };
+  StereoSurveySummary summary;
+  summary.layout = scene.layout;
+  const double top = scene.top_z_m;
+  // The rig's centre (between the cameras) is placed; the left camera sits
+  // half a baseline to the left of it.
+  const auto left_camera = [&](double x, double y, double z, double heading) {
+    Rigid rig_pose = DownLookingCamera(x, y, z, heading);
+    rig_pose.translation() -= rig_pose.linear().col(0) * 0.125;
+    return rig_pose;
+  };
+  for (int k = 0; k < options.views; ++k) {
+    const double angle = uniform(0, 2 * M_PI), offset = k == 0 ? uniform(0, 0.2) : uniform(0.3, 0.6);
+    summary.overview[cv::format("ov_%03d", k + 1)] = left_camera(offset * std::cos(angle), offset * std::sin(angle),
+                                                                 top + 3.6 + uniform(-0.1, 0.1), uniform(-0.35, 0.35));
+  }
+  double heading = uniform(-M_PI / 4, M_PI / 4);
+  const double first_angle = uniform(0, 2 * M_PI), first_offset = uniform(0, options.approach_offset_m);
+  Eigen::Vector2d xy(first_offset * std::cos(first_angle), first_offset * std::sin(first_angle));
+  for (int k = 0; k < options.views; ++k) {
+    if (k > 0) {
+      // 0.3-0.8 m to the next pair, drifting back towards the object.
+      const double step = uniform(0.3, 0.8), dir = uniform(0, 2 * M_PI);
+      Eigen::Vector2d next = xy + step * Eigen::Vector2d(std::cos(dir), std::sin(dir));
+      if (next.norm() > options.approach_offset_m + 0.3)
+        next = xy - step * Eigen::Vector2d(std::cos(dir), std::sin(dir));
+      xy = next;
+      heading += uniform(-0.2, 0.2);
+    }
+    summary.approach[cv::format("ap_%03d", k + 1)] = left_camera(xy.x(), xy.y(), top + uniform(3.0, 4.2), heading);
+  }
+
+  nlohmann::json poses = {{"overview", nlohmann::json::object()}, {"approach", nlohmann::json::object()}};
+  uint64_t noise_seed = options.seed * 1000003;
+  for (const auto& [group, set] : {std::pair{"overview", &summary.overview}, std::pair{"approach", &summary.approach}})
+    for (const auto& [name, pose] : *set) {
+      WritePair(RenderStereoPair(scene, rig, pose, options.render, ++noise_seed), out / group, name);
+      poses[group][name] = RigidToJson(pose);
+    }
+  // A pair over bare seabed, 8 m from the object.
+  const Rigid empty_pose = left_camera(8, -6, top + 3.6, uniform(-1, 1));
+  WritePair(RenderStereoPair(scene, rig, empty_pose, options.render, ++noise_seed), out / "empty", "em_001");
+  poses["empty"] = {{"em_001", RigidToJson(empty_pose)}};
+
+  std::ofstream(out / "truth" / "poses.json") << poses.dump(2) << "\n";
+  std::ofstream check(out / "truth" / "check_points.csv");
+  check << "x,y,z\n";
+  for (const auto& [name, p] : scene.check_points) check << cv::format("%.6f,%.6f,%.6f\n", p.x(), p.y(), p.z());
+  // The same points in --object-frame form: exact pixels in the first overview pair (raw = rectified
+  // up to the rig's toe-in; ProjectRaw gives the raw ones a user would click).
+  std::ofstream drawing(out / "truth" / "object_points.csv");
+  drawing << "name,x,y,z,u_left,v_left,u_right,v_right\n";
+  const Rigid first_from_scene = summary.overview.begin()->second.inverse();
+  int index = 0;
+  for (const auto& [name, p] : scene.check_points) {
+    const Eigen::Vector3d c = first_from_scene * p;
+    const cv::Point2d l = rig.ProjectRaw(c, false), r = rig.ProjectRaw(c, true);
+    drawing << cv::format("%s_%d,%.6f,%.6f,%.6f,%.4f,%.4f,%.4f,%.4f\n", name.c_str(), ++index, p.x(), p.y(), p.z(), l.x,
+                          l.y, r.x, r.y);
+  }
+  nlohmann::json info = {{"format", "seamap-stereo-scene"},
+                         {"seed", options.seed},
+                         {"views", options.views},
+                         {"layout", scene.layout},
+                         {"object_top_z_m", top},
+                         {"object_texture", options.object_texture},
+                         {"beta_per_m", options.render.beta_per_m},
+                         {"noise_sigma", options.render.noise_sigma},
+                         {"blur_sigma_px", options.render.blur_sigma_px},
+                         {"supersample", options.render.supersample}};
+  std::ofstream(out / "scene.json") << info.dump(2) << "\n";
+  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return summary;
+}
+
+}  // namespace seamap

@@ -1,0 +1,255 @@
+// simulate-stereo -> stereo-model -> stereo-locate end to end, checked against
+// the scene's exact truth with the seed paper's error (check points mapped
+// with the estimated and the true pose), and the commands' answers to bad
+// input and to pairs without the object.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "core/stereo/rigid_transform.h"
+#include "tests/integration/survey_fixture.h"
+
+namespace seamap {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::Seamap;
+
+struct Scene {
+  std::unique_ptr<testing::TempDir> dir;
+  std::string root, calib, model;
+};
+
+// One scene and its model per test binary (seed 1, three overview and three approach pairs;
+// one sample per pixel to keep the test quick: the bench renders 2 x 2).
+const Scene& SharedScene() {
+  static Scene scene = [] {
+    Scene s;
+    s.dir = std::make_unique<testing::TempDir>();
+    s.root = (s.dir->path() / "scene").string();
+    s.calib = s.root + "/stereo.yaml";
+    s.model = (s.dir->path() / "object.json").string();
+    std::string log;
+    if (Seamap("simulate-stereo --out " + s.root + " --seed 1 --views 3 --supersample 1", &log) != 0)
+      ADD_FAILURE() << "simulate-stereo failed:\n" << log;
+    if (Seamap("stereo-model --calib " + s.calib + " --pairs " + s.root + "/overview --out " + s.model, &log) != 0)
+      ADD_FAILURE() << "stereo-model failed:\n" << log;
+    return s;
+  }();
+  return scene;
+}
+
+nlohmann::json ReadJson(const std::string& path) {
+  return nlohmann::json::parse(std::ifstream(path));
+}
+
+std::vector<Eigen::Vector3d> CheckPoints(const std::string& root) {
+  std::ifstream in(root + "/truth/check_points.csv");
+  std::string line;
+  std::getline(in, line);
+  std::vector<Eigen::Vector3d> out;
+  double x, y, z;
+  char c1, c2;
+  while (in >> x >> c1 >> y >> c2 >> z) out.emplace_back(x, y, z);
+  return out;
+}
+
+// Check-point error (m) of pose.json against truth: the model frame is the first overview pair's left camera.
+double PoseError(const Scene& s, const nlohmann::json& pose) {
+  const auto truth = ReadJson(s.root + "/truth/poses.json");
+  const Rigid scene_from_model = RigidFromJson(truth["overview"]["ov_001"], "truth", "ov_001");
+  const std::string pair = pose["views"][0]["pair"];
+  const Rigid truth_pose = RigidFromJson(truth["approach"][pair], "truth", pair);
+  const Rigid estimate = scene_from_model * RigidFromJson(pose["object_from_camera"], "pose", "object_from_camera");
+  return CheckPointError(estimate, truth_pose, CheckPoints(s.root));
+}
+
+nlohmann::json Locate(const Scene& s, const std::string& extra, const std::string& pairs = "approach") {
+  const std::string out = (s.dir->path() / "pose.json").string();
+  std::string log;
+  EXPECT_EQ(Seamap("stereo-locate --calib " + s.calib + " --model " + s.model + " --pairs " + s.root + "/" + pairs +
+                       " --out " + out + " " + extra,
+                   &log),
+            0)
+      << log;
+  std::printf("%s", log.c_str());
+  return ReadJson(out);
+}
+
+TEST(Stereo, ModelHoldsPointsInTheFirstOverviewFrame) {
+  const Scene& s = SharedScene();
+  const auto model = ReadJson(s.model);
+  EXPECT_EQ(model["format"], "seamap-stereo-model");
+  EXPECT_EQ(model["views"].size(), 3u);
+  EXPECT_GT(model["points"].size(), 1000u);
+  // The other overview pairs' poses agree with truth, relative to pair 1.
+  const auto truth = ReadJson(s.root + "/truth/poses.json");
+  const Rigid scene_from_model = RigidFromJson(truth["overview"]["ov_001"], "truth", "ov_001");
+  for (const auto& v : model["views"]) {
+    const Rigid est = scene_from_model * RigidFromJson(v["object_from_camera"], "model", "view");
+    const Rigid tru = RigidFromJson(truth["overview"][v["pair"].get<std::string>()], "truth", "view");
+    EXPECT_LT(CheckPointError(est, tru, CheckPoints(s.root)), 0.003) << v["pair"];
+  }
+}
+
+TEST(Stereo, OneViewAndThreeViewsLocateTheObjectWithinThePapersErrors) {
+  const Scene& s = SharedScene();
+  const auto one = Locate(s, "--views 1");
+  ASSERT_TRUE(one["found"].get<bool>()) << one.dump(2);
+  EXPECT_EQ(one["views"].size(), 1u);
+  const double e1 = PoseError(s, one);
+  const auto three = Locate(s, "--views 3");
+  ASSERT_TRUE(three["found"].get<bool>()) << three.dump(2);
+  EXPECT_EQ(three["views"].size(), 3u);
+  const double e3 = PoseError(s, three);
+  std::printf("check-point error: one view %.3f mm, three views %.3f mm\n", 1000 * e1, 1000 * e3);
+  EXPECT_LT(e1, 0.032);   // the paper's one-view figure
+  EXPECT_LT(e3, 0.0028);  // the paper's three-view figure
+  // The reported uncertainty is honest: the error is within 4 sigma.
+  const auto sigma = three["uncertainty"]["position_sigma_m"];
+  const double s3 = std::hypot(sigma[0].get<double>(), sigma[1].get<double>(), sigma[2].get<double>());
+  EXPECT_GT(s3, 0);
+  EXPECT_LT(e3, 4 * s3 + 0.0003);
+}
+
+TEST(Stereo, ObjectFrameFromDrawingPointsGivesPosesInTheDrawingFrame) {
+  const Scene& s = SharedScene();
+  testing::TempDir dir;
+  const std::string model = (dir / "drawing.json").string(), pose = (dir / "pose.json").string();
+  const std::string build = "stereo-model --calib " + s.calib + " --pairs " + s.root + "/overview --out " + model;
+  std::string log;
+  ASSERT_EQ(Seamap(build + " --object-frame " + s.root + "/truth/object_points.csv", &log), 0) << log;
+  EXPECT_EQ(ReadJson(model)["frame"], "drawing");
+  ASSERT_EQ(Seamap("stereo-locate --calib " + s.calib + " --model " + model + " --pairs " + s.root +
+                       "/approach --views 1 --out " + pose,
+                   &log),
+            0)
+      << log;
+  const auto result = ReadJson(pose);
+  ASSERT_TRUE(result["found"].get<bool>()) << result.dump(2);
+  // No conversion: the pose is compared with the scene's truth directly.
+  const auto truth = ReadJson(s.root + "/truth/poses.json");
+  const Rigid estimate = RigidFromJson(result["object_from_camera"], "pose", "object_from_camera");
+  const Rigid truth_pose = RigidFromJson(truth["approach"]["ap_001"], "truth", "ap_001");
+  EXPECT_LT(CheckPointError(estimate, truth_pose, CheckPoints(s.root)), 0.0028);
+
+  // Millimetres instead of metres, and points on a line, are errors naming the problem.
+  std::ifstream in(s.root + "/truth/object_points.csv");
+  std::string header, line, mm = "", collinear = "";
+  std::getline(in, header);
+  mm = collinear = header + "\n";
+  for (int k = 0; std::getline(in, line); ++k) {
+    std::stringstream row(line);
+    std::vector<std::string> cells;
+    std::string cell;
+    while (std::getline(row, cell, ',')) cells.push_back(cell);
+    mm += cells[0];
+    for (size_t c = 1; c < cells.size(); ++c)
+      mm += "," + (c <= 3 ? std::to_string(1000 * std::stod(cells[c])) : cells[c]);
+    mm += "\n";
+    collinear += cells[0] + "," + std::to_string(0.1 * k) + ",0,0," + cells[4] + "," + cells[5] + "," + cells[6] + "," +
+                 cells[7] + "\n";
+  }
+  testing::WriteFile(dir / "mm.csv", mm);
+  testing::WriteFile(dir / "line.csv", collinear);
+  EXPECT_EQ(Seamap(build + " --object-frame " + (dir / "mm.csv").string(), &log), 2);
+  EXPECT_NE(log.find("metres"), std::string::npos) << log;
+  EXPECT_EQ(Seamap(build + " --object-frame " + (dir / "line.csv").string(), &log), 2);
+  EXPECT_NE(log.find("collinear"), std::string::npos) << log;
+}
+
+TEST(Stereo, IcpBaselineGivesAPose) {
+  const Scene& s = SharedScene();
+  const auto icp = Locate(s, "--views 1 --method icp");
+  EXPECT_EQ(icp["method"], "icp");
+  ASSERT_TRUE(icp["found"].get<bool>()) << icp.dump(2);
+  const double e = PoseError(s, icp);
+  std::printf("ICP check-point error %.1f mm\n", 1000 * e);
+  EXPECT_LT(e, 0.2);  // right place, far less precise than features
+}
+
+TEST(Stereo, NoObjectInViewIsFoundFalseNotAWrongPose) {
+  const Scene& s = SharedScene();
+  const auto empty = Locate(s, "--views 1", "empty");
+  EXPECT_FALSE(empty["found"].get<bool>()) << empty.dump(2);
+  EXPECT_TRUE(empty["object_from_camera"].is_null());
+  EXPECT_FALSE(empty["reason"].get<std::string>().empty());
+
+  // Another object's model (seed 2: another layout, other textures) does not match this object.
+  const std::string other = (s.dir->path() / "other").string(), other_model = other + "/object.json";
+  std::string log;
+  ASSERT_EQ(Seamap("simulate-stereo --out " + other + " --seed 2 --views 1 --supersample 1", &log), 0) << log;
+  ASSERT_EQ(Seamap("stereo-model --calib " + other + "/stereo.yaml --pairs " + other + "/overview --out " + other_model,
+                   &log),
+            0)
+      << log;
+  const std::string out = (s.dir->path() / "other_pose.json").string();
+  ASSERT_EQ(Seamap("stereo-locate --calib " + s.calib + " --model " + other_model + " --pairs " + s.root +
+                       "/approach --views 3 --out " + out,
+                   &log),
+            0)
+      << log;
+  const auto wrong = ReadJson(out);
+  EXPECT_FALSE(wrong["found"].get<bool>()) << wrong.dump(2);
+  EXPECT_TRUE(wrong["object_from_camera"].is_null());
+}
+
+int RunFails(const std::string& args, std::string* log) {
+  return Seamap(args, log);
+}
+
+TEST(Stereo, BadInputIsAnErrorNamingIt) {
+  const Scene& s = SharedScene();
+  testing::TempDir dir;
+  std::string log;
+  const std::string out = " --out " + (dir / "pose.json").string();
+  const std::string base = "stereo-locate --model " + s.model + " --views 1" + out;
+
+  // Calibration for another image size.
+  std::string yaml;
+  {
+    std::ifstream in(s.calib);
+    yaml.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  std::string other = yaml;
+  other.replace(other.find("image_width: 1200"), 17, "image_width: 1600");
+  testing::WriteFile(dir / "other.yaml", other);
+  EXPECT_EQ(RunFails(base + " --calib " + (dir / "other.yaml").string() + " --pairs " + s.root + "/approach", &log), 2);
+  EXPECT_NE(log.find("1200x900"), std::string::npos) << log;
+
+  // A pair without its right image.
+  fs::create_directories(dir / "lonely");
+  fs::copy_file(s.root + "/approach/ap_001_left.png", dir / "lonely/ap_001_left.png");
+  EXPECT_EQ(RunFails(base + " --calib " + s.calib + " --pairs " + (dir / "lonely").string(), &log), 2);
+  EXPECT_NE(log.find("no right image"), std::string::npos) << log;
+
+  // Left and right swapped.
+  fs::create_directories(dir / "swapped");
+  fs::copy_file(s.root + "/approach/ap_001_left.png", dir / "swapped/ap_001_right.png");
+  fs::copy_file(s.root + "/approach/ap_001_right.png", dir / "swapped/ap_001_left.png");
+  EXPECT_EQ(RunFails(base + " --calib " + s.calib + " --pairs " + (dir / "swapped").string(), &log), 2);
+  EXPECT_NE(log.find("swapped"), std::string::npos) << log;
+
+  // Not an image.
+  fs::create_directories(dir / "text");
+  testing::WriteFile(dir / "text/x_left.png", "not a png");
+  testing::WriteFile(dir / "text/x_right.png", "not a png");
+  EXPECT_EQ(RunFails(base + " --calib " + s.calib + " --pairs " + (dir / "text").string(), &log), 2);
+  EXPECT_NE(log.find("x_left.png"), std::string::npos) << log;
+
+  // Not a model.
+  testing::WriteFile(dir / "model.json", "{\"format\": \"something else\"}");
+  EXPECT_EQ(RunFails("stereo-locate --model " + (dir / "model.json").string() + " --calib " + s.calib + " --pairs " +
+                         s.root + "/approach" + out,
+                     &log),
+            2);
+  EXPECT_NE(log.find("format"), std::string::npos) << log;
+}
+
+}  // namespace
+}  // namespace seamap

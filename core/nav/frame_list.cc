@@ -7,6 +7,7 @@
 
 #include "core/nav/column_aliases.h"
 #include "core/nav/csv_table.h"
+#include "core/nav/nav_limits.h"
 #include "core/nav/nav_values.h"
 #include "core/util/error.h"
 
@@ -62,6 +63,11 @@ std::vector<ImageTime> ReadImageTimes(const std::string& path, FrameList* out) {
     const auto time = ParseTimeSeconds(row.fields[time_col], &why, decimal_comma);
     if (!time) {
       reject("time_s", "time_s " + why);
+      continue;
+    }
+    if (std::fabs(*time) > nav_limits::kMaxAbsTimeS) {
+      reject("time_s",
+             "time_s must be within +-" + FormatNumber(nav_limits::kMaxAbsTimeS) + " s, got " + FormatNumber(*time));
       continue;
     }
     auto [it, inserted] = first_line.emplace(image, row.line);

@@ -41,9 +41,10 @@ struct Reject {
   std::string reason;
 };
 
+// Names as written in the file, each shortened for the message.
 std::string Join(const std::vector<std::string>& items) {
   std::string out;
-  for (const auto& item : items) out += (out.empty() ? "" : ", ") + item;
+  for (const auto& item : items) out += (out.empty() ? "" : ", ") + Shorten(item);
   return out;
 }
 
@@ -55,7 +56,7 @@ std::string Where(const std::string& path, int line) {
 
 Source ReadCsv(const std::string& path, const std::vector<TextLine>& lines, const NavReadOptions& options,
                std::vector<std::string>* warnings) {
-  const CsvTable table = ParseCsv(lines);
+  const CsvTable table = ParseCsv(lines, path);
   const ColumnMap map = MapColumns(table.header, options.columns, path, table.header_line);
   Source source;
   source.header_line = table.header_line;
@@ -70,6 +71,10 @@ Source ReadCsv(const std::string& path, const std::vector<TextLine>& lines, cons
 
   const size_t width = table.header.size();
   for (const CsvRow& row : table.rows) {
+    if (!row.problem.empty()) {
+      source.rejected.push_back({path, row.line, "", row.problem});
+      continue;
+    }
     if (row.fields.size() < width) {
       const std::string missing = table.header[row.fields.size()];
       std::string field = missing;
@@ -77,7 +82,7 @@ Source ReadCsv(const std::string& path, const std::vector<TextLine>& lines, cons
         if (index == static_cast<int>(row.fields.size())) field = canonical;
       source.rejected.push_back({path, row.line, field,
                                  "line has " + std::to_string(row.fields.size()) + " fields but the header has " +
-                                     std::to_string(width) + "; missing column '" + missing + "'"});
+                                     std::to_string(width) + "; missing column '" + Shorten(missing) + "'"});
       continue;
     }
     const bool extra =
@@ -111,6 +116,12 @@ Source ReadSeedText(const std::string& path, const std::vector<TextLine>& lines,
   source.columns.insert("image");
   std::set<std::string> unknown;
   for (const TextLine& line : lines) {
+    if (line.overlong) {
+      source.rejected.push_back(
+          {path, line.number, "",
+           "line is " + std::to_string(line.overlong) + " bytes long (limit " + std::to_string(kMaxLineBytes) + ")"});
+      continue;
+    }
     const std::string text = Trim(line.text);
     const size_t name_end = text.find_first_of(" \t");
     RawRow raw{line.number, {{"image", text.substr(0, name_end)}}};
@@ -125,7 +136,8 @@ Source ReadSeedText(const std::string& path, const std::vector<TextLine>& lines,
       if (piece.empty()) continue;
       const size_t colon = piece.find(':');
       if (colon == std::string::npos) {
-        source.rejected.push_back({path, line.number, "", "cannot read '" + piece + "' (expected KEY(unit): VALUE)"});
+        source.rejected.push_back(
+            {path, line.number, "", "cannot read '" + Shorten(piece) + "' (expected KEY(unit): VALUE)"});
         bad = true;
         break;
       }

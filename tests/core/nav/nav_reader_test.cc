@@ -416,5 +416,24 @@ TEST_F(NavReaderTest, GeographicPositionsFarFromTheOriginAreRejected) {
   EXPECT_TRUE(Contains(r.reason, "km from the origin 43.1,131.9 (limit 3000 km)")) << r.reason;
 }
 
+TEST_F(NavReaderTest, LongLinesAndNamesCostNoMoreThanTheFile) {
+  // A 10 MB unknown column name was copied into every line's message (8 GB
+  // for 800 lines); now the header is refused at once, naming its line.
+  const std::string huge(10 << 20, 'c');
+  const InputError e = Fatal("image,x_m,y_m,alt," + huge + "\na.jpg,1,2,1.5\n", WithOrigin(43.1, 131.9));
+  EXPECT_EQ(e.line(), 1);
+  EXPECT_LT(std::string(e.what()).size(), 300u);
+  // A 10 MB line among good ones is skipped with its length, the rest is read.
+  const std::string path = Write("image,x_m,y_m,alt\na.jpg,1,2,1.5\nb.jpg,1,2," + huge + "\nc.jpg,1,2,1.5\n");
+  const NavTable table = ReadNavigation(path, WithOrigin(43.1, 131.9));
+  EXPECT_EQ(table.records.size(), 2u);
+  const Rejection r = RejectionAt(table, 3);
+  EXPECT_TRUE(Contains(r.reason, "line is 10485770 bytes long (limit 65536)")) << r.reason;
+  // Values quoted in messages are shortened.
+  const NavTable bad =
+      Read("image,x_m,y_m,alt\na.jpg,1,2," + std::string(3000, 'x') + "\nb.jpg,1,2,2\n", WithOrigin(43.1, 131.9));
+  EXPECT_LT(RejectionAt(bad, 2).reason.size(), 200u) << RejectionAt(bad, 2).reason;
+}
+
 }  // namespace
 }  // namespace seamap

@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "core/camera/frame_projector.h"
 #include "core/geo/web_mercator.h"
+#include "core/util/error.h"
 
 namespace seamap {
 namespace {
@@ -15,7 +17,46 @@ double Median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
+std::string Megabytes(double bytes) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%.0f MB", bytes / (1 << 20));
+  return text;
+}
+
+// A frame's box at `zoom`: its nadir footprint at the median altitude turned
+// 45 degrees (the diagonal both ways), in global pixels.
+double BoxSidePx(const MosaicPlan& plan, const CameraModel& camera, int zoom, int tile_size) {
+  const double diagonal_m = plan.gsd_m * std::hypot(camera.width, camera.height);
+  return diagonal_m / MetersPerPixel(plan.latitude, zoom, tile_size) + 1;
+}
+
 }  // namespace
+
+double FramePaintBytes(double width_px, double height_px, int tile_size, int channels) {
+  const double tiles = (std::floor(width_px / tile_size) + 2) * (std::floor(height_px / tile_size) + 2);
+  const double tile_bytes = double{4} * (channels + 1) * tile_size * tile_size;  // sums and weights, float
+  return width_px * height_px * (channels + 1) + tiles * tile_bytes;
+}
+
+void CheckPlanFitsMemory(const MosaicPlan& plan, const CameraModel& camera, int tile_size, size_t buffer_bytes,
+                         int memory_cap_mb, const std::string& source) {
+  auto needs = [&](int zoom) {
+    const double side = BoxSidePx(plan, camera, zoom, tile_size);
+    return FramePaintBytes(side, side, tile_size, plan.channels);
+  };
+  const double need = needs(plan.base_zoom);
+  if (need <= static_cast<double>(buffer_bytes)) return;
+  int fits = plan.base_zoom;
+  while (fits > 0 && needs(fits) > static_cast<double>(buffer_bytes)) --fits;
+  char gsd[32];
+  std::snprintf(gsd, sizeof gsd, "%.1f mm", plan.gsd_m * 1000);
+  throw InputError(source, 0, "base_zoom",
+                   "base zoom " + std::to_string(plan.base_zoom) + " cannot be built within memory_cap_mb " +
+                       std::to_string(memory_cap_mb) + ": one frame (ground sample distance " + gsd + ") would need " +
+                       Megabytes(need) + " of tiles, over the tile buffer's " +
+                       Megabytes(static_cast<double>(buffer_bytes)) + "; use --base-zoom " + std::to_string(fits) +
+                       " or lower, or raise memory_cap_mb");
+}
 
 MosaicPlan PlanMosaic(const MapSettings& map, const CameraModel& camera, const LocalFrame& frame,
                       const std::vector<FrameSpec>& frames, int channels) {

@@ -58,6 +58,7 @@ class SeabedProjection {
   RawPosition ToRaw(const cv::Matx33d& camera_from_box, double x, double y) const;
 
   const CameraModel& camera() const { return camera_; }
+  int tile_size() const { return tile_size_; }
 
  private:
   // The first `count` image border samples (corners, centre, edges) on the

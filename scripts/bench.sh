@@ -7,6 +7,8 @@
 #   SEAMAP_BENCH_RUNS=5 ...     runs per build line (default 3; the median is shown)
 #   SEAMAP_BENCH_TRAJECTORY=0   skip the trajectory figures (refine, vo, ekf on the drifting survey)
 #   SEAMAP_BENCH_EXPORT=0       skip the export figures (PMTiles, GeoTIFF beside gdal_translate)
+#   SEAMAP_BENCH_HOSTILE=0      skip the hostile inputs' peak memory (scripts/bench_hostile.sh, alone:
+#                               scripts/bench_hostile.sh build/seamap out/bench/hostile)
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${SEAMAP_BUILD_DIR:-$root/build}"
@@ -151,6 +153,7 @@ export_figures() {
 }
 [[ "${SEAMAP_BENCH_EXPORT:-1}" == 1 ]] && export_figures
 [[ "${SEAMAP_BENCH_TRAJECTORY:-1}" == 1 ]] && trajectory_figures
+[[ "${SEAMAP_BENCH_HOSTILE:-1}" == 1 ]] && "$root/scripts/bench_hostile.sh" "$seamap" "$out/hostile"
 if [[ "${SEAMAP_BENCH_SERVE:-1}" == 1 ]]; then
   "$root/scripts/bench_serve.sh" "$seamap" "$out/gray.mbtiles" "$out/gray" "$out/serve"
 fi

@@ -94,10 +94,8 @@ FramePipeline::Loaded FramePipeline::Load(const FrameSpec& spec) const {
   if (auto steep = TooSteep(camera, spec.pose, *corners, options_.max_footprint_ratio))
     return reject("pitch_deg/roll_deg", *steep);
   if (!projection.SeesSeabed(spec.pose)) return reject("pitch_deg/roll_deg", kNoSeabed);
-  if (auto too_large = TooLargeToPaint(projection, spec.pose, options_.channels, options_.max_paint_bytes)) {
-    l.image = FrameImage();
+  if (auto too_large = TooLargeToPaint(projection, spec.pose, options_.channels, options_.max_paint_bytes))
     return reject("altitude_m", *too_large);
-  }
   l.image = std::move(*image);
   if (options_.preprocess) {  // the enhancement chain works on whole frames
     try {

@@ -69,7 +69,7 @@ void CheckMemoryFits(const BuildInputs& in) {
   const MosaicPlan plan = PlanMosaic(in.config.map, in.camera, in.frame, in.frames.frames, in.channels);
   int cap_mb = in.config.buffer.memory_cap_mb;
   if (in.config.layers == "both" && in.config.enhance) cap_mb = std::max(16, cap_mb / 2);  // two builders share it
-  CheckPlanFitsMemory(plan, in.camera, in.config.map.tile_size, MemoryBudget::Of(cap_mb).tile_buffer_bytes, cap_mb,
+  CheckPlanFitsMemory(plan, in.camera, in.config.map.tile_size, cap_mb,
                       in.config_source == "build config" ? "" : in.config_source);
 }
 

@@ -25,8 +25,8 @@ std::optional<std::string> TooLargeToPaint(const SeabedProjection& projection, c
   std::ostringstream s;
   s.precision(0);
   s << std::fixed << "frame too large for the map: at altitude " << pose.altitude_m << " m it covers " << box[2] << "x"
-    << box[3] << " map pixels and would need " << bytes / (1 << 20) << " MB of tiles, over the tile buffer's "
-    << max_paint_bytes / (1 << 20) << " MB (memory_cap_mb)";
+    << box[3] << " map pixels and would need " << bytes / (1 << 20) << " MB of tiles, over the limit of "
+    << max_paint_bytes / (1 << 20) << " MB (memory_cap_mb, or 8 times a frame at the survey's median altitude)";
   return s.str();
 }
 

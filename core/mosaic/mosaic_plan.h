@@ -31,11 +31,16 @@ MosaicPlan PlanMosaic(const MapSettings& map, const CameraModel& camera, const L
 double FramePaintBytes(double width_px, double height_px, int tile_size, int channels);
 
 // Estimates, before anything is written, what painting a frame of the survey
-// at the median altitude (turned the worst way) takes at the plan's base
-// zoom, and throws an InputError naming base_zoom, the memory it would need
-// and the largest zoom that fits when that is over `buffer_bytes` (the tile
-// buffer's share of memory_cap_mb).
-void CheckPlanFitsMemory(const MosaicPlan& plan, const CameraModel& camera, int tile_size, size_t buffer_bytes,
-                         int memory_cap_mb, const std::string& source);
+// (nadir, at the median altitude) takes at the plan's base zoom, and throws
+// an InputError naming base_zoom, the memory it would need and the largest
+// zoom that fits when that is over memory_cap_mb.
+void CheckPlanFitsMemory(const MosaicPlan& plan, const CameraModel& camera, int tile_size, int memory_cap_mb,
+                         const std::string& source);
+
+// The most one frame may take to paint (FramePaintBytes of its box): the
+// memory cap, or 8 times a frame at the median altitude turned 45 degrees,
+// whichever is more. A frame over it (far above the survey: thousands of
+// tiles at the base zoom) is refused; frames a little higher or turned are not.
+double FramePaintLimitBytes(const MosaicPlan& plan, const CameraModel& camera, int tile_size, int memory_cap_mb);
 
 }  // namespace seamap

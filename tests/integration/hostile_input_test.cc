@@ -80,6 +80,11 @@ struct Case {
   std::function<void(const Copy&, const std::string& log)> also;  // further checks, may be empty
 };
 
+// gtest prints a case by its name (ctest lists it so).
+void PrintTo(const Case& c, std::ostream* os) {
+  *os << c.name;
+}
+
 // x_m of the survey's frames, to put the antimeridian in its middle.
 double MiddleEast(const Copy& c) {
   double lo = 1e9, hi = -1e9;

@@ -24,11 +24,10 @@ TEST(MosaicPlan, ABaseZoomWhoseTilesCannotFitIsRefusedWithTheMemoryItNeeds) {
   const LocalFrame frame({43.1, 131.9});
   MapSettings map;
   map.base_zoom = 30;
-  const size_t buffer = MemoryBudget::Of(512).tile_buffer_bytes;
   MosaicPlan plan = PlanMosaic(map, camera, frame, Frames(2), 1);
   ASSERT_EQ(plan.base_zoom, 30);
   try {
-    CheckPlanFitsMemory(plan, camera, 256, buffer, 512, "");
+    CheckPlanFitsMemory(plan, camera, 256, 512, "");
     FAIL() << "zoom 30 accepted";
   } catch (const InputError& e) {
     EXPECT_EQ(e.field(), "base_zoom");
@@ -41,13 +40,23 @@ TEST(MosaicPlan, ABaseZoomWhoseTilesCannotFitIsRefusedWithTheMemoryItNeeds) {
     ASSERT_NE(at, std::string::npos) << what;
     const int proposed = std::stoi(what.substr(at + 16));
     plan.base_zoom = proposed;
-    EXPECT_NO_THROW(CheckPlanFitsMemory(plan, camera, 256, buffer, 512, ""));
+    EXPECT_NO_THROW(CheckPlanFitsMemory(plan, camera, 256, 512, ""));
     plan.base_zoom = proposed + 1;
-    EXPECT_THROW(CheckPlanFitsMemory(plan, camera, 256, buffer, 512, ""), InputError);
+    EXPECT_THROW(CheckPlanFitsMemory(plan, camera, 256, 512, ""), InputError);
   }
+  // A 12 MP colour camera at its own zoom fits the default cap, however turned.
+  const CameraModel big = CameraFromFocalLength(8, 3.45, 4096, 3000);
+  map.base_zoom.reset();
+  const MosaicPlan colour = PlanMosaic(map, big, frame, Frames(2), 3);
+  EXPECT_NO_THROW(CheckPlanFitsMemory(colour, big, 256, 512, ""));
+  const SeabedProjection projection(big, frame, colour.base_zoom, 256);
+  VehiclePose turned;
+  turned.altitude_m = 2;
+  turned.heading_deg = 45;
+  EXPECT_FALSE(TooLargeToPaint(projection, turned, 3, FramePaintLimitBytes(colour, big, 256, 512)));
   // The zoom chosen from the ground sample distance fits easily.
   map.base_zoom.reset();
-  EXPECT_NO_THROW(CheckPlanFitsMemory(PlanMosaic(map, camera, frame, Frames(2), 3), camera, 256, buffer, 512, ""));
+  EXPECT_NO_THROW(CheckPlanFitsMemory(PlanMosaic(map, camera, frame, Frames(2), 3), camera, 256, 512, ""));
 }
 
 TEST(MosaicPlan, FramePaintBytesCountsPixelsAndTheTilesUnderThem) {
@@ -63,12 +72,16 @@ TEST(MosaicPlan, AFrameTooHighForTheMapIsRefused) {
   const LocalFrame frame({43.1, 131.9});
   const MosaicPlan plan = PlanMosaic(MapSettings{}, camera, frame, Frames(2), 1);
   const SeabedProjection projection(camera, frame, plan.base_zoom, 256);
-  const double buffer = static_cast<double>(MemoryBudget::Of(512).tile_buffer_bytes);
+  const double limit = FramePaintLimitBytes(plan, camera, 256, 512);
+  EXPECT_DOUBLE_EQ(limit, 512.0 * (1 << 20));  // a small frame: the cap
   VehiclePose pose;
   pose.altitude_m = 2;
-  EXPECT_FALSE(TooLargeToPaint(projection, pose, 1, buffer));
+  EXPECT_FALSE(TooLargeToPaint(projection, pose, 1, limit));
+  pose.altitude_m = 6;  // a dip in the seabed, the frame turned: still painted
+  pose.heading_deg = 45;
+  EXPECT_FALSE(TooLargeToPaint(projection, pose, 1, limit));
   pose.altitude_m = 900;
-  const auto why = TooLargeToPaint(projection, pose, 1, buffer);
+  const auto why = TooLargeToPaint(projection, pose, 1, limit);
   ASSERT_TRUE(why);
   EXPECT_NE(why->find("frame too large for the map: at altitude 900 m"), std::string::npos) << *why;
   EXPECT_NE(why->find("memory_cap_mb"), std::string::npos) << *why;

@@ -68,6 +68,7 @@ echo "hostile inputs: $(nproc) cores, survey of $(($(wc -l <"$base/nav.csv") - 1
 run_case "none (the survey as simulated)" "" ""
 run_case "nav x_m = 1e308" "set_field(3, 2, '1e308')" ""
 run_case "nav altitude_m = 1e9" "set_field(4, 4, '1e9')" ""
+run_case "nav altitude_m = 900 (survey at 2 m)" "set_field(5, 4, '900')" ""
 run_case "survey across the antimeridian" "" "" antimeridian
 run_case "PNG header claiming 100000x100000" "png(f'{d}/photo/frame_000003.png', 100000, 100000, 100)" ""
 run_case "valid PNG of 30000x30000 zeros" "png(f'{d}/photo/frame_000005.png', 30000, 30000, 30000)" ""

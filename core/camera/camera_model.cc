@@ -293,12 +293,17 @@ CameraModel ReadFileStorage(const std::string& path) {
 }
 
 // OpenCV's reader throws its own exceptions on odd content (a matrix of the
-// wrong kind, a huge "rows"): they become InputErrors naming the file.
+// wrong kind, a huge "rows"), and standard ones from deep inside (a string
+// of a size read from the file): they become InputErrors naming the file.
 CameraModel LoadFileStorage(const std::string& path) {
   try {
     return ReadFileStorage(path);
+  } catch (const InputError&) {
+    throw;
   } catch (const cv::Exception& e) {
     throw InputError(path, 0, "", "cannot read OpenCV calibration file: " + e.msg);
+  } catch (const std::exception& e) {
+    throw InputError(path, 0, "", std::string("cannot read OpenCV calibration file: ") + e.what());
   }
 }
 

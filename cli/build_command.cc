@@ -115,6 +115,7 @@ int RunBuild(int argc, char** argv, int first) {
   const std::optional<std::string> report = args.Get("report");
   args.RejectUnknown();
 
+  CheckMemoryFits(in);  // before the map is created
   auto store = OpenOutput(out, in.config, append, overwrite);
   nlohmann::json refine_report;
   if (refine) {

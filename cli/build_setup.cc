@@ -1,32 +1,20 @@
 #include "cli/build_setup.h"
 
+#include <algorithm>
 #include <filesystem>
 
 #include <opencv2/imgcodecs.hpp>
 
 #include "core/enhance/enhance_chain.h"
 #include "core/mosaic/frame_image.h"
+#include "core/mosaic/mosaic_plan.h"
+#include "core/mosaic/survey_channels.h"
 #include "core/nav/nav_reader.h"
 #include "core/util/error.h"
 #include "server/server_options.h"
 
 namespace seamap::cli {
 namespace fs = std::filesystem;
-
-namespace {
-
-// Gray or colour mosaic, from the first frame that can be read.
-int ProbeChannels(const FrameList& frames) {
-  for (const auto& f : frames.frames) {
-    std::error_code ec;
-    if (!fs::is_regular_file(f.image_path, ec)) continue;
-    cv::Mat m = cv::imread(f.image_path, cv::IMREAD_UNCHANGED);
-    if (!m.empty()) return m.channels() >= 3 ? 3 : 1;
-  }
-  return 1;
-}
-
-}  // namespace
 
 BuildInputs ReadBuildInputs(Args& args) {
   BuildInputs in;
@@ -71,8 +59,18 @@ BuildInputs ReadBuildInputs(Args& args) {
   in.warnings = nav.warnings;
   in.warnings.insert(in.warnings.end(), in.frames.warnings.begin(), in.frames.warnings.end());
   in.frames.rejected.insert(in.frames.rejected.begin(), nav.rejected.begin(), nav.rejected.end());
-  in.channels = ProbeChannels(in.frames);
+  const SurveyChannels channels = DecideChannels(in.frames.frames, in.config.frames.max_image_pixels);
+  in.channels = channels.channels;
+  if (!channels.warning.empty()) in.warnings.push_back(channels.warning);
   return in;
+}
+
+void CheckMemoryFits(const BuildInputs& in) {
+  const MosaicPlan plan = PlanMosaic(in.config.map, in.camera, in.frame, in.frames.frames, in.channels);
+  int cap_mb = in.config.buffer.memory_cap_mb;
+  if (in.config.layers == "both" && in.config.enhance) cap_mb = std::max(16, cap_mb / 2);  // two builders share it
+  CheckPlanFitsMemory(plan, in.camera, in.config.map.tile_size, cap_mb,
+                      in.config_source == "build config" ? "" : in.config_source);
 }
 
 std::unique_ptr<TileStore> OpenOutput(const std::string& path, const BuildConfig& config, bool append, bool overwrite) {
@@ -96,11 +94,16 @@ BuildHooks MakeHooks(const BuildInputs& in) {
   std::vector<cv::Mat> samples;
   for (const auto& f : in.frames.frames) {
     if (static_cast<int>(samples.size()) >= chain->SeedFrames()) break;
-    std::error_code ec;
-    if (!fs::is_regular_file(f.image_path, ec)) continue;
-    cv::Mat m = cv::imread(f.image_path, cv::IMREAD_UNCHANGED);
-    if (!m.empty() && m.cols == in.camera.width && m.rows == in.camera.height)
-      samples.push_back(ToEightBit(m, in.channels, in.config.frames.sixteen_bit_white));
+    // Read as the build reads frames: FIFOs and oversized images are left out.
+    std::string problem;
+    auto image = FrameImage::Read(f.image_path, in.channels, in.config.frames.sixteen_bit_white, &problem,
+                                  in.config.frames.max_image_pixels);
+    if (image && image->width() == in.camera.width && image->height() == in.camera.height) {
+      try {
+        samples.push_back(image->Full().clone());
+      } catch (const InputError&) {  // broken JPEG data: the build reports it
+      }
+    }
   }
   if (!samples.empty()) chain->Seed(samples);
   hooks.preprocess = [chain](const cv::Mat& frame) { return chain->Apply(frame); };

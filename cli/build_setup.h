@@ -29,6 +29,10 @@ struct BuildInputs {
 // setting overrides (--tile-format, --tile-size, --base-zoom, ...).
 BuildInputs ReadBuildInputs(Args& args);
 
+// Refuses (InputError naming base_zoom and the memory needed) settings whose
+// tile buffer cannot hold one frame of the survey, before anything is written.
+void CheckMemoryFits(const BuildInputs& inputs);
+
 // Opens the output map; an existing one is refused unless append/overwrite.
 std::unique_ptr<TileStore> OpenOutput(const std::string& path, const BuildConfig& config, bool append, bool overwrite);
 

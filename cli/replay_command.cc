@@ -193,6 +193,7 @@ int RunReplay(int argc, char** argv, int first) {
   // A live map: publish tiles every few frames (a build batches 25 for speed).
   in.config.buffer.batch_frames = std::min(in.config.buffer.batch_frames, 5);
   in.config.buffer.live_tiles = true;
+  CheckMemoryFits(in);  // before the map is created
   auto store = OpenOutput(out, in.config, append, overwrite);
   MosaicPlan plan = PlanMosaic(in.config.map, in.camera, in.frame, in.frames.frames, in.channels);
   for (const auto& w : in.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());

@@ -43,7 +43,7 @@ nlohmann::json EstimateFrames(const std::vector<FrameSpec>& frames, const Camera
   for (size_t i = 0; i < frames.size(); ++i) {
     for (; next < frames.size() && next < i + depth; ++next)
       ahead.push_back(pool.Submit([&, next]() -> std::optional<FrameFeatures> {
-        const cv::Mat image = cv::imread(frames[next].image_path, cv::IMREAD_UNCHANGED);
+        const cv::Mat image = ReadFrameForFeatures(frames[next].image_path);
         if (image.empty()) return std::nullopt;
         return DetectFeatures(image, camera, options.vo.features);
       }));

@@ -8,6 +8,8 @@
 #   SEAMAP_BENCH_TRAJECTORY=0   skip the trajectory figures (refine, vo, ekf on the drifting survey)
 #   SEAMAP_BENCH_EXPORT=0       skip the export figures (PMTiles, GeoTIFF beside gdal_translate)
 #   SEAMAP_BENCH_STEREO=0       skip the stereo object figures; SEAMAP_BENCH_STEREO_SCENES=N (default 20)
+#   SEAMAP_BENCH_HOSTILE=0      skip the hostile inputs' peak memory (scripts/bench_hostile.sh, alone:
+#                               scripts/bench_hostile.sh build/seamap out/bench/hostile)
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${SEAMAP_BUILD_DIR:-$root/build}"
@@ -158,6 +160,7 @@ if [[ "${SEAMAP_BENCH_STEREO:-1}" == 1 ]]; then
   stereo_scenes="${SEAMAP_BENCH_STEREO_SCENES:-20}"; [[ "$quick" == 1 ]] && stereo_scenes=3
   python3 "$root/scripts/bench_stereo.py" "$seamap" "$out" "$stereo_scenes" clear,degraded,few
 fi
+[[ "${SEAMAP_BENCH_HOSTILE:-1}" == 1 ]] && "$root/scripts/bench_hostile.sh" "$seamap" "$out/hostile"
 if [[ "${SEAMAP_BENCH_SERVE:-1}" == 1 ]]; then
   "$root/scripts/bench_serve.sh" "$seamap" "$out/gray.mbtiles" "$out/gray" "$out/serve"
 fi

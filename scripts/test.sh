@@ -7,6 +7,8 @@ build="${SEAMAP_BUILD_DIR:-$root/build}"
 "$root/scripts/build.sh"
 
 cd "$build"
+# Each randomised test's budget (tests/testing/fuzz.h); the seed is printed on failure.
+export SEAMAP_FUZZ_SECONDS="${SEAMAP_FUZZ_SECONDS:-2}"
 set +e
 ctest --output-on-failure -j"$(nproc)" --timeout 600 2>&1 | tee "$build/ctest.log"
 status=${PIPESTATUS[0]}

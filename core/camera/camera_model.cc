@@ -19,6 +19,7 @@ namespace {
 using nlohmann::json;
 
 constexpr double kDegToRad = M_PI / 180.0;
+constexpr double kMaxFocalPx = 1e7;
 
 // Brown-Conrady coefficient counts OpenCV knows; we model the first five and
 // accept longer vectors only when the extra (rational/thin-prism/tilt) terms are 0.
@@ -73,7 +74,11 @@ struct JsonReader {
     const json* v = Find(obj, key);
     if (!v) throw InputError(path, 0, key, "missing; expected a positive integer");
     if (!v->is_number_integer()) throw InputError(path, 0, key, "expected a positive integer, got " + v->dump());
-    return v->get<int>();
+    const int64_t value = v->is_number_unsigned() && v->get<uint64_t>() > INT64_MAX ? INT64_MAX : v->get<int64_t>();
+    if (value <= 0 || value > kMaxImageSide)
+      throw InputError(path, 0, key,
+                       "expected a positive integer up to " + std::to_string(kMaxImageSide) + ", got " + v->dump());
+    return static_cast<int>(value);
   }
   std::vector<double> Numbers(const json& v, const std::string& field) const {
     if (!v.is_array()) throw InputError(path, 0, field, "expected an array of numbers");
@@ -99,19 +104,59 @@ int LineOfByte(const std::string& text, size_t byte) {
   return 1 + static_cast<int>(std::count(text.begin(), text.begin() + byte, '\n'));
 }
 
-CameraModel LoadJson(const std::string& path) {
+// A camera file is a few hundred bytes; a larger one is not one.
+constexpr std::uintmax_t kMaxCameraFileBytes = 1 << 20;
+
+std::string ReadCameraText(const std::string& path) {
+  std::error_code ec;
+  const std::uintmax_t size = std::filesystem::file_size(path, ec);
+  if (!ec && size > kMaxCameraFileBytes)
+    throw InputError(path, 0, "",
+                     "is " + std::to_string(size) + " bytes, too large for a camera file (limit " +
+                         std::to_string(kMaxCameraFileBytes) + ")");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, 0, "", "cannot open camera file");
   std::stringstream buffer;
   buffer << in.rdbuf();
-  const std::string text = buffer.str();
-  json j;
+  return buffer.str();
+}
+
+// Parses while keeping the key being read ("mount.pitch_deg"), so that a
+// number JSON cannot hold (1e999) is reported with its field and line.
+json ParseJson(const std::string& text, const std::string& path) {
+  std::vector<std::string> keys;
+  auto track = [&keys](int depth, json::parse_event_t event, json& parsed) {
+    if (event == json::parse_event_t::key && depth >= 1) {
+      keys.resize(static_cast<size_t>(depth));
+      keys.back() = parsed.is_string() ? parsed.get<std::string>() : "";
+    } else if (event == json::parse_event_t::object_end) {
+      keys.resize(std::min(keys.size(), static_cast<size_t>(std::max(depth, 0))));
+    }
+    return true;
+  };
   try {
-    j = json::parse(text);
+    return json::parse(text, track);
   } catch (const json::parse_error& e) {
     // e.byte is 1-based position of the offending character.
     throw InputError(path, LineOfByte(text, e.byte > 0 ? e.byte - 1 : 0), "", std::string("invalid JSON: ") + e.what());
+  } catch (const json::exception& e) {
+    std::string field;
+    for (const auto& k : keys) field += (field.empty() ? "" : ".") + k;
+    // "number overflow parsing '1e999'": find the number for its line.
+    const std::string what = e.what();
+    const size_t quote = what.find('\'');
+    const std::string number =
+        quote == std::string::npos ? "" : what.substr(quote + 1, what.find('\'', quote + 1) - quote - 1);
+    const size_t at = number.empty() ? std::string::npos : text.find(number);
+    throw InputError(path, at == std::string::npos ? 0 : LineOfByte(text, at), field,
+                     number.empty() ? std::string("invalid JSON: ") + e.what()
+                                    : "number " + number + " is out of range; expected a finite number");
   }
+}
+
+CameraModel LoadJson(const std::string& path) {
+  const std::string text = ReadCameraText(path);
+  const json j = ParseJson(text, path);
   if (!j.is_object()) throw InputError(path, 1, "", "expected a JSON object");
 
   JsonReader r{path};
@@ -185,7 +230,8 @@ std::vector<double> ReadMatrix(const cv::FileNode& node, const std::string& path
     node["data"] >> data;
     const int r = node["rows"].empty() ? 1 : static_cast<int>(node["rows"]);
     const int c = node["cols"].empty() ? static_cast<int>(data.size()) : static_cast<int>(node["cols"]);
-    if (r * c != static_cast<int>(data.size())) throw InputError(path, 0, field, "expected rows*cols data values");
+    if (r <= 0 || c <= 0 || int64_t{r} * c != static_cast<int64_t>(data.size()))
+      throw InputError(path, 0, field, "expected rows*cols data values");
     *rows = r;
     *cols = c;
     return data;
@@ -202,17 +248,15 @@ int ReadImageSize(const cv::FileStorage& fs, const std::string& key, const std::
   if (n.empty() || n.isNone()) throw InputError(path, 0, key, "missing; expected a positive integer");
   if (!n.isInt() && !n.isReal()) throw InputError(path, 0, key, "expected a positive integer");
   const double v = static_cast<double>(n);
-  if (!(v > 0) || v != std::floor(v)) throw InputError(path, 0, key, "expected a positive integer");
+  if (!(v > 0) || v != std::floor(v) || v > kMaxImageSide)
+    throw InputError(path, 0, key, "expected a positive integer up to " + std::to_string(kMaxImageSide));
   return static_cast<int>(v);
 }
 
-CameraModel LoadFileStorage(const std::string& path) {
+CameraModel ReadFileStorage(const std::string& path) {
   cv::FileStorage fs;
   try {
-    std::ifstream in(path, std::ios::binary);
-    std::stringstream text;
-    text << in.rdbuf();
-    std::string content = text.str();
+    std::string content = ReadCameraText(path);
     const std::string ext = Lowercase(std::filesystem::path(path).extension().string());
     // ROS camera_info files are plain YAML without OpenCV's "%YAML:1.0" line,
     // which OpenCV needs to recognise the format.
@@ -246,6 +290,21 @@ CameraModel LoadFileStorage(const std::string& path) {
   SetDistortion(c, d, path, "distortion_coefficients");
   c.Validate(path);
   return c;
+}
+
+// OpenCV's reader throws its own exceptions on odd content (a matrix of the
+// wrong kind, a huge "rows"), and standard ones from deep inside (a string
+// of a size read from the file): they become InputErrors naming the file.
+CameraModel LoadFileStorage(const std::string& path) {
+  try {
+    return ReadFileStorage(path);
+  } catch (const InputError&) {
+    throw;
+  } catch (const cv::Exception& e) {
+    throw InputError(path, 0, "", "cannot read OpenCV calibration file: " + e.msg);
+  } catch (const std::exception& e) {
+    throw InputError(path, 0, "", std::string("cannot read OpenCV calibration file: ") + e.what());
+  }
 }
 
 Eigen::Matrix3d RotationZYX(const Eigen::Vector3d& rpy_deg) {
@@ -298,20 +357,48 @@ std::vector<cv::Point2d> CameraModel::Distort(const std::vector<cv::Point2d>& id
 void CameraModel::Validate(const std::string& source) const {
   if (width <= 0) throw InputError(source, 0, "width", "expected a positive image width in pixels");
   if (height <= 0) throw InputError(source, 0, "height", "expected a positive image height in pixels");
-  if (!(fx > 0) || !std::isfinite(fx))
-    throw InputError(source, 0, "fx", "expected a positive finite focal length in pixels");
-  if (!(fy > 0) || !std::isfinite(fy))
-    throw InputError(source, 0, "fy", "expected a positive finite focal length in pixels");
+  if (width > kMaxImageSide) throw InputError(source, 0, "width", "expected at most " + std::to_string(kMaxImageSide));
+  if (height > kMaxImageSide)
+    throw InputError(source, 0, "height", "expected at most " + std::to_string(kMaxImageSide));
+  if (!(fx > 0) || !std::isfinite(fx) || fx > kMaxFocalPx)
+    throw InputError(source, 0, "fx", "expected a positive finite focal length in pixels (at most 1e7)");
+  if (!(fy > 0) || !std::isfinite(fy) || fy > kMaxFocalPx)
+    throw InputError(source, 0, "fy", "expected a positive finite focal length in pixels (at most 1e7)");
   if (!(cx >= 0 && cx <= width)) throw InputError(source, 0, "cx", "expected a principal point in [0, width]");
   if (!(cy >= 0 && cy <= height)) throw InputError(source, 0, "cy", "expected a principal point in [0, height]");
+  // Wider than 170 degrees the seabed footprint runs towards the horizon.
+  const double tan_half_fov = std::tan(85 * kDegToRad);
+  if (std::max(cx, width - cx) / fx > tan_half_fov)
+    throw InputError(source, 0, "fx", "gives a field of view over 170 degrees: too short a focal length for the width");
+  if (std::max(cy, height - cy) / fy > tan_half_fov)
+    throw InputError(source, 0, "fy",
+                     "gives a field of view over 170 degrees: too short a focal length for the height");
   for (double d : distortion)
     if (!std::isfinite(d)) throw InputError(source, 0, "distortion", "expected finite coefficients");
   if (!mount_rpy_deg.allFinite()) throw InputError(source, 0, "mount", "expected finite roll/pitch/yaw in degrees");
-  if (!mount_offset_m.allFinite()) throw InputError(source, 0, "mount.offset_m", "expected finite offsets in metres");
+  if (!mount_offset_m.allFinite() || mount_offset_m.norm() > 100)
+    throw InputError(source, 0, "mount.offset_m", "expected finite offsets in metres, within 100 m");
+  if (HasDistortion()) {
+    // Coefficients so large that the lens moves the image corners by more
+    // than ten image diagonals (1e300) describe no lens, and overflow later.
+    const double l = -0.5, t = -0.5, r = width - 0.5, b = height - 0.5;
+    const std::vector<cv::Point2d> corners{{l, t}, {r, t}, {r, b}, {l, b}};
+    const std::vector<cv::Point2d> moved = Distort(corners);
+    const double limit = 10 * std::hypot(width, height);
+    for (size_t i = 0; i < corners.size(); ++i)
+      if (!(cv::norm(moved[i] - corners[i]) <= limit))
+        throw InputError(source, 0, "distortion",
+                         "the coefficients move the image corners by more than ten image diagonals");
+  }
 }
 
 CameraModel LoadCamera(const std::string& path) {
-  if (!std::filesystem::is_regular_file(path)) throw InputError(path, 0, "", "camera file not found");
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  if (!std::filesystem::exists(status)) throw InputError(path, 0, "", "camera file not found");
+  // Reading a FIFO would wait for a writer for ever.
+  if (!std::filesystem::is_regular_file(status))
+    throw InputError(path, 0, "", "is not a regular file; expected a camera calibration file");
   const std::string ext = Lowercase(std::filesystem::path(path).extension().string());
   if (ext == ".json") return LoadJson(path);
   if (ext == ".yaml" || ext == ".yml" || ext == ".xml") return LoadFileStorage(path);

@@ -17,6 +17,10 @@
 
 namespace seamap {
 
+// The largest image side a camera model may have (pixels): sensors are a few
+// thousand; beyond this a width is a typo.
+constexpr int kMaxImageSide = 100000;
+
 struct CameraModel {
   int width = 0;
   int height = 0;
@@ -44,7 +48,11 @@ struct CameraModel {
   std::vector<cv::Point2d> Undistort(const std::vector<cv::Point2d>& raw) const;
   std::vector<cv::Point2d> Distort(const std::vector<cv::Point2d>& ideal) const;
 
-  // Throws InputError(source, 0, field, ...) naming the first invalid parameter.
+  // Throws InputError(source, 0, field, ...) naming the first invalid
+  // parameter: sides 1..kMaxImageSide; focal lengths finite, at most 1e7 px
+  // and giving a field of view under 170 degrees; the principal point inside
+  // the image; distortion that moves the image corners by less than ten
+  // image diagonals; a mounting offset within 100 m.
   void Validate(const std::string& source) const;
 };
 

@@ -116,6 +116,7 @@ void BufferSettings::Check(const std::string& source) const {
 void FrameSettings::Check(const std::string& source) const {
   CheckPositive(max_footprint_ratio, source, "max_footprint_ratio");
   CheckRange(sixteen_bit_white, 1, 65535, source, "sixteen_bit_white");
+  CheckRange(max_image_pixels, 1, 1 << 30, source, "max_image_pixels");
 }
 
 void NavigationSettings::Check(const std::string& source) const {
@@ -186,6 +187,8 @@ void ApplyBuildConfig(const json& s, const std::string& source, BuildConfig* c) 
       c->frames.max_footprint_ratio = Number(v, source, key);
     else if (key == "sixteen_bit_white")
       c->frames.sixteen_bit_white = Int(v, source, key);
+    else if (key == "max_image_pixels")
+      c->frames.max_image_pixels = Int(v, source, key);
     else if (key == "threads")
       c->threads = Int(v, source, key);
     else if (key == "navigation")

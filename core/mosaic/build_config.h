@@ -57,6 +57,8 @@ struct BufferSettings {
 struct FrameSettings {
   double max_footprint_ratio = 25;  // reject frames whose footprint is this much larger than at nadir
   int sixteen_bit_white = 65535;    // 16-bit frames are scaled to 8 bit by 255/white
+  // Frames whose header claims more pixels are refused unread (image_header.h).
+  int max_image_pixels = 100'000'000;
   void Check(const std::string& source) const;
 };
 

@@ -88,10 +88,15 @@ cv::Mat ToEightBit(const cv::Mat& image, int channels, int sixteen_bit_white) {
 }
 
 std::optional<FrameImage> FrameImage::Read(const std::string& path, int channels, int sixteen_bit_white,
-                                           std::string* problem) {
-  std::error_code ec;
+                                           std::string* problem, int64_t max_pixels) {
+  const std::optional<ImageHeader> header = ReadImageHeader(path, problem);
+  if (!header) return std::nullopt;
+  if (auto too_large = TooLargeToDecode(*header, max_pixels)) {
+    *problem = *too_large;
+    return std::nullopt;
+  }
   std::ifstream in(path, std::ios::binary | std::ios::ate);
-  if (!std::filesystem::is_regular_file(path, ec) || !in) {
+  if (!in) {
     *problem = "missing image";
     return std::nullopt;
   }
@@ -128,9 +133,23 @@ std::optional<FrameImage> FrameImage::Read(const std::string& path, int channels
       return image;
     }
   }
-  cv::Mat raw = bytes.empty() ? cv::Mat() : cv::imdecode(bytes, cv::IMREAD_UNCHANGED);
+  cv::Mat raw;
+  try {  // OpenCV throws on what its decoders refuse (e.g. its own size limit)
+    if (!bytes.empty()) raw = cv::imdecode(bytes, cv::IMREAD_UNCHANGED);
+  } catch (const cv::Exception& e) {
+    *problem = "unreadable image: " + e.msg;
+    return std::nullopt;
+  }
   if (raw.empty()) {
     *problem = "unreadable image";
+    return std::nullopt;
+  }
+  // Formats whose header we do not read are checked once decoded.
+  if (int64_t{raw.cols} * raw.rows > max_pixels) {
+    ImageHeader decoded = *header;
+    decoded.width = raw.cols;
+    decoded.height = raw.rows;
+    *problem = *TooLargeToDecode(decoded, max_pixels);
     return std::nullopt;
   }
   return FromMat(raw, channels, sixteen_bit_white);

@@ -12,15 +12,20 @@
 
 #include <opencv2/core.hpp>
 
+#include "core/mosaic/image_header.h"
+
 namespace seamap {
 
 class FrameImage {
  public:
   FrameImage() = default;
   // Reads and checks `path`. On failure returns nullopt and sets *problem
-  // ("missing image", "unreadable image: ...", "truncated JPEG ...").
+  // ("missing image", "not a regular file: ...", "image too large: ...",
+  // "unreadable image: ...", "truncated JPEG ..."). The header is checked
+  // (image_header.h) before the file is read: images of more than
+  // max_pixels are refused unread.
   static std::optional<FrameImage> Read(const std::string& path, int channels, int sixteen_bit_white,
-                                        std::string* problem);
+                                        std::string* problem, int64_t max_pixels = kDefaultMaxImagePixels);
   // An image already decoded (any depth/channels OpenCV reads; converted).
   static FrameImage FromMat(const cv::Mat& image, int channels, int sixteen_bit_white);
 

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "core/mosaic/image_header.h"
+#include "core/mosaic/mosaic_plan.h"
 #include "core/util/error.h"
 
 namespace seamap {
@@ -11,6 +13,22 @@ namespace {
 const char* kNoSeabed = "the camera does not see the seabed in this attitude";
 
 }  // namespace
+
+std::optional<std::string> TooLargeToPaint(const SeabedProjection& projection, const VehiclePose& pose, int channels,
+                                           double max_paint_bytes) {
+  const auto outline = projection.Outline(pose);
+  if (!outline) return std::nullopt;
+  const auto& box = outline->box;
+  const double bytes =
+      FramePaintBytes(static_cast<double>(box[2]), static_cast<double>(box[3]), projection.tile_size(), channels);
+  if (bytes <= max_paint_bytes) return std::nullopt;
+  std::ostringstream s;
+  s.precision(0);
+  s << std::fixed << "frame too large for the map: at altitude " << pose.altitude_m << " m it covers " << box[2] << "x"
+    << box[3] << " map pixels and would need " << bytes / (1 << 20) << " MB of tiles, over the limit of "
+    << max_paint_bytes / (1 << 20) << " MB (memory_cap_mb, or 8 times a frame at the survey's median altitude)";
+  return s.str();
+}
 
 std::optional<std::string> TooSteep(const CameraModel& camera, const VehiclePose& pose,
                                     const std::array<LocalXY, 4>& corners, double max_ratio) {
@@ -31,8 +49,7 @@ std::optional<std::string> TooSteep(const CameraModel& camera, const VehiclePose
   return s.str();
 }
 
-FramePipeline::FramePipeline(const FrameWarper* warper, ThreadPool* pool, FramePipelineOptions options,
-                             Deliver deliver)
+FramePipeline::FramePipeline(const FrameWarper* warper, ThreadPool* pool, FramePipelineOptions options, Deliver deliver)
     : warper_(warper), pool_(pool), options_(std::move(options)), deliver_(std::move(deliver)) {}
 
 FramePipeline::~FramePipeline() {
@@ -55,25 +72,34 @@ FramePipeline::Loaded FramePipeline::Load(const FrameSpec& spec) const {
     p.reject_reason = std::move(reason);
     return std::move(l);
   };
-  std::string problem;
-  auto image = FrameImage::Read(spec.image_path, options_.channels, options_.sixteen_bit_white, &problem);
-  if (!image) return reject("image", problem);
   const CameraModel& camera = projection.camera();
-  if (image->width() != camera.width || image->height() != camera.height) {
+  auto wrong_size = [&](int64_t width, int64_t height) {
     std::ostringstream s;
-    s << "image is " << image->width() << "x" << image->height() << ", the camera model expects " << camera.width
-      << "x" << camera.height;
+    s << "image is " << width << "x" << height << ", the camera model expects " << camera.width << "x" << camera.height;
     return reject("image", s.str());
-  }
+  };
+  // The header first: a frame of the wrong size is refused before it is decoded.
+  std::string problem;
+  const auto header = ReadImageHeader(spec.image_path, &problem);
+  if (!header) return reject("image", problem);
+  if (header->width > 0 && header->pixels() <= options_.max_image_pixels &&
+      (header->width != camera.width || header->height != camera.height))
+    return wrong_size(header->width, header->height);
+  auto image = FrameImage::Read(spec.image_path, options_.channels, options_.sixteen_bit_white, &problem,
+                                options_.max_image_pixels);
+  if (!image) return reject("image", problem);
+  if (image->width() != camera.width || image->height() != camera.height)
+    return wrong_size(image->width(), image->height());
   if (!corners) return reject("pitch_deg/roll_deg", kNoSeabed);
   if (auto steep = TooSteep(camera, spec.pose, *corners, options_.max_footprint_ratio))
     return reject("pitch_deg/roll_deg", *steep);
   if (!projection.SeesSeabed(spec.pose)) return reject("pitch_deg/roll_deg", kNoSeabed);
+  if (auto too_large = TooLargeToPaint(projection, spec.pose, options_.channels, options_.max_paint_bytes))
+    return reject("altitude_m", *too_large);
   l.image = std::move(*image);
   if (options_.preprocess) {  // the enhancement chain works on whole frames
     try {
-      l.image = FrameImage::FromMat(options_.preprocess(l.image.Full()), options_.channels,
-                                    options_.sixteen_bit_white);
+      l.image = FrameImage::FromMat(options_.preprocess(l.image.Full()), options_.channels, options_.sixteen_bit_white);
     } catch (const InputError& e) {
       l.image = FrameImage();
       return reject("image", e.detail());

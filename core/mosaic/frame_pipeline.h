@@ -11,6 +11,7 @@
 #include <deque>
 #include <functional>
 #include <future>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -36,10 +37,14 @@ struct PlacedFrame {
 };
 
 struct FramePipelineOptions {
-  int channels = 1;                  // of the map: frames are converted to it
-  int sixteen_bit_white = 65535;     // 16-bit frames are scaled to 8 bits by 255/white
-  double max_footprint_ratio = 25;   // see TooSteep
-  size_t depth = 8;                  // frames loading or waiting before Push blocks
+  int channels = 1;                                   // of the map: frames are converted to it
+  int sixteen_bit_white = 65535;                      // 16-bit frames are scaled to 8 bits by 255/white
+  double max_footprint_ratio = 25;                    // see TooSteep
+  int64_t max_image_pixels = kDefaultMaxImagePixels;  // larger frames are refused unread
+  // Frames whose painting (FramePaintBytes) would take more are refused: a
+  // frame far above the survey covers thousands of tiles at the base zoom.
+  double max_paint_bytes = std::numeric_limits<double>::infinity();
+  size_t depth = 8;  // frames loading or waiting before Push blocks
   // Applied to every 8-bit frame before warping (the enhancement chain); thread-safe.
   std::function<cv::Mat(const cv::Mat&)> preprocess;
 };
@@ -48,6 +53,11 @@ struct FramePipelineOptions {
 // local metres) is over `max_ratio` times the nadir one; nullopt when it is not.
 std::optional<std::string> TooSteep(const CameraModel& camera, const VehiclePose& pose,
                                     const std::array<LocalXY, 4>& corners, double max_ratio);
+
+// Why painting a frame in this pose would take more than max_paint_bytes
+// (FramePaintBytes of its box at the base zoom); nullopt when it would not.
+std::optional<std::string> TooLargeToPaint(const SeabedProjection& projection, const VehiclePose& pose, int channels,
+                                           double max_paint_bytes);
 
 class FramePipeline {
  public:

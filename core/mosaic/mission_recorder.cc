@@ -1,6 +1,7 @@
 #include "core/mosaic/mission_recorder.h"
 
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 
 namespace seamap {
@@ -37,10 +38,13 @@ std::pair<FrameRecord, TrackPoint> MissionRecorder::Record(const PlacedFrame& p)
   if (p.footprint) record.footprint = *p.footprint;
   record.status = p.warped ? "used" : p.reject_reason;
   if (p.warped) {
-    LatLonBounds b = bounds_.value_or(LatLonBounds{180, 90, -180, -90});
+    LatLonBounds b = bounds_.value_or(LatLonBounds{540, 90, -540, -90});
     for (const auto& c : *p.footprint) {
-      b.west = std::min(b.west, c.lon);
-      b.east = std::max(b.east, c.lon);
+      // Around the origin's meridian: a survey across the antimeridian has
+      // bounds past +-180 (east > west), not the whole world.
+      const double lon = frame_.origin().lon + std::remainder(c.lon - frame_.origin().lon, 360.0);
+      b.west = std::min(b.west, lon);
+      b.east = std::max(b.east, lon);
       b.south = std::min(b.south, c.lat);
       b.north = std::max(b.north, c.lat);
     }
@@ -92,8 +96,9 @@ void MissionRecorder::WriteState(const std::string& state, int frames_used, int 
     store_->SetMetadata("bounds",
                         Number(b.west) + "," + Number(b.south) + "," + Number(b.east) + "," + Number(b.north));
     const int centre_zoom = std::max(d.min_zoom, std::min(d.base_zoom, d.min_zoom + 2));
-    store_->SetMetadata("center", Number((b.west + b.east) / 2) + "," + Number((b.south + b.north) / 2) + "," +
-                                      std::to_string(centre_zoom));
+    const double centre_lon = std::remainder((b.west + b.east) / 2, 360.0);
+    store_->SetMetadata("center",
+                        Number(centre_lon) + "," + Number((b.south + b.north) / 2) + "," + std::to_string(centre_zoom));
   }
 }
 

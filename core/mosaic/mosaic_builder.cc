@@ -76,6 +76,8 @@ MosaicBuilder::MosaicBuilder(const BuildConfig& config, const CameraModel& camer
   pipeline.channels = plan.channels;
   pipeline.sixteen_bit_white = config.frames.sixteen_bit_white;
   pipeline.max_footprint_ratio = config.frames.max_footprint_ratio;
+  pipeline.max_image_pixels = config.frames.max_image_pixels;
+  pipeline.max_paint_bytes = FramePaintLimitBytes(plan, camera, config.map.tile_size, config.buffer.memory_cap_mb);
   pipeline.preprocess = hooks_.preprocess;
   const size_t frame_bytes = static_cast<size_t>(camera.width) * camera.height * plan.channels + 1;
   const size_t threads = static_cast<size_t>(pool_->size());
@@ -108,7 +110,13 @@ void MosaicBuilder::Foresee(const std::vector<FrameSpec>& frames) {
       const auto corners = projection.GroundCorners(f.pose);
       if (!corners || TooSteep(projection.camera(), f.pose, *corners, config_.frames.max_footprint_ratio))
         return std::nullopt;
-      return projection.Outline(f.pose);
+      Outline outline = projection.Outline(f.pose);
+      if (outline && FramePaintBytes(static_cast<double>(outline->box[2]), static_cast<double>(outline->box[3]),
+                                     config_.map.tile_size, plan_.channels) >
+                         FramePaintLimitBytes(plan_, projection.camera(), config_.map.tile_size,
+                                              config_.buffer.memory_cap_mb))
+        return std::nullopt;  // refused too (TooLargeToPaint)
+      return outline;
     }));
   for (size_t i = 0; i < frames.size(); ++i) {
     const Outline outline = outlines[i].get();

@@ -44,6 +44,8 @@ std::array<int64_t, 4> BoxAround(const std::vector<cv::Point2d>& global) {
 
 SeabedProjection::SeabedProjection(const CameraModel& camera, const LocalFrame& frame, int zoom, int tile_size)
     : camera_(camera), frame_(frame), zoom_(zoom), tile_size_(tile_size) {
+  world_px_ = std::ldexp(static_cast<double>(tile_size), zoom);
+  origin_x_ = LatLonToPixel(frame.origin(), zoom, tile_size).x;
   border_ = camera.HasDistortion() ? camera.Undistort(RawBorder(camera)) : RawBorder(camera);
   border_.insert(border_.begin() + 4, cv::Point2d(camera.cx, camera.cy));  // after the corners: the centre
   // A point 20 % further from the optical axis than any border point is
@@ -72,7 +74,12 @@ std::optional<std::array<LatLon, 4>> SeabedProjection::Footprint(const VehiclePo
   auto corners = GroundCorners(pose);
   if (!corners) return std::nullopt;
   std::array<LatLon, 4> out;
-  for (int i = 0; i < 4; ++i) out[i] = frame_.ToLatLon((*corners)[i]);
+  for (int i = 0; i < 4; ++i) {
+    out[i] = frame_.ToLatLon((*corners)[i]);
+    // A corner near the horizon may be past where PROJ answers: no footprint
+    // rather than a record the map cannot read back.
+    if (!std::isfinite(out[i].lat) || !std::isfinite(out[i].lon)) return std::nullopt;
+  }
   return out;
 }
 
@@ -99,8 +106,14 @@ std::optional<std::vector<cv::Point2d>> SeabedProjection::MapBorder(const Vehicl
   auto to_pixel = [&](double east, double north) {
     return LatLonToPixel(frame_.ToLatLon({east, north}), zoom_, tile_size_);
   };
-  const GlobalPixel p0 = to_pixel(c.east, c.north), pe = to_pixel(c.east + 1, c.north),
-                    pn = to_pixel(c.east, c.north + 1);
+  GlobalPixel p0 = to_pixel(c.east, c.north), pe = to_pixel(c.east + 1, c.north), pn = to_pixel(c.east, c.north + 1);
+  // Longitudes wrap at the antimeridian, the survey does not: global pixels
+  // go on past the world's edge, on the side of the mission's origin (so
+  // neighbouring frames stay neighbours), and tiles wrap (tile_forecast.h).
+  auto unwrap = [this](double x, double near) { return x + world_px_ * std::round((near - x) / world_px_); };
+  p0.x = unwrap(p0.x, origin_x_);
+  pe.x = unwrap(pe.x, p0.x);
+  pn.x = unwrap(pn.x, p0.x);
   // A pixel's centre is its index; global pixel i spans [i, i+1).
   std::vector<cv::Point2d> global(std::min(count, border_.size()));
   for (size_t i = 0; i < global.size(); ++i) {

@@ -41,7 +41,9 @@ class SeabedProjection {
   // The frame on the map at the base zoom: the whole-pixel bounding box
   // {x0, y0, width, height} of its border in global pixels, and where the raw
   // image corners and centre land (global pixel-index coordinates: a pixel's
-  // centre is its index). nullopt unless the whole border lands on the seabed.
+  // centre is its index). Columns are unwrapped around the mission's origin:
+  // near the antimeridian they may run past the world's edge (below 0 or
+  // beyond its width), continuous across it. nullopt unless the whole border lands on the seabed.
   struct MapOutline {
     std::array<int64_t, 4> box;
     std::array<cv::Point2d, 4> corners;
@@ -56,6 +58,7 @@ class SeabedProjection {
   RawPosition ToRaw(const cv::Matx33d& camera_from_box, double x, double y) const;
 
   const CameraModel& camera() const { return camera_; }
+  int tile_size() const { return tile_size_; }
 
  private:
   // The first `count` image border samples (corners, centre, edges) on the
@@ -67,6 +70,8 @@ class SeabedProjection {
   CameraModel camera_;
   LocalFrame frame_;
   int zoom_, tile_size_;
+  double world_px_ = 0;              // the world's width in global pixels at the zoom
+  double origin_x_ = 0;              // the mission origin's global pixel column
   std::vector<cv::Point2d> border_;  // raw image border samples, undistorted: 4 corners, the
                                      // principal point, then points along the edges
   double max_r2_ = 0;                // beyond this normalised radius² a point is outside the image

@@ -40,10 +40,11 @@ cv::Mat TileAccumulator::Weights() const {
   return out;
 }
 
-bool TileAccumulator::Blend(const WarpedFrame& frame) {
-  const int64_t x_begin = std::max(origin_x_, frame.x0);
+bool TileAccumulator::Blend(const WarpedFrame& frame, int64_t x_shift) {
+  const int64_t frame_x0 = frame.x0 + x_shift;
+  const int64_t x_begin = std::max(origin_x_, frame_x0);
   const int64_t y_begin = std::max(origin_y_, frame.y0);
-  const int64_t x_end = std::min(origin_x_ + tile_size_, frame.x0 + frame.pixels.cols);
+  const int64_t x_end = std::min(origin_x_ + tile_size_, frame_x0 + frame.pixels.cols);
   const int64_t y_end = std::min(origin_y_ + tile_size_, frame.y0 + frame.pixels.rows);
   if (x_begin >= x_end || y_begin >= y_end) return false;
   constexpr float kScale = 1.0f / 255.0f;
@@ -55,11 +56,11 @@ bool TileAccumulator::Blend(const WarpedFrame& frame) {
     const std::array<int, 2>* run = has_runs ? frame.runs.data() + frame.run_offset[fy] : &whole;
     const std::array<int, 2>* run_end = has_runs ? frame.runs.data() + frame.run_offset[fy + 1] : &whole + 1;
     for (; run != run_end; ++run) {
-      const int64_t row_begin = std::max(x_begin, frame.x0 + (*run)[0]);
-      const int64_t row_end = std::min(x_end, frame.x0 + (*run)[1]);
+      const int64_t row_begin = std::max(x_begin, frame_x0 + (*run)[0]);
+      const int64_t row_end = std::min(x_end, frame_x0 + (*run)[1]);
       if (row_begin >= row_end) continue;
       const int n = static_cast<int>(row_end - row_begin);
-      const int fx = static_cast<int>(row_begin - frame.x0);
+      const int fx = static_cast<int>(row_begin - frame_x0);
       const uint8_t* src = frame.pixels.ptr<uint8_t>(fy) + fx * channels_;
       const uint8_t* wt = frame.weight.ptr<uint8_t>(fy) + fx;
       const int ty = static_cast<int>(gy - origin_y_);

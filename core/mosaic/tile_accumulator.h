@@ -25,8 +25,10 @@ class TileAccumulator {
   // written blends with what it had, not as if one frame had made it.
   cv::Mat Weights() const;
 
-  // Adds the part of `frame` that overlaps this tile. Returns true if it overlapped.
-  bool Blend(const WarpedFrame& frame);
+  // Adds the part of `frame` that overlaps this tile, the frame's columns
+  // moved by x_shift global pixels (a world's width, across the
+  // antimeridian). Returns true if it overlapped.
+  bool Blend(const WarpedFrame& frame, int64_t x_shift = 0);
 
   // Whether any frame has painted global pixel (x, y) of this tile.
   bool Covers(int64_t x, int64_t y) const {

@@ -6,7 +6,9 @@
 namespace seamap {
 namespace {
 
-size_t BytesOf(const cv::Mat& m) { return m.total() * m.elemSize(); }
+size_t BytesOf(const cv::Mat& m) {
+  return m.total() * m.elemSize();
+}
 
 }  // namespace
 
@@ -19,7 +21,7 @@ void TileBuffer::Touch(const WarpedFrame& frame, int frame_number) {
       TilesUnder(options_.zoom, options_.tile_size, frame.box_x0, frame.box_y0, frame.box_width, frame.box_height);
   for (int64_t ty = over.y0; ty <= over.y1; ++ty)
     for (int64_t tx = over.x0; tx <= over.x1; ++tx) {
-      auto it = tiles_.find(TileId{options_.zoom, static_cast<int>(tx), static_cast<int>(ty)});
+      auto it = tiles_.find(TileId{options_.zoom, WrapTileX(options_.zoom, tx), static_cast<int>(ty)});
       if (it != tiles_.end()) it->second.last_frame = frame_number;
     }
 }
@@ -39,8 +41,10 @@ void TileBuffer::Paint(const WarpedFrame& frame, int frame_number) {
       const cv::Rect roi(static_cast<int>(x_begin - frame.x0), static_cast<int>(y_begin - frame.y0),
                          static_cast<int>(x_end - x_begin), static_cast<int>(y_end - y_begin));
       if (!PaintsAny(frame, roi)) continue;
-      Slot& slot = Open(TileId{options_.zoom, static_cast<int>(tx), static_cast<int>(ty)});
-      slot.accumulator->Blend(frame);
+      // Past the antimeridian, column tx is tile `wrapped`, a world away.
+      const int wrapped = WrapTileX(options_.zoom, tx);
+      Slot& slot = Open(TileId{options_.zoom, wrapped, static_cast<int>(ty)});
+      slot.accumulator->Blend(frame, (wrapped - tx) * ts);
       slot.last_frame = frame_number;
     }
   }

@@ -13,13 +13,17 @@
 
 namespace seamap {
 
-// Base tiles [x0, x1] x [y0, y1] under a box of global pixels, clipped to the
-// tiles that exist at the zoom (a frame may reach past the antimeridian or
-// the Mercator limits; those parts are not mapped). Empty when x0 > x1.
+// Base tiles [x0, x1] x [y0, y1] under a box of global pixels. Rows are
+// clipped to the tiles that exist at the zoom (past the Mercator limits
+// nothing is mapped). Columns are not: a box may run past the antimeridian
+// (seabed_projection.h), and column x stands for tile WrapTileX(zoom, x), at
+// most the world's width of them. Empty when x0 > x1 or y0 > y1.
 struct TileRange {
   int64_t x0 = 0, y0 = 0, x1 = -1, y1 = -1;
 };
 TileRange TilesUnder(int zoom, int tile_size, int64_t x0, int64_t y0, int64_t width, int64_t height);
+// The tile column that column x (of a TileRange) is, in [0, 2^zoom).
+int WrapTileX(int zoom, int64_t x);
 
 class TileForecast {
  public:

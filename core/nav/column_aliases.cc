@@ -3,6 +3,7 @@
 #include <cctype>
 #include <utility>
 
+#include "core/nav/csv_table.h"
 #include "core/util/error.h"
 
 namespace seamap {
@@ -30,7 +31,7 @@ const std::vector<std::pair<std::string, std::vector<std::string>>>& Aliases() {
 
 std::string Join(const std::vector<std::string>& items) {
   std::string out;
-  for (const auto& item : items) out += (out.empty() ? "" : ", ") + item;
+  for (const auto& item : items) out += (out.empty() ? "" : ", ") + Shorten(item);
   return out;
 }
 

@@ -7,6 +7,7 @@
 
 #include "core/nav/column_aliases.h"
 #include "core/nav/csv_table.h"
+#include "core/nav/nav_limits.h"
 #include "core/nav/nav_values.h"
 #include "core/util/error.h"
 
@@ -21,13 +22,13 @@ struct ImageTime {
 
 std::string JoinNames(const std::vector<std::string>& items) {
   std::string out;
-  for (const auto& item : items) out += (out.empty() ? "" : ", ") + item;
+  for (const auto& item : items) out += (out.empty() ? "" : ", ") + Shorten(item);
   return out;
 }
 
 // Reads image,time_s rows with the navigation's CSV rules and aliases.
 std::vector<ImageTime> ReadImageTimes(const std::string& path, FrameList* out) {
-  const CsvTable table = ParseCsv(ReadTextLines(path));
+  const CsvTable table = ParseCsv(ReadTextLines(path), path);
   const ColumnMap map = MapColumns(table.header, {}, path, table.header_line);
   for (const char* needed : {"image", "time_s"})
     if (!map.Has(needed))
@@ -43,6 +44,10 @@ std::vector<ImageTime> ReadImageTimes(const std::string& path, FrameList* out) {
     auto reject = [&](const std::string& field, const std::string& reason) {
       out->rejected.push_back({path, row.line, field, reason});
     };
+    if (!row.problem.empty()) {
+      reject("", row.problem);
+      continue;
+    }
     const int needed = std::max(image_col, time_col) + 1;
     if (static_cast<int>(row.fields.size()) < needed) {
       const int missing = static_cast<int>(row.fields.size());
@@ -50,7 +55,7 @@ std::vector<ImageTime> ReadImageTimes(const std::string& path, FrameList* out) {
              : missing == time_col ? "time_s"
                                    : table.header[missing],
              "line has " + std::to_string(row.fields.size()) + " fields but the header has " +
-                 std::to_string(table.header.size()) + "; missing column '" + table.header[missing] + "'");
+                 std::to_string(table.header.size()) + "; missing column '" + Shorten(table.header[missing]) + "'");
       continue;
     }
     const std::string image = Trim(row.fields[image_col]);
@@ -62,6 +67,11 @@ std::vector<ImageTime> ReadImageTimes(const std::string& path, FrameList* out) {
     const auto time = ParseTimeSeconds(row.fields[time_col], &why, decimal_comma);
     if (!time) {
       reject("time_s", "time_s " + why);
+      continue;
+    }
+    if (std::fabs(*time) > nav_limits::kMaxAbsTimeS) {
+      reject("time_s",
+             "time_s must be within +-" + FormatNumber(nav_limits::kMaxAbsTimeS) + " s, got " + FormatNumber(*time));
       continue;
     }
     auto [it, inserted] = first_line.emplace(image, row.line);

@@ -10,6 +10,7 @@
 #include "core/geo/local_frame.h"
 #include "core/nav/column_aliases.h"
 #include "core/nav/csv_table.h"
+#include "core/nav/nav_limits.h"
 #include "core/nav/nav_values.h"
 #include "core/util/error.h"
 
@@ -40,9 +41,10 @@ struct Reject {
   std::string reason;
 };
 
+// Names as written in the file, each shortened for the message.
 std::string Join(const std::vector<std::string>& items) {
   std::string out;
-  for (const auto& item : items) out += (out.empty() ? "" : ", ") + item;
+  for (const auto& item : items) out += (out.empty() ? "" : ", ") + Shorten(item);
   return out;
 }
 
@@ -54,7 +56,7 @@ std::string Where(const std::string& path, int line) {
 
 Source ReadCsv(const std::string& path, const std::vector<TextLine>& lines, const NavReadOptions& options,
                std::vector<std::string>* warnings) {
-  const CsvTable table = ParseCsv(lines);
+  const CsvTable table = ParseCsv(lines, path);
   const ColumnMap map = MapColumns(table.header, options.columns, path, table.header_line);
   Source source;
   source.header_line = table.header_line;
@@ -69,6 +71,10 @@ Source ReadCsv(const std::string& path, const std::vector<TextLine>& lines, cons
 
   const size_t width = table.header.size();
   for (const CsvRow& row : table.rows) {
+    if (!row.problem.empty()) {
+      source.rejected.push_back({path, row.line, "", row.problem});
+      continue;
+    }
     if (row.fields.size() < width) {
       const std::string missing = table.header[row.fields.size()];
       std::string field = missing;
@@ -76,7 +82,7 @@ Source ReadCsv(const std::string& path, const std::vector<TextLine>& lines, cons
         if (index == static_cast<int>(row.fields.size())) field = canonical;
       source.rejected.push_back({path, row.line, field,
                                  "line has " + std::to_string(row.fields.size()) + " fields but the header has " +
-                                     std::to_string(width) + "; missing column '" + missing + "'"});
+                                     std::to_string(width) + "; missing column '" + Shorten(missing) + "'"});
       continue;
     }
     const bool extra =
@@ -110,6 +116,12 @@ Source ReadSeedText(const std::string& path, const std::vector<TextLine>& lines,
   source.columns.insert("image");
   std::set<std::string> unknown;
   for (const TextLine& line : lines) {
+    if (line.overlong) {
+      source.rejected.push_back(
+          {path, line.number, "",
+           "line is " + std::to_string(line.overlong) + " bytes long (limit " + std::to_string(kMaxLineBytes) + ")"});
+      continue;
+    }
     const std::string text = Trim(line.text);
     const size_t name_end = text.find_first_of(" \t");
     RawRow raw{line.number, {{"image", text.substr(0, name_end)}}};
@@ -124,7 +136,8 @@ Source ReadSeedText(const std::string& path, const std::vector<TextLine>& lines,
       if (piece.empty()) continue;
       const size_t colon = piece.find(':');
       if (colon == std::string::npos) {
-        source.rejected.push_back({path, line.number, "", "cannot read '" + piece + "' (expected KEY(unit): VALUE)"});
+        source.rejected.push_back(
+            {path, line.number, "", "cannot read '" + Shorten(piece) + "' (expected KEY(unit): VALUE)"});
         bad = true;
         break;
       }
@@ -258,6 +271,13 @@ void CheckRange(const std::string& field, double value, double low, double high,
                             FormatNumber(high) + (open ? ")" : "]") + ", got " + FormatNumber(value)};
 }
 
+// |value| <= limit: finite values that would place a frame nowhere sensible.
+void CheckMagnitude(const std::string& field, double value, double limit, const char* unit) {
+  if (std::fabs(value) > limit)
+    throw Reject{field,
+                 field + " must be within +-" + FormatNumber(limit) + " " + unit + ", got " + FormatNumber(value)};
+}
+
 LatLon UtmPosition(const RowParser& row, const NavReadOptions& options) {
   const double easting = row.Required("easting");
   const double northing = row.Required("northing");
@@ -291,11 +311,14 @@ Parsed ParseRow(const RawRow& raw, PositionKind kind, const NavReadOptions& opti
     if (record.image.empty() && !row.Has("time_s")) throw Reject{"image", "image is empty"};
   }
   record.time_s = row.Time();
+  if (record.time_s) CheckMagnitude("time_s", *record.time_s, nav_limits::kMaxAbsTimeS, "s");
 
   VehiclePose& pose = record.pose;
   if (kind == PositionKind::kLocal) {
     pose.east_m = row.Required("x_m");
+    CheckMagnitude("x_m", pose.east_m, nav_limits::kMaxLocalM, "m");
     pose.north_m = row.Required("y_m");
+    CheckMagnitude("y_m", pose.north_m, nav_limits::kMaxLocalM, "m");
   } else {
     LatLon ll;
     if (kind == PositionKind::kGeographic) {
@@ -311,15 +334,20 @@ Parsed ParseRow(const RawRow& raw, PositionKind kind, const NavReadOptions& opti
   pose.altitude_m = row.Required("altitude_m");
   if (!(pose.altitude_m > 0))
     throw Reject{"altitude_m", "altitude_m must be > 0, got " + FormatNumber(pose.altitude_m)};
+  if (pose.altitude_m > nav_limits::kMaxAltitudeM)
+    throw Reject{"altitude_m", "altitude_m must be at most " + FormatNumber(nav_limits::kMaxAltitudeM) +
+                                   " m above the seabed, got " + FormatNumber(pose.altitude_m)};
   pose.depth_m = row.Number("depth_m").value_or(0);
+  CheckRange("depth_m", pose.depth_m, nav_limits::kMinDepthM, nav_limits::kMaxDepthM, false);
   const double heading = row.Number("heading_deg").value_or(0);
   pose.heading_deg = std::fmod(heading, 360.0);
   if (pose.heading_deg < 0) pose.heading_deg += 360.0;
   if (pose.heading_deg >= 360.0) pose.heading_deg = 0;  // -1e-17 + 360 rounds to 360
+  const double attitude = nav_limits::kMaxAttitudeDeg;
   pose.pitch_deg = row.Number("pitch_deg").value_or(0);
-  CheckRange("pitch_deg", pose.pitch_deg, -90, 90, true);
+  CheckRange("pitch_deg", pose.pitch_deg, -attitude, attitude, true);
   pose.roll_deg = row.Number("roll_deg").value_or(0);
-  CheckRange("roll_deg", pose.roll_deg, -90, 90, true);
+  CheckRange("roll_deg", pose.roll_deg, -attitude, attitude, true);
   return out;
 }
 
@@ -372,10 +400,34 @@ NavTable ReadNavigation(const std::string& path, const NavReadOptions& options) 
       table.rejected.push_back({path, row.line, reject.field, reject.reason});
     }
   }
-  // Rejections from both passes, back in file order.
+  if (!parsed.empty()) {
+    table.origin = options.origin ? *options.origin : parsed.front().geo.value_or(LatLon{});
+    std::optional<LocalFrame> frame;
+    if (kind != PositionKind::kLocal) frame.emplace(table.origin);
+    for (Parsed& p : parsed) {
+      if (p.geo) {
+        // Far from the origin the local frame is no longer metres.
+        const LocalXY xy = frame->FromLatLon(*p.geo);
+        const double distance = std::hypot(xy.east, xy.north);
+        if (!(distance <= nav_limits::kMaxLocalM)) {
+          table.rejected.push_back({path, p.record.line, kind == PositionKind::kUtm ? "easting/northing" : "lat/lon",
+                                    "position is " + FormatNumber(std::round(distance / 1000)) +
+                                        " km from the origin " + FormatNumber(table.origin.lat) + "," +
+                                        FormatNumber(table.origin.lon) + " (limit " +
+                                        FormatNumber(nav_limits::kMaxLocalM / 1000) + " km)"});
+          continue;
+        }
+        p.record.pose.east_m = xy.east;
+        p.record.pose.north_m = xy.north;
+      }
+      table.has_images = table.has_images || !p.record.image.empty();
+      table.records.push_back(std::move(p.record));
+    }
+  }
+  // Rejections from every pass, back in file order.
   std::stable_sort(table.rejected.begin(), table.rejected.end(),
                    [](const Rejection& a, const Rejection& b) { return a.line < b.line; });
-  if (parsed.empty()) {
+  if (table.records.empty()) {
     if (table.rejected.empty())
       throw InputError(path, source.header_line, "", "no navigation records after the header");
     const Rejection& first = table.rejected.front();
@@ -383,19 +435,6 @@ NavTable ReadNavigation(const std::string& path, const NavReadOptions& options) 
                      "no valid navigation record (" + std::to_string(table.rejected.size()) +
                          (table.rejected.size() == 1 ? " line" : " lines") +
                          " rejected); first problem: " + first.reason);
-  }
-
-  table.origin = options.origin ? *options.origin : parsed.front().geo.value_or(LatLon{});
-  std::optional<LocalFrame> frame;
-  if (kind != PositionKind::kLocal) frame.emplace(table.origin);
-  for (Parsed& p : parsed) {
-    if (p.geo) {
-      const LocalXY xy = frame->FromLatLon(*p.geo);
-      p.record.pose.east_m = xy.east;
-      p.record.pose.north_m = xy.north;
-    }
-    table.has_images = table.has_images || !p.record.image.empty();
-    table.records.push_back(std::move(p.record));
   }
   table.has_times = source.columns.count("time_s") > 0;
   WarnIfTimeGoesBack(table);

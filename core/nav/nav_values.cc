@@ -102,11 +102,11 @@ std::optional<double> ParseNumber(const std::string& raw, std::string* why, bool
   double value = 0;
   auto [ptr, ec] = std::from_chars(text.data() + start, text.data() + text.size(), value);
   if (ec == std::errc::result_out_of_range) {
-    *why = "is out of range: '" + raw + "'";
+    *why = "is out of range: '" + Shorten(raw) + "'";
     return std::nullopt;
   }
   if (ec != std::errc() || ptr != text.data() + text.size() || start == text.size()) {
-    *why = "is not a number: '" + raw + "'";
+    *why = "is not a number: '" + Shorten(raw) + "'";
     return std::nullopt;
   }
   if (std::isnan(value)) {
@@ -114,7 +114,7 @@ std::optional<double> ParseNumber(const std::string& raw, std::string* why, bool
     return std::nullopt;
   }
   if (!std::isfinite(value)) {
-    *why = "is not finite ('" + raw + "')";
+    *why = "is not finite ('" + Shorten(raw) + "')";
     return std::nullopt;
   }
   return value;
@@ -124,7 +124,7 @@ std::optional<double> ParseTimeSeconds(const std::string& raw, std::string* why,
   const std::string text = Trim(raw);
   if (text.find(':') != std::string::npos) {
     if (auto seconds = ParseIsoTime(text)) return seconds;
-    *why = "is not a time: '" + raw + "' (expected seconds, hh:mm:ss or 2023-05-01T12:00:00Z)";
+    *why = "is not a time: '" + Shorten(raw) + "' (expected seconds, hh:mm:ss or 2023-05-01T12:00:00Z)";
     return std::nullopt;
   }
   return ParseNumber(text, why, decimal_comma);
@@ -140,7 +140,7 @@ std::optional<UtmZone> ParseUtmZone(const std::string& raw, std::string* why) {
   for (size_t i = pos; i < text.size(); ++i)
     if (text[i] != ' ') rest += static_cast<char>(std::toupper(static_cast<unsigned char>(text[i])));
   if (pos == 0 || pos > 2 || out.zone < 1 || out.zone > 60) {
-    *why = "is not a UTM zone 1..60: '" + raw + "'";
+    *why = "is not a UTM zone 1..60: '" + Shorten(raw) + "'";
     return std::nullopt;
   }
   if (rest == "N" || rest == "NORTH")
@@ -150,7 +150,7 @@ std::optional<UtmZone> ParseUtmZone(const std::string& raw, std::string* why) {
   else if (rest.size() == 1 && rest[0] >= 'C' && rest[0] <= 'X' && rest[0] != 'I' && rest[0] != 'O')
     out.north = rest[0] >= 'N';
   else if (!rest.empty()) {
-    *why = "has an unknown hemisphere or band: '" + raw + "' (expected e.g. 52, 52N or 52S)";
+    *why = "has an unknown hemisphere or band: '" + Shorten(raw) + "' (expected e.g. 52, 52N or 52S)";
     return std::nullopt;
   }
   return out;

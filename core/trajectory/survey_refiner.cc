@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <future>
 #include <map>
 #include <memory>
@@ -43,7 +44,19 @@ Prepared Prepare(const FrameSpec& f, double time_s, const CameraModel& camera, c
     return p;
   }
   for (int k = 0; k < 4; ++k) p.candidate.footprint[k] = {(*corners)[k].east, (*corners)[k].north};
-  cv::Mat image = cv::imread(f.image_path, cv::IMREAD_UNCHANGED);
+  // Not a FIFO (opening one waits for a writer); OpenCV's refusals are reasons.
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(f.image_path, ec)) {
+    p.problem = "missing image or not a regular file";
+    return p;
+  }
+  cv::Mat image;
+  try {
+    image = cv::imread(f.image_path, cv::IMREAD_UNCHANGED);
+  } catch (const cv::Exception& e) {
+    p.problem = "unreadable image: " + e.msg;
+    return p;
+  }
   if (image.empty()) {
     p.problem = "missing or unreadable image";
     return p;

@@ -1,5 +1,7 @@
 #include "core/camera/camera_model.h"
 
+#include <sys/stat.h>
+
 #include <gtest/gtest.h>
 
 #include <Eigen/LU>
@@ -316,6 +318,57 @@ TEST(CameraModelTest, DistortUndistortRoundTrip) {
     EXPECT_NEAR(back[i].x, ideal[i].x, 1e-6);
     EXPECT_NEAR(back[i].y, ideal[i].y, 1e-6);
   }
+}
+
+TEST(CameraModelTest, HostileNumbersNameTheirField) {
+  TempDir dir;
+  struct Case {
+    std::string json, field;
+    int line;
+  };
+  const std::string base = R"({"width": 10, "height": 8, "fy": 5, "cx": 5, "cy": 4,)";
+  const Case cases[] = {
+      {base + "\n \"fx\": 1e999}", "fx", 2},  // a number JSON cannot hold
+      {R"({"width": 10, "height": 8, "fx": 5, "fy": 5, "cx": 5, "cy": 4,
+           "mount": {"roll_deg": 0, "pitch_deg": -1e999}})",
+       "mount.pitch_deg", 2},
+      {base + R"("fx": 5, "distortion": [0.1, 1e400]})", "distortion", 1},
+      {R"({"width": 99999999999, "height": 8, "fx": 5, "fy": 5, "cx": 5, "cy": 4})", "width", 0},
+      {R"({"width": 10, "height": 200000, "fx": 5, "fy": 5, "cx": 5, "cy": 4})", "height", 0},
+      {base + R"("fx": 1e-9})", "fx", 0},  // a field of view of nearly 180 degrees
+      {base + R"("fx": 1e300})", "fx", 0},
+      {base + R"("fx": 5, "distortion": [1e300, 1e300]})", "distortion", 0},
+      {base + R"("fx": 5, "mount": {"offset_m": [1e300, 0, 0]}})", "mount.offset_m", 0},
+  };
+  for (const Case& c : cases) {
+    const std::string path = WriteFile(dir / "bad.json", c.json).string();
+    const InputError e = ExpectInputError([&] { LoadCamera(path); });
+    EXPECT_EQ(e.file(), path) << c.json;
+    EXPECT_EQ(e.field(), c.field) << c.json << " -> " << e.what();
+    EXPECT_EQ(e.line(), c.line) << c.json << " -> " << e.what();
+  }
+  const std::string overflow = WriteFile(dir / "inf.json", base + "\n \"fx\": 1e999}").string();
+  EXPECT_NE(std::string(ExpectInputError([&] { LoadCamera(overflow); }).what()).find("1e999 is out of range"),
+            std::string::npos);
+}
+
+TEST(CameraModelTest, OversizedAndOddFilesAreRefusedByName) {
+  TempDir dir;
+  const std::string big = WriteFile(dir / "big.json", std::string(2 << 20, ' ') + "{}").string();
+  const InputError e = ExpectInputError([&] { LoadCamera(big); });
+  EXPECT_NE(std::string(e.what()).find("too large for a camera file"), std::string::npos) << e.what();
+  for (const std::string yaml :
+       {"%YAML:1.0\nimage_width: 10\nimage_height: 8\ncamera_matrix: {rows: 100000, cols: 100000, data: [1]}\n",
+        "%YAML:1.0\nimage_width: 1e300\nimage_height: 8\n",
+        "%YAML:1.0\ncamera_matrix: !!opencv-matrix\n  rows: -3\n"}) {
+    const std::string path = WriteFile(dir / "odd.yaml", yaml).string();
+    EXPECT_EQ(ExpectInputError([&] { LoadCamera(path); }).file(), path) << yaml;
+  }
+  // A FIFO would block the reader until something writes to it.
+  const std::string fifo = (dir / "camera.json").string();
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  EXPECT_NE(std::string(ExpectInputError([&] { LoadCamera(fifo); }).what()).find("not a regular file"),
+            std::string::npos);
 }
 
 }  // namespace

@@ -368,5 +368,72 @@ TEST_F(NavReaderTest, IsoTimestamps) {
   EXPECT_DOUBLE_EQ(*table.records[0].time_s, 1682942400.5);
 }
 
+TEST_F(NavReaderTest, ImplausibleValuesRejectTheLineNamingTheField) {
+  // Finite but physically impossible: each line is skipped, the rest is read.
+  const std::string path = Write(
+      "image,time_s,x_m,y_m,alt,depth,heading,pitch,roll\n"  // 1
+      "a.jpg,0,1,2,1.6,30,1e300,0,0\n"                       // 2 good: any finite heading, normalised
+      "b.jpg,1,1e308,2,1.6,30,0,0,0\n"                       // 3
+      "c.jpg,2,1,-4e6,1.6,30,0,0,0\n"                        // 4
+      "d.jpg,3,1,2,1e9,30,0,0,0\n"                           // 5
+      "e.jpg,4,1,2,1000,30,0,0,0\n"                          // 6 good: 1 km above the seabed
+      "f.jpg,5,1,2,1.6,1e6,0,0,0\n"                          // 7
+      "g.jpg,6,1,2,1.6,-2000,0,0,0\n"                        // 8
+      "h.jpg,1e300,1,2,1.6,30,0,0,0\n"                       // 9
+      "i.jpg,7,1,2,1.6,30,0,-90,0\n"                         // 10
+      "j.jpg,8,1,2,1.6,30,0,0,1e308\n");                     // 11
+  const NavTable table = ReadNavigation(path, WithOrigin(43.1, 131.9));
+  ASSERT_EQ(table.records.size(), 2u);
+  EXPECT_GE(table.records[0].pose.heading_deg, 0);
+  EXPECT_LT(table.records[0].pose.heading_deg, 360);
+  EXPECT_DOUBLE_EQ(table.records[1].pose.altitude_m, 1000);
+  struct Case {
+    int line;
+    std::string field, words;
+  };
+  for (const Case& c : std::vector<Case>{{3, "x_m", "x_m must be within +-3000000 m, got 1e+308"},
+                                         {4, "y_m", "y_m must be within +-3000000 m"},
+                                         {5, "altitude_m", "altitude_m must be at most 1000 m"},
+                                         {7, "depth_m", "depth_m must be within [-1000, 12000], got 1000000"},
+                                         {8, "depth_m", "got -2000"},
+                                         {9, "time_s", "time_s must be within +-1e+13 s"},
+                                         {10, "pitch_deg", "pitch_deg must be within (-90, 90), got -90"},
+                                         {11, "roll_deg", "roll_deg must be within (-90, 90)"}}) {
+    const Rejection r = RejectionAt(table, c.line);
+    EXPECT_EQ(r.field, c.field) << "line " << c.line;
+    EXPECT_TRUE(Contains(r.Message(), path + ":" + std::to_string(c.line) + ": ")) << r.Message();
+    EXPECT_TRUE(Contains(r.reason, c.words)) << r.reason;
+  }
+  EXPECT_EQ(table.rejected.size(), 8u);
+}
+
+TEST_F(NavReaderTest, GeographicPositionsFarFromTheOriginAreRejected) {
+  // 43 N 131 E is about 9,000 km from 16.5 S 180 E: no local metres there.
+  const NavTable table = Read("image,lat,lon,alt\na.jpg,43.1,131.9,2\nb.jpg,-16.5,179.9,2\nc.jpg,43.1001,131.9,2\n");
+  ASSERT_EQ(table.records.size(), 2u);
+  const Rejection r = RejectionAt(table, 3);
+  EXPECT_EQ(r.field, "lat/lon");
+  EXPECT_TRUE(Contains(r.reason, "km from the origin 43.1,131.9 (limit 3000 km)")) << r.reason;
+}
+
+TEST_F(NavReaderTest, LongLinesAndNamesCostNoMoreThanTheFile) {
+  // A 10 MB unknown column name was copied into every line's message (8 GB
+  // for 800 lines); now the header is refused at once, naming its line.
+  const std::string huge(10 << 20, 'c');
+  const InputError e = Fatal("image,x_m,y_m,alt," + huge + "\na.jpg,1,2,1.5\n", WithOrigin(43.1, 131.9));
+  EXPECT_EQ(e.line(), 1);
+  EXPECT_LT(std::string(e.what()).size(), 300u);
+  // A 10 MB line among good ones is skipped with its length, the rest is read.
+  const std::string path = Write("image,x_m,y_m,alt\na.jpg,1,2,1.5\nb.jpg,1,2," + huge + "\nc.jpg,1,2,1.5\n");
+  const NavTable table = ReadNavigation(path, WithOrigin(43.1, 131.9));
+  EXPECT_EQ(table.records.size(), 2u);
+  const Rejection r = RejectionAt(table, 3);
+  EXPECT_TRUE(Contains(r.reason, "line is 10485770 bytes long (limit 65536)")) << r.reason;
+  // Values quoted in messages are shortened.
+  const NavTable bad =
+      Read("image,x_m,y_m,alt\na.jpg,1,2," + std::string(3000, 'x') + "\nb.jpg,1,2,2\n", WithOrigin(43.1, 131.9));
+  EXPECT_LT(RejectionAt(bad, 2).reason.size(), 200u) << RejectionAt(bad, 2).reason;
+}
+
 }  // namespace
 }  // namespace seamap

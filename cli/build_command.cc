@@ -10,6 +10,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "cli/args.h"
+#include "cli/build_output.h"
 #include "cli/build_setup.h"
 #include "cli/trajectory_setup.h"
 #include "cli/commands.h"
@@ -35,7 +36,9 @@ const char* kHelp =
     "  --tile-format F     png | jpg | webp        --tile-size 256|512\n"
     "  --base-zoom Z       --min-zoom Z            --threads N\n"
     "  --name TEXT         map name in the metadata\n"
-    "  --append            continue painting an existing map (tiles are read back and blended)\n"
+    "  --append            continue painting an existing map (tiles are read back and blended);\n"
+    "                      frames whose image is already in it are skipped\n"
+    "  --resume            continue an interrupted build (same arguments) from its last checkpoint\n"
     "  --overwrite         replace an existing map\n"
     "  --quiet             no progress bar\n"
     "  --report FILE       write the run's figures as JSON (frames, seconds, tiles, bytes, peak RSS)\n"
@@ -101,21 +104,41 @@ void WriteReport(const std::string& path, const BuildStats& s, const MosaicPlan&
 }  // namespace
 
 int RunBuild(int argc, char** argv, int first) {
-  Args args(argc, argv, first, {"append", "overwrite", "quiet", "refine-nav", "help"});
+  Args args(argc, argv, first, {"append", "overwrite", "resume", "quiet", "refine-nav", "help"});
   if (args.Flag("help")) {
     std::printf("%s%s", kHelp, kNavigationNoiseHelp);
     return 0;
   }
   BuildInputs in = ReadBuildInputs(args);
   const std::string out = args.Require("out");
-  const bool append = args.Flag("append"), overwrite = args.Flag("overwrite");
+  const bool append = args.Flag("append"), overwrite = args.Flag("overwrite"), resume = args.Flag("resume");
   const bool quiet = args.Flag("quiet");
   const bool refine = args.Flag("refine-nav") || in.config.navigation.refine;
   const RefineOptions refine_options = ReadRefineOptions(args, in.config.navigation, in.config.threads);
   const std::optional<std::string> report = args.Get("report");
   args.RejectUnknown();
 
-  auto store = OpenOutput(out, in.config, append, overwrite);
+  BuildOutput output = OpenOutput(out, in.config, {append, overwrite, resume});
+  const std::unique_ptr<TileStore>& store = output.store;
+  // Resuming an append (its checkpoint began after frames already in the map) skips the same frames.
+  if (append || (output.checkpoint && output.checkpoint->frame_id_offset > 0)) {
+    const std::vector<std::string> skipped = SkipFramesInMap(*store, output.checkpoint, &in.frames.frames);
+    if (!skipped.empty()) {
+      std::string names;
+      for (size_t i = 0; i < skipped.size() && i < 3; ++i) names += (i ? ", " : "") + skipped[i];
+      std::fprintf(stderr, "seamap build: --append: %zu frames are in the map already and are skipped (%s%s)\n",
+                   skipped.size(), names.c_str(), skipped.size() > 3 ? ", ..." : "");
+    }
+    if (in.frames.frames.empty()) {
+      std::printf("nothing to add: every frame is in the map already\n");
+      return 0;
+    }
+  }
+  if (output.checkpoint) {
+    CheckSameSurvey(*store, *output.checkpoint, in.frames.frames);
+    std::fprintf(stderr, "seamap build: resuming after frame %d of %zu (the last checkpoint)\n",
+                 output.checkpoint->frame_index + 1, in.frames.frames.size());
+  }
   nlohmann::json refine_report;
   if (refine) {
     refine_report = RefineFrames(&in.frames.frames, in.camera, refine_options, quiet);
@@ -135,12 +158,20 @@ int RunBuild(int argc, char** argv, int first) {
   BuildHooks enhance = MakeHooks(in);
   const bool both = in.config.layers == "both" && enhance.preprocess;
   if (both) in.config.buffer.memory_cap_mb = std::max(16, in.config.buffer.memory_cap_mb / 2);  // two builders share the cap
-  MosaicBuilder builder(in.config, in.camera, in.frame, plan, store.get(), both ? BuildHooks{} : enhance);
+  // Crash-safe: checkpoints as it goes, so that a build killed at any moment resumes (--resume).
+  BuildStart start;
+  start.checkpoints = true;
+  start.resume = resume;
+  start.frames_total = static_cast<int>(in.frames.frames.size());
+  MosaicBuilder builder(in.config, in.camera, in.frame, plan, store.get(), both ? BuildHooks{} : enhance, start);
   std::unique_ptr<TileStore> enhanced_store;
   std::unique_ptr<MosaicBuilder> enhanced;
   if (both) {
     enhanced_store = store->OpenLayer("enhanced");
-    enhanced = std::make_unique<MosaicBuilder>(in.config, in.camera, in.frame, plan, enhanced_store.get(), enhance);
+    BuildStart layer_start = start;
+    layer_start.resume = resume && enhanced_store->ReadCheckpoint();  // killed before the layer began: it begins
+    enhanced = std::make_unique<MosaicBuilder>(in.config, in.camera, in.frame, plan, enhanced_store.get(), enhance,
+                                               layer_start);
   }
   store->SetMetadata("seamap_layers", both ? "raw,enhanced" : enhance.preprocess ? "enhanced" : "raw");
   for (const auto& r : in.frames.rejected) builder.Reject(r);

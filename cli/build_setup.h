@@ -1,6 +1,6 @@
 #pragma once
-// What `build` (and later `replay`) read before the first frame: config,
-// camera, navigation, frame list, output store.
+// What `build` and `replay` read before the first frame: config, camera,
+// navigation, frame list (the output map: cli/build_output.h).
 #include <memory>
 #include <string>
 #include <vector>
@@ -28,9 +28,6 @@ struct BuildInputs {
 // Reads --config, --camera, --nav, --images, --origin, --image-times and the
 // setting overrides (--tile-format, --tile-size, --base-zoom, ...).
 BuildInputs ReadBuildInputs(Args& args);
-
-// Opens the output map; an existing one is refused unless append/overwrite.
-std::unique_ptr<TileStore> OpenOutput(const std::string& path, const BuildConfig& config, bool append, bool overwrite);
 
 // Hooks for the configured enhancement chain (seeded from the first frames).
 BuildHooks MakeHooks(const BuildInputs& inputs);

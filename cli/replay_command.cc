@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "cli/args.h"
+#include "cli/build_output.h"
 #include "cli/build_setup.h"
 #include "cli/commands.h"
 #include "cli/server_setup.h"
@@ -193,7 +194,8 @@ int RunReplay(int argc, char** argv, int first) {
   // A live map: publish tiles every few frames (a build batches 25 for speed).
   in.config.buffer.batch_frames = std::min(in.config.buffer.batch_frames, 5);
   in.config.buffer.live_tiles = true;
-  auto store = OpenOutput(out, in.config, append, overwrite);
+  BuildOutput output = OpenOutput(out, in.config, {append, overwrite, false});
+  std::unique_ptr<TileStore>& store = output.store;
   MosaicPlan plan = PlanMosaic(in.config.map, in.camera, in.frame, in.frames.frames, in.channels);
   for (const auto& w : in.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
 

@@ -111,6 +111,9 @@ void BufferSettings::Check(const std::string& source) const {
   CheckRange(batch_frames, 1, 100000, source, "batch_frames");
   if (!(batch_seconds >= 0))
     throw InputError(source, 0, "batch_seconds", "expected a number >= 0, got " + std::to_string(batch_seconds));
+  if (!(checkpoint_seconds >= 0))
+    throw InputError(source, 0, "checkpoint_seconds",
+                     "expected a number >= 0, got " + std::to_string(checkpoint_seconds));
 }
 
 void FrameSettings::Check(const std::string& source) const {
@@ -180,6 +183,8 @@ void ApplyBuildConfig(const json& s, const std::string& source, BuildConfig* c) 
       c->buffer.batch_frames = Int(v, source, key);
     else if (key == "batch_seconds")
       c->buffer.batch_seconds = Number(v, source, key);
+    else if (key == "checkpoint_seconds")
+      c->buffer.checkpoint_seconds = Number(v, source, key);
     else if (key == "live_tiles")
       c->buffer.live_tiles = Bool(v, source, key);
     else if (key == "max_footprint_ratio")

@@ -36,16 +36,7 @@ std::pair<FrameRecord, TrackPoint> MissionRecorder::Record(const PlacedFrame& p)
   record.roll_deg = pose.roll_deg;
   if (p.footprint) record.footprint = *p.footprint;
   record.status = p.warped ? "used" : p.reject_reason;
-  if (p.warped) {
-    LatLonBounds b = bounds_.value_or(LatLonBounds{180, 90, -180, -90});
-    for (const auto& c : *p.footprint) {
-      b.west = std::min(b.west, c.lon);
-      b.east = std::max(b.east, c.lon);
-      b.south = std::min(b.south, c.lat);
-      b.north = std::max(b.north, c.lat);
-    }
-    bounds_ = b;
-  }
+  if (p.warped) Extend(*p.footprint);
   if (p.spec.nav_pose) {
     const VehiclePose& nav = *p.spec.nav_pose;  // through the same local frame as the placed pose
     NavigatedPose& n = record.nav.emplace();
@@ -68,6 +59,25 @@ std::pair<FrameRecord, TrackPoint> MissionRecorder::Record(const PlacedFrame& p)
   if (record.nav) point.nav = NavigatedPosition{record.nav->position, record.nav->heading_deg};
   store_->PutTrackPoint(point);
   return {record, point};
+}
+
+void MissionRecorder::Extend(const std::array<LatLon, 4>& footprint) {
+  LatLonBounds b = bounds_.value_or(LatLonBounds{180, 90, -180, -90});
+  for (const auto& c : footprint) {
+    b.west = std::min(b.west, c.lon);
+    b.east = std::max(b.east, c.lon);
+    b.south = std::min(b.south, c.lat);
+    b.north = std::max(b.north, c.lat);
+  }
+  bounds_ = b;
+}
+
+void MissionRecorder::Resume(int frame_id_offset, int next_track_seq, const std::vector<FrameRecord>& recorded) {
+  frame_id_offset_ = frame_id_offset;
+  track_seq_ = next_track_seq;
+  bounds_.reset();
+  for (const FrameRecord& f : recorded)
+    if (f.status == "used") Extend(f.footprint);
 }
 
 void MissionRecorder::WriteState(const std::string& state, int frames_used, int frames_rejected) {

@@ -110,6 +110,13 @@ void TileWriter::Flush() {
   store_->Flush();
 }
 
+void TileWriter::Resume(int64_t tiles_written, int64_t bytes_written, const std::vector<TileId>& stored) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  written_ = tiles_written;
+  bytes_ = bytes_written;
+  seen_.insert(stored.begin(), stored.end());
+}
+
 std::map<int, int64_t> TileWriter::distinct_tiles_per_zoom() const {
   std::lock_guard<std::mutex> lock(mutex_);
   std::map<int, int64_t> out;

@@ -12,8 +12,8 @@
 #include "cli/args.h"
 #include "cli/build_output.h"
 #include "cli/build_setup.h"
-#include "cli/trajectory_setup.h"
 #include "cli/commands.h"
+#include "cli/trajectory_setup.h"
 #include "core/mosaic/mosaic_builder.h"
 #include "core/util/error.h"
 #include "core/util/process_stats.h"
@@ -72,8 +72,9 @@ std::string Summary(const BuildStats& s) {
   return out.str();
 }
 
-void WriteReport(const std::string& path, const BuildStats& s, const MosaicPlan& plan,
-                 const nlohmann::json& refine) {
+// in_map: frames skipped by --append because their image is in the map already.
+void WriteReport(const std::string& path, const BuildStats& s, const MosaicPlan& plan, const nlohmann::json& refine,
+                 size_t in_map) {
   int64_t distinct = 0;
   nlohmann::json per_zoom = nlohmann::json::object();
   for (const auto& [z, n] : s.tiles_per_zoom) {
@@ -91,6 +92,9 @@ void WriteReport(const std::string& path, const BuildStats& s, const MosaicPlan&
                       {"tile_writes", s.tiles_written},
                       {"tile_bytes", s.tile_bytes},
                       {"readbacks", s.readbacks},
+                      {"frames_in_map", in_map},
+                      {"checkpoints", s.checkpoints},
+                      {"checkpoint_seconds", s.checkpoint_seconds},
                       {"tiles_per_zoom", per_zoom},
                       {"base_zoom", plan.base_zoom},
                       {"min_zoom", plan.min_zoom},
@@ -99,6 +103,29 @@ void WriteReport(const std::string& path, const BuildStats& s, const MosaicPlan&
   std::ofstream out(path);
   if (!out) throw InputError(path, 0, "--report", "cannot write the report file");
   out << j.dump(2) << "\n";
+}
+
+// A word as a POSIX shell reads it back.
+std::string ShellWord(const std::string& w) {
+  const bool plain = !w.empty() && w.find_first_not_of(
+                                       "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
+                                       "0123456789_@%+=:,./-") == std::string::npos;
+  if (plain) return w;
+  std::string out = "'";
+  for (char c : w) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+// The command that started this build, to be repeated with --resume if it
+// is interrupted: its directory, and its arguments less --resume / --overwrite.
+std::string CommandLine(int argc, char** argv, int first) {
+  std::error_code ec;
+  const std::string dir = std::filesystem::current_path(ec).string();
+  std::string out = ec ? std::string() : "cd " + ShellWord(dir) + " && ";
+  out += "seamap build";
+  for (int i = first; i < argc; ++i)
+    if (std::string(argv[i]) != "--resume" && std::string(argv[i]) != "--overwrite") out += " " + ShellWord(argv[i]);
+  return out;
 }
 
 }  // namespace
@@ -121,8 +148,9 @@ int RunBuild(int argc, char** argv, int first) {
   BuildOutput output = OpenOutput(out, in.config, {append, overwrite, resume});
   const std::unique_ptr<TileStore>& store = output.store;
   // Resuming an append (its checkpoint began after frames already in the map) skips the same frames.
+  std::vector<std::string> skipped;  // in the map already
   if (append || (output.checkpoint && output.checkpoint->frame_id_offset > 0)) {
-    const std::vector<std::string> skipped = SkipFramesInMap(*store, output.checkpoint, &in.frames.frames);
+    skipped = SkipFramesInMap(*store, output.checkpoint, &in.frames.frames);
     if (!skipped.empty()) {
       std::string names;
       for (size_t i = 0; i < skipped.size() && i < 3; ++i) names += (i ? ", " : "") + skipped[i];
@@ -157,12 +185,14 @@ int RunBuild(int argc, char** argv, int first) {
   // "both", the enhanced map is built alongside as layer "enhanced".
   BuildHooks enhance = MakeHooks(in);
   const bool both = in.config.layers == "both" && enhance.preprocess;
-  if (both) in.config.buffer.memory_cap_mb = std::max(16, in.config.buffer.memory_cap_mb / 2);  // two builders share the cap
+  if (both)
+    in.config.buffer.memory_cap_mb = std::max(16, in.config.buffer.memory_cap_mb / 2);  // two builders share the cap
   // Crash-safe: checkpoints as it goes, so that a build killed at any moment resumes (--resume).
   BuildStart start;
   start.checkpoints = true;
   start.resume = resume;
   start.frames_total = static_cast<int>(in.frames.frames.size());
+  start.command = CommandLine(argc, argv, first);
   MosaicBuilder builder(in.config, in.camera, in.frame, plan, store.get(), both ? BuildHooks{} : enhance, start);
   std::unique_ptr<TileStore> enhanced_store;
   std::unique_ptr<MosaicBuilder> enhanced;
@@ -189,9 +219,10 @@ int RunBuild(int argc, char** argv, int first) {
   progress.Finish();
   const BuildStats& s = builder.stats();
   for (const auto& r : s.rejections) std::fprintf(stderr, "skipped: %s\n", r.Message().c_str());
-  std::printf("%s\n", Summary(s).c_str());
+  std::printf("%s%s\n", Summary(s).c_str(),
+              skipped.empty() ? "" : ("; " + std::to_string(skipped.size()) + " already in the map, skipped").c_str());
   if (enhanced) std::printf("enhanced layer: %s\n", Summary(enhanced->stats()).c_str());
-  if (report) WriteReport(*report, s, plan, refine_report);
+  if (report) WriteReport(*report, s, plan, refine_report, skipped.size());
   if (s.frames_used == 0) {
     std::fprintf(stderr, "seamap build: error: no frame could be used\n");
     return 1;

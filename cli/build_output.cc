@@ -96,8 +96,8 @@ void CheckSameSurvey(const TileStore& store, const BuildProgress& checkpoint, co
   if (checkpoint.frame_index >= static_cast<int>(frames.size()))
     throw InputError("", 0, "--nav",
                      "names " + std::to_string(frames.size()) + " frames; the interrupted build had done " +
-                         std::to_string(checkpoint.frame_index + 1) + " of " +
-                         std::to_string(checkpoint.frames_total) + ": resume with the same survey");
+                         std::to_string(checkpoint.frame_index + 1) + " of " + std::to_string(checkpoint.frames_total) +
+                         ": resume with the same survey");
   for (const FrameRecord& f : store.Frames()) {
     if (f.id < first || f.id > last) continue;
     const FrameSpec& spec = frames[f.id - first];

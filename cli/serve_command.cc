@@ -124,6 +124,7 @@ int RunServe(int argc, char** argv, int first) {
   auto publish_state = [&](const MapBuildState& s) {
     server::Progress p = mission.progress();
     if (s.state == "building" || s.state == "interrupted") p.state = s.state;
+    p.state_detail = s.Explanation();
     mission.SetProgress(p);
     // Another process may still be writing it: tiles must not be cached for long.
     tiles.SetExternalWriter(s.state == "building");
@@ -162,8 +163,9 @@ int RunServe(int argc, char** argv, int first) {
           mission.Load(records);
           if (now.state != state_seen) publish_state(now);
           server::Progress p = mission.progress();
-          p.state = now.state == "building" || now.state == "complete" || now.state == "interrupted" ? now.state
-                                                                                                     : "stopped";
+          p.state =
+              now.state == "building" || now.state == "complete" || now.state == "interrupted" ? now.state : "stopped";
+          p.state_detail = now.Explanation();
           mission.SetProgress(p);
           for (const TrackPoint& t : mission.TrackFrom(track_before))
             events.Publish("track", server::TrackPointJson(t).dump());

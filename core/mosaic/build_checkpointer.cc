@@ -39,7 +39,8 @@ std::vector<uint8_t> Pack(const char (&tag)[4], const std::vector<const cv::Mat*
   std::memcpy(out.data(), tag, 4);
   const uint32_t size = static_cast<uint32_t>(raw.size());
   std::memcpy(out.data() + 4, &size, 4);
-  const size_t n = libdeflate_deflate_compress(compressor.get(), raw.data(), raw.size(), out.data() + 8, out.size() - 8);
+  const size_t n =
+      libdeflate_deflate_compress(compressor.get(), raw.data(), raw.size(), out.data() + 8, out.size() - 8);
   if (n == 0) throw std::runtime_error("libdeflate: cannot compress a checkpoint");
   out.resize(8 + n);
   return out;
@@ -54,10 +55,11 @@ void Unpack(const char (&tag)[4], const std::vector<uint8_t>& blob, const std::v
     throw std::runtime_error("a checkpoint blob is not what this build saves");
   std::vector<uint8_t> raw(raw_size);
   std::unique_ptr<libdeflate_decompressor, void (*)(libdeflate_decompressor*)> d(libdeflate_alloc_decompressor(),
-                                                                                libdeflate_free_decompressor);
+                                                                                 libdeflate_free_decompressor);
   size_t got = 0;
-  if (!d || libdeflate_deflate_decompress(d.get(), blob.data() + 8, blob.size() - 8, raw.data(), raw.size(), &got) !=
-                LIBDEFLATE_SUCCESS ||
+  if (!d ||
+      libdeflate_deflate_decompress(d.get(), blob.data() + 8, blob.size() - 8, raw.data(), raw.size(), &got) !=
+          LIBDEFLATE_SUCCESS ||
       got != raw_size)
     throw std::runtime_error("a checkpoint blob is damaged");
   size_t at = 0;
@@ -70,9 +72,13 @@ void Unpack(const char (&tag)[4], const std::vector<uint8_t>& blob, const std::v
   }
 }
 
-nlohmann::json TileJson(const TileId& id, int64_t value) { return {id.z, id.x, id.y, value}; }
+nlohmann::json TileJson(const TileId& id, int64_t value) {
+  return {id.z, id.x, id.y, value};
+}
 
-TileId TileOf(const nlohmann::json& j) { return {j.at(0).get<int>(), j.at(1).get<int>(), j.at(2).get<int>()}; }
+TileId TileOf(const nlohmann::json& j) {
+  return {j.at(0).get<int>(), j.at(1).get<int>(), j.at(2).get<int>()};
+}
 
 }  // namespace
 
@@ -91,6 +97,7 @@ nlohmann::json BuildProgress::ToJson() const {
           {"tile_bytes", tile_bytes},
           {"readbacks", readbacks},
           {"previous_state", previous_state},
+          {"command", command},
           {"settings", settings},
           {"tiles", t},
           {"kept", k}};
@@ -111,6 +118,7 @@ BuildProgress BuildProgress::FromJson(const std::string& text) {
     p.tile_bytes = j.at("tile_bytes");
     p.readbacks = j.at("readbacks");
     p.previous_state = j.at("previous_state");
+    p.command = j.value("command", "");
     p.settings = j.at("settings");
     for (const auto& t : j.at("tiles")) p.tiles.push_back({TileOf(t), t.at(3).get<int>()});
     for (const auto& k : j.at("kept")) p.kept.push_back({TileOf(k), k.at(3).get<uint64_t>()});
@@ -130,7 +138,9 @@ std::pair<cv::Mat, cv::Mat> UnpackSums(const std::vector<uint8_t>& blob, int til
   return {sums, weights};
 }
 
-std::vector<uint8_t> PackWeights(const cv::Mat& weights) { return Pack(kWeightsTag, {&weights}); }
+std::vector<uint8_t> PackWeights(const cv::Mat& weights) {
+  return Pack(kWeightsTag, {&weights});
+}
 
 cv::Mat UnpackWeights(const std::vector<uint8_t>& blob, int tile_size) {
   cv::Mat weights(tile_size, tile_size, CV_16U);

@@ -39,8 +39,9 @@ struct BuildProgress {
   int track_seq = 0;
   int frames_used = 0;
   int64_t tiles_written = 0, tile_bytes = 0, readbacks = 0;
-  std::string previous_state;  // the map's state before this build began ("" for a new map)
-  nlohmann::json settings;     // what shapes the tiles; a resumed build must use the same
+  std::string previous_state;                     // the map's state before this build began ("" for a new map)
+  std::string command;                            // the build's command line ("": unknown); --resume goes on with it
+  nlohmann::json settings;                        // what shapes the tiles; a resumed build must use the same
   std::vector<std::pair<TileId, int>> tiles;      // unfinished, with the frame number that last touched each
   std::vector<std::pair<TileId, uint64_t>> kept;  // kept weights of finished tiles, oldest first
 
@@ -58,8 +59,8 @@ cv::Mat UnpackWeights(const std::vector<uint8_t>& blob, int tile_size);
 
 class BuildCheckpointer {
  public:
-  BuildCheckpointer(TileStore* store, TileBuffer* buffer, const TileForecast* forecast, ThreadPool* pool,
-                    int tile_size, int channels);
+  BuildCheckpointer(TileStore* store, TileBuffer* buffer, const TileForecast* forecast, ThreadPool* pool, int tile_size,
+                    int channels);
 
   // Saves the buffer's changes since the last call with `progress` (its
   // tiles and kept lists are filled here) and commits the store with them.

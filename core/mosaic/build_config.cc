@@ -51,8 +51,7 @@ cv::Scalar Colour(const json& v, const std::string& source, const std::string& k
   return cv::Scalar(rgb & 0xff, (rgb >> 8) & 0xff, (rgb >> 16) & 0xff);
 }
 
-void ApplyNavigation(const json& nav, const std::string& source, NavReadOptions* out,
-                     NavigationSettings* settings) {
+void ApplyNavigation(const json& nav, const std::string& source, NavReadOptions* out, NavigationSettings* settings) {
   if (!nav.is_object()) throw InputError(source, 0, "navigation", "expected an object");
   for (auto& [key, v] : nav.items()) {
     const std::string k = "navigation." + key;
@@ -122,7 +121,8 @@ void FrameSettings::Check(const std::string& source) const {
 }
 
 void NavigationSettings::Check(const std::string& source) const {
-  for (const auto& [value, key] : {std::pair{noise_m, "navigation.noise_m"}, {drift_m_per_min, "navigation.drift_m_per_min"},
+  for (const auto& [value, key] : {std::pair{noise_m, "navigation.noise_m"},
+                                   {drift_m_per_min, "navigation.drift_m_per_min"},
                                    {heading_noise_deg, "navigation.heading_noise_deg"}})
     if (!(value >= 0) || !std::isfinite(value))
       throw InputError(source, 0, key, "expected a number >= 0, got " + std::to_string(value));

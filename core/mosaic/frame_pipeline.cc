@@ -31,8 +31,7 @@ std::optional<std::string> TooSteep(const CameraModel& camera, const VehiclePose
   return s.str();
 }
 
-FramePipeline::FramePipeline(const FrameWarper* warper, ThreadPool* pool, FramePipelineOptions options,
-                             Deliver deliver)
+FramePipeline::FramePipeline(const FrameWarper* warper, ThreadPool* pool, FramePipelineOptions options, Deliver deliver)
     : warper_(warper), pool_(pool), options_(std::move(options)), deliver_(std::move(deliver)) {}
 
 FramePipeline::~FramePipeline() {
@@ -61,8 +60,8 @@ FramePipeline::Loaded FramePipeline::Load(const FrameSpec& spec) const {
   const CameraModel& camera = projection.camera();
   if (image->width() != camera.width || image->height() != camera.height) {
     std::ostringstream s;
-    s << "image is " << image->width() << "x" << image->height() << ", the camera model expects " << camera.width
-      << "x" << camera.height;
+    s << "image is " << image->width() << "x" << image->height() << ", the camera model expects " << camera.width << "x"
+      << camera.height;
     return reject("image", s.str());
   }
   if (!corners) return reject("pitch_deg/roll_deg", kNoSeabed);
@@ -72,8 +71,7 @@ FramePipeline::Loaded FramePipeline::Load(const FrameSpec& spec) const {
   l.image = std::move(*image);
   if (options_.preprocess) {  // the enhancement chain works on whole frames
     try {
-      l.image = FrameImage::FromMat(options_.preprocess(l.image.Full()), options_.channels,
-                                    options_.sixteen_bit_white);
+      l.image = FrameImage::FromMat(options_.preprocess(l.image.Full()), options_.channels, options_.sixteen_bit_white);
     } catch (const InputError& e) {
       l.image = FrameImage();
       return reject("image", e.detail());

@@ -37,10 +37,10 @@ struct PlacedFrame {
 };
 
 struct FramePipelineOptions {
-  int channels = 1;                  // of the map: frames are converted to it
-  int sixteen_bit_white = 65535;     // 16-bit frames are scaled to 8 bits by 255/white
-  double max_footprint_ratio = 25;   // see TooSteep
-  size_t depth = 8;                  // frames loading or waiting before Push blocks
+  int channels = 1;                 // of the map: frames are converted to it
+  int sixteen_bit_white = 65535;    // 16-bit frames are scaled to 8 bits by 255/white
+  double max_footprint_ratio = 25;  // see TooSteep
+  size_t depth = 8;                 // frames loading or waiting before Push blocks
   // Applied to every 8-bit frame before warping (the enhancement chain); thread-safe.
   std::function<cv::Mat(const cv::Mat&)> preprocess;
 };

@@ -60,7 +60,8 @@ MosaicBuilder::MosaicBuilder(const BuildConfig& config, const CameraModel& camer
                                                  plan.base_zoom,
                                                  MemoryBudget::Of(config.buffer.memory_cap_mb).overview_bytes)),
       buffer_(
-          BufferOptionsOf(config, plan), &forecast_, [this](const TileId& id, const cv::Mat& tile) { Finished(id, tile); },
+          BufferOptionsOf(config, plan), &forecast_,
+          [this](const TileId& id, const cv::Mat& tile) { Finished(id, tile); },
           [this](const TileId& id) { return writer_->ReadToPaint(id, plan_.channels, config_.map.tile_size); }),
       recorder_(store, frame, DescriptionOf(config, plan)),
       mode_(start),
@@ -82,15 +83,16 @@ MosaicBuilder::MosaicBuilder(const BuildConfig& config, const CameraModel& camer
   pipeline.preprocess = hooks_.preprocess;
   const size_t frame_bytes = static_cast<size_t>(camera.width) * camera.height * plan.channels + 1;
   const size_t threads = static_cast<size_t>(pool_->size());
-  pipeline.depth = std::clamp(MemoryBudget::Of(config.buffer.memory_cap_mb).frames_bytes / frame_bytes,
-                              2 * threads + 4, 8 * threads);
+  pipeline.depth = std::clamp(MemoryBudget::Of(config.buffer.memory_cap_mb).frames_bytes / frame_bytes, 2 * threads + 4,
+                              8 * threads);
   pipeline_ = std::make_unique<FramePipeline>(&warper_, pool_.get(), std::move(pipeline),
                                               [this](PlacedFrame placed) { Consume(std::move(placed)); });
   const auto metadata = store_->Metadata();
   if (auto state = metadata.find("seamap_state"); state != metadata.end()) previous_state_ = state->second;
-  if (mode_.checkpoints && store_->KeepsCheckpoints())
-    checkpointer_ = std::make_unique<BuildCheckpointer>(store_, &buffer_, &forecast_, pool_.get(),
-                                                        config.map.tile_size, plan.channels);
+  // checkpoint_seconds 0: none (a resumed build still reads the one it resumes from).
+  if (mode_.checkpoints && store_->KeepsCheckpoints() && (config.buffer.checkpoint_seconds > 0 || mode_.resume))
+    checkpointer_ = std::make_unique<BuildCheckpointer>(store_, &buffer_, &forecast_, pool_.get(), config.map.tile_size,
+                                                        plan.channels);
   last_checkpoint_ = start_;
   if (mode_.resume) {
     Resume();
@@ -108,7 +110,7 @@ MosaicBuilder::~MosaicBuilder() {
   // the writer its jobs use still exists.
   pipeline_.reset();
   pool_.reset();
-  if (!finished_ && mode_.checkpoints) Abandon();
+  if (!finished_ && checkpointer_) Abandon();
 }
 
 nlohmann::json MosaicBuilder::Settings(const BuildConfig& c, const MosaicPlan& plan, bool enhanced) {
@@ -132,6 +134,7 @@ nlohmann::json MosaicBuilder::Settings(const BuildConfig& c, const MosaicPlan& p
 }
 
 void MosaicBuilder::WriteCheckpoint() {
+  const auto began = std::chrono::steady_clock::now();
   BuildProgress p;
   p.frame_index = last_index_;
   p.handover_index = handover_index_;
@@ -144,11 +147,14 @@ void MosaicBuilder::WriteCheckpoint() {
   p.tile_bytes = writer_->bytes_written();
   p.readbacks = buffer_.readbacks();
   p.previous_state = previous_state_;
+  p.command = mode_.command;
   p.settings = Settings(config_, plan_, static_cast<bool>(hooks_.preprocess));
   // Frames after the last one consumed (ids from here on) are newer than the checkpoint.
   checkpointer_->Write(p, int64_t{p.frame_id_offset} + last_index_ + 1, p.track_seq);
   checkpoint_index_ = last_index_;
   last_checkpoint_ = std::chrono::steady_clock::now();
+  ++stats_.checkpoints;
+  stats_.checkpoint_seconds += std::chrono::duration<double>(last_checkpoint_ - began).count();
 }
 
 void MosaicBuilder::Resume() {
@@ -219,7 +225,8 @@ void MosaicBuilder::Foresee(const std::vector<FrameSpec>& frames) {
     const Outline outline = outlines[i].get();
     if (!outline) continue;
     const auto& b = outline->box;
-    forecast_.Add(frames[i].index, plan_.base_zoom, TilesUnder(plan_.base_zoom, config_.map.tile_size, b[0], b[1], b[2], b[3]));
+    forecast_.Add(frames[i].index, plan_.base_zoom,
+                  TilesUnder(plan_.base_zoom, config_.map.tile_size, b[0], b[1], b[2], b[3]));
   }
 }
 
@@ -276,8 +283,9 @@ void MosaicBuilder::FlushBatch() {
   recorder_.WriteState("building", stats_.frames_used, static_cast<int>(stats_.rejections.size()));
   writer_->Flush();
   UpdateWriteStats();  // live progress for a replay
-  if (checkpointer_ && std::chrono::duration<double>(std::chrono::steady_clock::now() - last_checkpoint_).count() >=
-                           config_.buffer.checkpoint_seconds)
+  if (checkpointer_ && config_.buffer.checkpoint_seconds > 0 &&
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - last_checkpoint_).count() >=
+          config_.buffer.checkpoint_seconds)
     WriteCheckpoint();
 }
 

@@ -47,13 +47,15 @@ namespace seamap {
 struct BuildStats {
   int frames_seen = 0;
   int frames_used = 0;
-  std::vector<Rejection> rejections;      // frames skipped, with reasons
-  int64_t tiles_written = 0;              // store writes, rewrites included
+  std::vector<Rejection> rejections;  // frames skipped, with reasons
+  int64_t tiles_written = 0;          // store writes, rewrites included
   int64_t tile_bytes = 0;
   std::map<int, int64_t> tiles_per_zoom;  // distinct tiles
   int64_t readbacks = 0;                  // tiles read back to continue painting
   double seconds = 0;
-  double cpu_seconds = 0;  // process CPU time (all threads) over the same span
+  double cpu_seconds = 0;         // process CPU time (all threads) over the same span
+  int checkpoints = 0;            // written by this run (BuildStart::checkpoints)
+  double checkpoint_seconds = 0;  // spent writing them
 };
 
 struct BuildHooks {
@@ -77,12 +79,14 @@ struct BuildStart {
   // again. InputError naming the setting when the settings differ.
   bool resume = false;
   int frames_total = 0;  // frames in the survey (recorded in checkpoints)
+  // The command line that started the build (its --resume hint; "": none).
+  std::string command;
 };
 
 class MosaicBuilder {
  public:
-  MosaicBuilder(const BuildConfig& config, const CameraModel& camera, const LocalFrame& frame,
-                const MosaicPlan& plan, TileStore* store, BuildHooks hooks = {}, const BuildStart& start = {});
+  MosaicBuilder(const BuildConfig& config, const CameraModel& camera, const LocalFrame& frame, const MosaicPlan& plan,
+                TileStore* store, BuildHooks hooks = {}, const BuildStart& start = {});
   ~MosaicBuilder();
 
   // Offline builds: the whole survey, before the first Push. A tile is then
@@ -128,18 +132,18 @@ class MosaicBuilder {
   MissionRecorder recorder_;
   BuildStart mode_;
   std::unique_ptr<BuildCheckpointer> checkpointer_;  // null: no checkpoints
-  std::unique_ptr<FramePipeline> pipeline_;  // last: its jobs use the members above
-  int consumed_ = 0;    // frames out of the pipeline so far
-  int last_index_ = -1;  // acquisition index of the last of them
+  std::unique_ptr<FramePipeline> pipeline_;          // last: its jobs use the members above
+  int consumed_ = 0;                                 // frames out of the pipeline so far
+  int last_index_ = -1;                              // acquisition index of the last of them
   BuildStats stats_;
   std::chrono::steady_clock::time_point start_, last_flush_;
   double start_cpu_ = 0;
   int last_flush_frame_ = 0;
   bool finished_ = false;
-  int handover_index_ = -1;  // the last consumed frame that reached the warp
-  int resume_index_ = -1;    // frames up to this one were done before the checkpoint
-  int prime_from_ = 0;       // frames from this one on go through the pipeline
-  int checkpoint_index_ = -1;  // frame_index of the last checkpoint written or resumed from
+  int handover_index_ = -1;     // the last consumed frame that reached the warp
+  int resume_index_ = -1;       // frames up to this one were done before the checkpoint
+  int prime_from_ = 0;          // frames from this one on go through the pipeline
+  int checkpoint_index_ = -1;   // frame_index of the last checkpoint written or resumed from
   std::string previous_state_;  // the map's state before this build began
   std::chrono::steady_clock::time_point last_checkpoint_;
 };

@@ -6,7 +6,9 @@
 namespace seamap {
 namespace {
 
-size_t BytesOf(const cv::Mat& m) { return m.total() * m.elemSize(); }
+size_t BytesOf(const cv::Mat& m) {
+  return m.total() * m.elemSize();
+}
 
 }  // namespace
 

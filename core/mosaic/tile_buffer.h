@@ -30,9 +30,9 @@ namespace seamap {
 struct TileBufferOptions {
   int zoom = 0, tile_size = 256, channels = 1;
   int linger_frames = 1;
-  int lookahead_frames = 0;            // how far ahead the forecast is heeded (0: not at all)
-  size_t memory_bytes = 0;             // tiles being painted
-  size_t finished_weights_bytes = 0;   // weights of finished tiles, for painting them again
+  int lookahead_frames = 0;           // how far ahead the forecast is heeded (0: not at all)
+  size_t memory_bytes = 0;            // tiles being painted
+  size_t finished_weights_bytes = 0;  // weights of finished tiles, for painting them again
 };
 
 class TileBuffer {

@@ -5,8 +5,7 @@
 
 namespace seamap {
 
-TileWriter::TileWriter(TileStore* store, ThreadPool* pool, TileEncoding encoding,
-                       std::vector<TileConsumer*> consumers)
+TileWriter::TileWriter(TileStore* store, ThreadPool* pool, TileEncoding encoding, std::vector<TileConsumer*> consumers)
     : store_(store), pool_(pool), encoding_(encoding), consumers_(std::move(consumers)) {}
 
 TileWriter::~TileWriter() {

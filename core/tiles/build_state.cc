@@ -16,7 +16,8 @@ std::string RecordedState(const TileStore& store) {
 }  // namespace
 
 MapBuildState ReadBuildState(const std::string& path, const TileStore& store) {
-  return ReadBuildState(path, [&store] { return RecordedState(store); }, store);
+  return ReadBuildState(
+      path, [&store] { return RecordedState(store); }, store);
 }
 
 MapBuildState ReadBuildState(const std::string& path, const std::function<std::string()>& recorded_state,
@@ -37,6 +38,7 @@ MapBuildState ReadBuildState(const std::string& path, const std::function<std::s
       const nlohmann::json j = nlohmann::json::parse(checkpoint->progress);
       s.frames_done = j.value("frame_index", -1) + 1;
       s.frames_total = j.value("frames_total", 0);
+      s.command = j.value("command", "");
     } catch (const nlohmann::json::exception&) {
     }
   }
@@ -48,12 +50,15 @@ std::string MapBuildState::Explanation() const {
   std::string what = "the build stopped without finishing and no process is writing the map";
   if (checkpoint)
     return what + "; " + std::to_string(frames_done) + " of " + std::to_string(frames_total) +
-           " frames are safe. Resume with: seamap build <same arguments> --resume";
+           " frames are safe. Resume with: " + (command.empty() ? "seamap build <same arguments>" : command) +
+           " --resume";
   if (folder)
-    return what + "; a tile folder keeps no checkpoints (an .mbtiles map does). Start again with: "
-                  "seamap build <same arguments> --overwrite";
-  return what + " and it has no checkpoint (written by seamap replay or an older seamap). Add the missing "
-                "frames with: seamap build <same arguments> --append, or start again with --overwrite";
+    return what +
+           "; a tile folder keeps no checkpoints (an .mbtiles map does). Start again with: "
+           "seamap build <same arguments> --overwrite";
+  return what +
+         " and it has no checkpoint (written by seamap replay or an older seamap). Add the missing "
+         "frames with: seamap build <same arguments> --append, or start again with --overwrite";
 }
 
 }  // namespace seamap

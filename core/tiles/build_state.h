@@ -20,6 +20,7 @@ struct MapBuildState {
   bool checkpoint = false;        // interrupted: it has a checkpoint to resume from
   bool folder = false;
   int frames_done = 0, frames_total = 0;  // at the checkpoint
+  std::string command;                    // the interrupted build's command line, when recorded
 
   // For "interrupted": what happened and the command that goes on from here.
   std::string Explanation() const;

@@ -45,7 +45,8 @@ MapLock MapLock::Acquire(const std::string& map_path, const std::string& param) 
   // holds a lock on a file nobody else sees: check, and try again.
   for (int attempt = 0; attempt < 20; ++attempt) {
     const int fd = open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-    if (fd < 0) throw InputError(map_path, 0, param, "cannot create the lock file " + path + ": " + std::strerror(errno));
+    if (fd < 0)
+      throw InputError(map_path, 0, param, "cannot create the lock file " + path + ": " + std::strerror(errno));
     struct flock fl;
     if (!LockCall(fd, F_OFD_SETLK, &fl)) {
       const int error = errno;
@@ -85,7 +86,9 @@ std::optional<int> MapLock::Holder(const std::string& map_path) {
   return holder;
 }
 
-MapLock::MapLock(MapLock&& other) noexcept : fd_(other.fd_), path_(std::move(other.path_)) { other.fd_ = -1; }
+MapLock::MapLock(MapLock&& other) noexcept : fd_(other.fd_), path_(std::move(other.path_)) {
+  other.fd_ = -1;
+}
 
 MapLock& MapLock::operator=(MapLock&& other) noexcept {
   if (this != &other) {
@@ -97,7 +100,9 @@ MapLock& MapLock::operator=(MapLock&& other) noexcept {
   return *this;
 }
 
-MapLock::~MapLock() { Release(); }
+MapLock::~MapLock() {
+  Release();
+}
 
 void MapLock::Release() {
   if (fd_ < 0) return;

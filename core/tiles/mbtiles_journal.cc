@@ -167,8 +167,9 @@ void MBTilesJournal::RollBack(const std::string& layer) {
   const std::optional<StoredCheckpoint> c = Read(layer);
   if (!c) return;
   const std::string table = TableOf(layer);
-  const std::string same_tile = "u.layer = ?1 AND u.zoom_level = " + table + ".zoom_level AND u.tile_column = " +
-                                table + ".tile_column AND u.tile_row = " + table + ".tile_row";
+  const std::string same_tile = "u.layer = ?1 AND u.zoom_level = " + table +
+                                ".zoom_level AND u.tile_column = " + table + ".tile_column AND u.tile_row = " + table +
+                                ".tile_row";
   Run("DELETE FROM " + table + " WHERE EXISTS (SELECT 1 FROM seamap_undo AS u WHERE " + same_tile +
           " AND u.tile_data IS NULL)",
       layer);

@@ -26,8 +26,8 @@ struct CheckpointUpdate {
   // Frames with id >= frames_from and track points with seq >= track_from
   // are newer than the checkpoint (-1: this layer records none).
   int64_t frames_from = -1, track_from = -1;
-  std::vector<CheckpointBlob> put;                // written or replaced
-  std::vector<std::pair<int, TileId>> drop;       // (kind, id) no longer part of the state
+  std::vector<CheckpointBlob> put;           // written or replaced
+  std::vector<std::pair<int, TileId>> drop;  // (kind, id) no longer part of the state
 };
 
 struct StoredCheckpoint {

@@ -44,6 +44,7 @@ TEST(BuildCheckpointer, ProgressRoundTrips) {
   p.kept = {{{25, 3, 4}, 9}};
   p.tiles = {{{25, 1, 2}, 17}};
   p.settings = {{"tile_size", 256}};
+  p.command = "seamap build --out 'my map.mbtiles'";
   const BuildProgress q = BuildProgress::FromJson(p.ToJson().dump());
   EXPECT_EQ(q.ToJson(), p.ToJson());
   EXPECT_THROW(BuildProgress::FromJson("{}"), std::runtime_error);
@@ -59,7 +60,7 @@ class ResumeTest : public ::testing::Test {
     config_.buffer.lookahead_frames = 12;
     config_.buffer.batch_frames = 3;
     config_.buffer.batch_seconds = 0;
-    config_.buffer.checkpoint_seconds = 0;
+    config_.buffer.checkpoint_seconds = 1e-9;  // at every batch
     frames_ = TwoLines();
   }
 
@@ -156,6 +157,17 @@ TEST_F(ResumeTest, AResumedBuildEqualsOneThatNeverStopped) {
       EXPECT_EQ(track[i].seq, static_cast<int>(i));
     }
   }
+}
+
+TEST_F(ResumeTest, NoCheckpointsWhenCheckpointSecondsIsZero) {
+  const std::string path = (dir_ / "m.mbtiles").string();
+  BuildConfig off = config_;
+  off.buffer.checkpoint_seconds = 0;
+  Build(path, false, 10, off);
+  MBTilesStore store(path, MBTilesStore::Mode::kReadOnly);
+  EXPECT_EQ(store.Metadata().at("seamap_state"), "building");
+  EXPECT_FALSE(store.ReadCheckpoint());
+  EXPECT_THROW(Build(path, true, -1, config_), InputError);  // nothing to resume from
 }
 
 TEST_F(ResumeTest, OtherSettingsAreRefusedByName) {

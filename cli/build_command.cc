@@ -10,9 +10,10 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "cli/args.h"
+#include "cli/build_output.h"
 #include "cli/build_setup.h"
-#include "cli/trajectory_setup.h"
 #include "cli/commands.h"
+#include "cli/trajectory_setup.h"
 #include "core/mosaic/mosaic_builder.h"
 #include "core/util/error.h"
 #include "core/util/process_stats.h"
@@ -35,7 +36,9 @@ const char* kHelp =
     "  --tile-format F     png | jpg | webp        --tile-size 256|512\n"
     "  --base-zoom Z       --min-zoom Z            --threads N\n"
     "  --name TEXT         map name in the metadata\n"
-    "  --append            continue painting an existing map (tiles are read back and blended)\n"
+    "  --append            continue painting an existing map (tiles are read back and blended);\n"
+    "                      frames whose image is already in it are skipped\n"
+    "  --resume            continue an interrupted build (same arguments) from its last checkpoint\n"
     "  --overwrite         replace an existing map\n"
     "  --quiet             no progress bar\n"
     "  --report FILE       write the run's figures as JSON (frames, seconds, tiles, bytes, peak RSS)\n"
@@ -69,8 +72,9 @@ std::string Summary(const BuildStats& s) {
   return out.str();
 }
 
-void WriteReport(const std::string& path, const BuildStats& s, const MosaicPlan& plan,
-                 const nlohmann::json& refine) {
+// in_map: frames skipped by --append because their image is in the map already.
+void WriteReport(const std::string& path, const BuildStats& s, const MosaicPlan& plan, const nlohmann::json& refine,
+                 size_t in_map) {
   int64_t distinct = 0;
   nlohmann::json per_zoom = nlohmann::json::object();
   for (const auto& [z, n] : s.tiles_per_zoom) {
@@ -88,6 +92,9 @@ void WriteReport(const std::string& path, const BuildStats& s, const MosaicPlan&
                       {"tile_writes", s.tiles_written},
                       {"tile_bytes", s.tile_bytes},
                       {"readbacks", s.readbacks},
+                      {"frames_in_map", in_map},
+                      {"checkpoints", s.checkpoints},
+                      {"checkpoint_seconds", s.checkpoint_seconds},
                       {"tiles_per_zoom", per_zoom},
                       {"base_zoom", plan.base_zoom},
                       {"min_zoom", plan.min_zoom},
@@ -98,17 +105,40 @@ void WriteReport(const std::string& path, const BuildStats& s, const MosaicPlan&
   out << j.dump(2) << "\n";
 }
 
+// A word as a POSIX shell reads it back.
+std::string ShellWord(const std::string& w) {
+  const bool plain = !w.empty() && w.find_first_not_of(
+                                       "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
+                                       "0123456789_@%+=:,./-") == std::string::npos;
+  if (plain) return w;
+  std::string out = "'";
+  for (char c : w) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+// The command that started this build, to be repeated with --resume if it
+// is interrupted: its directory, and its arguments less --resume / --overwrite.
+std::string CommandLine(int argc, char** argv, int first) {
+  std::error_code ec;
+  const std::string dir = std::filesystem::current_path(ec).string();
+  std::string out = ec ? std::string() : "cd " + ShellWord(dir) + " && ";
+  out += "seamap build";
+  for (int i = first; i < argc; ++i)
+    if (std::string(argv[i]) != "--resume" && std::string(argv[i]) != "--overwrite") out += " " + ShellWord(argv[i]);
+  return out;
+}
+
 }  // namespace
 
 int RunBuild(int argc, char** argv, int first) {
-  Args args(argc, argv, first, {"append", "overwrite", "quiet", "refine-nav", "help"});
+  Args args(argc, argv, first, {"append", "overwrite", "resume", "quiet", "refine-nav", "help"});
   if (args.Flag("help")) {
     std::printf("%s%s", kHelp, kNavigationNoiseHelp);
     return 0;
   }
   BuildInputs in = ReadBuildInputs(args);
   const std::string out = args.Require("out");
-  const bool append = args.Flag("append"), overwrite = args.Flag("overwrite");
+  const bool append = args.Flag("append"), overwrite = args.Flag("overwrite"), resume = args.Flag("resume");
   const bool quiet = args.Flag("quiet");
   const bool refine = args.Flag("refine-nav") || in.config.navigation.refine;
   const RefineOptions refine_options = ReadRefineOptions(args, in.config.navigation, in.config.threads);
@@ -116,7 +146,28 @@ int RunBuild(int argc, char** argv, int first) {
   args.RejectUnknown();
 
   CheckMemoryFits(in);  // before the map is created
-  auto store = OpenOutput(out, in.config, append, overwrite);
+  BuildOutput output = OpenOutput(out, in.config, {append, overwrite, resume});
+  const std::unique_ptr<TileStore>& store = output.store;
+  // Resuming an append (its checkpoint began after frames already in the map) skips the same frames.
+  std::vector<std::string> skipped;  // in the map already
+  if (append || (output.checkpoint && output.checkpoint->frame_id_offset > 0)) {
+    skipped = SkipFramesInMap(*store, output.checkpoint, &in.frames.frames);
+    if (!skipped.empty()) {
+      std::string names;
+      for (size_t i = 0; i < skipped.size() && i < 3; ++i) names += (i ? ", " : "") + skipped[i];
+      std::fprintf(stderr, "seamap build: --append: %zu frames are in the map already and are skipped (%s%s)\n",
+                   skipped.size(), names.c_str(), skipped.size() > 3 ? ", ..." : "");
+    }
+    if (in.frames.frames.empty()) {
+      std::printf("nothing to add: every frame is in the map already\n");
+      return 0;
+    }
+  }
+  if (output.checkpoint) {
+    CheckSameSurvey(*store, *output.checkpoint, in.frames.frames);
+    std::fprintf(stderr, "seamap build: resuming after frame %d of %zu (the last checkpoint)\n",
+                 output.checkpoint->frame_index + 1, in.frames.frames.size());
+  }
   nlohmann::json refine_report;
   if (refine) {
     refine_report = RefineFrames(&in.frames.frames, in.camera, refine_options, quiet);
@@ -135,13 +186,23 @@ int RunBuild(int argc, char** argv, int first) {
   // "both", the enhanced map is built alongside as layer "enhanced".
   BuildHooks enhance = MakeHooks(in);
   const bool both = in.config.layers == "both" && enhance.preprocess;
-  if (both) in.config.buffer.memory_cap_mb = std::max(16, in.config.buffer.memory_cap_mb / 2);  // two builders share the cap
-  MosaicBuilder builder(in.config, in.camera, in.frame, plan, store.get(), both ? BuildHooks{} : enhance);
+  if (both)
+    in.config.buffer.memory_cap_mb = std::max(16, in.config.buffer.memory_cap_mb / 2);  // two builders share the cap
+  // Crash-safe: checkpoints as it goes, so that a build killed at any moment resumes (--resume).
+  BuildStart start;
+  start.checkpoints = true;
+  start.resume = resume;
+  start.frames_total = static_cast<int>(in.frames.frames.size());
+  start.command = CommandLine(argc, argv, first);
+  MosaicBuilder builder(in.config, in.camera, in.frame, plan, store.get(), both ? BuildHooks{} : enhance, start);
   std::unique_ptr<TileStore> enhanced_store;
   std::unique_ptr<MosaicBuilder> enhanced;
   if (both) {
     enhanced_store = store->OpenLayer("enhanced");
-    enhanced = std::make_unique<MosaicBuilder>(in.config, in.camera, in.frame, plan, enhanced_store.get(), enhance);
+    BuildStart layer_start = start;
+    layer_start.resume = resume && enhanced_store->ReadCheckpoint();  // killed before the layer began: it begins
+    enhanced = std::make_unique<MosaicBuilder>(in.config, in.camera, in.frame, plan, enhanced_store.get(), enhance,
+                                               layer_start);
   }
   store->SetMetadata("seamap_layers", both ? "raw,enhanced" : enhance.preprocess ? "enhanced" : "raw");
   for (const auto& r : in.frames.rejected) builder.Reject(r);
@@ -159,9 +220,10 @@ int RunBuild(int argc, char** argv, int first) {
   progress.Finish();
   const BuildStats& s = builder.stats();
   for (const auto& r : s.rejections) std::fprintf(stderr, "skipped: %s\n", r.Message().c_str());
-  std::printf("%s\n", Summary(s).c_str());
+  std::printf("%s%s\n", Summary(s).c_str(),
+              skipped.empty() ? "" : ("; " + std::to_string(skipped.size()) + " already in the map, skipped").c_str());
   if (enhanced) std::printf("enhanced layer: %s\n", Summary(enhanced->stats()).c_str());
-  if (report) WriteReport(*report, s, plan, refine_report);
+  if (report) WriteReport(*report, s, plan, refine_report, skipped.size());
   if (s.frames_used == 0) {
     std::fprintf(stderr, "seamap build: error: no frame could be used\n");
     return 1;

@@ -73,19 +73,6 @@ void CheckMemoryFits(const BuildInputs& in) {
                       in.config_source == "build config" ? "" : in.config_source);
 }
 
-std::unique_ptr<TileStore> OpenOutput(const std::string& path, const BuildConfig& config, bool append, bool overwrite) {
-  if (append && overwrite) throw InputError("", 0, "--append", "cannot be combined with --overwrite");
-  std::error_code ec;
-  const bool exists = IsMBTilesPath(path) ? fs::exists(path, ec) : (fs::exists(path, ec) && !fs::is_empty(path, ec));
-  if (exists && !append) {
-    if (!overwrite)
-      throw InputError(path, 0, "--out",
-                       "already exists; use --append to continue painting it or --overwrite to replace it");
-    RemoveMap(path, "--out");
-  }
-  return OpenTileStore(path, TileExtension(config.map.encoding.format), /*create=*/true);
-}
-
 BuildHooks MakeHooks(const BuildInputs& in) {
   BuildHooks hooks;
   if (!in.config.enhance || in.config.layers == "raw") return hooks;

@@ -1,6 +1,6 @@
 #pragma once
-// What `build` (and later `replay`) read before the first frame: config,
-// camera, navigation, frame list, output store.
+// What `build` and `replay` read before the first frame: config, camera,
+// navigation, frame list (the output map: cli/build_output.h).
 #include <memory>
 #include <string>
 #include <vector>
@@ -32,9 +32,6 @@ BuildInputs ReadBuildInputs(Args& args);
 // Refuses (InputError naming base_zoom and the memory needed) settings whose
 // tile buffer cannot hold one frame of the survey, before anything is written.
 void CheckMemoryFits(const BuildInputs& inputs);
-
-// Opens the output map; an existing one is refused unless append/overwrite.
-std::unique_ptr<TileStore> OpenOutput(const std::string& path, const BuildConfig& config, bool append, bool overwrite);
 
 // Hooks for the configured enhancement chain (seeded from the first frames).
 BuildHooks MakeHooks(const BuildInputs& inputs);

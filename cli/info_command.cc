@@ -4,6 +4,7 @@
 
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "core/tiles/build_state.h"
 #include "core/tiles/tile_store.h"
 #include "core/util/error.h"
 
@@ -59,7 +60,13 @@ int RunInfo(int argc, char** argv, int first) {
                 frames.size());
   else
     std::printf("nav:       trajectory not corrected (frames placed at the navigation's poses)\n");
-  std::printf("state:     %s\n", get("seamap_state").c_str());
+  const MapBuildState state = ReadBuildState(path, *store);
+  std::string state_text = state.state.empty() ? "-" : state.state;
+  if (state.state == "building" && state.writer_pid)
+    state_text += *state.writer_pid > 0 ? " (process " + std::to_string(*state.writer_pid) + " is writing it)"
+                                        : " (another process is writing it)";
+  if (state.state == "interrupted") state_text += ": " + state.Explanation();
+  std::printf("state:     %s\n", state_text.c_str());
   std::printf("layers:    %s\n", get("seamap_layers").c_str());
   std::printf("size:      %.1f MiB\n", SizeOnDisk(path) / 1048576.0);
   return 0;

@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "cli/args.h"
+#include "cli/build_output.h"
 #include "cli/build_setup.h"
 #include "cli/commands.h"
 #include "cli/server_setup.h"
@@ -194,7 +195,8 @@ int RunReplay(int argc, char** argv, int first) {
   in.config.buffer.batch_frames = std::min(in.config.buffer.batch_frames, 5);
   in.config.buffer.live_tiles = true;
   CheckMemoryFits(in);  // before the map is created
-  auto store = OpenOutput(out, in.config, append, overwrite);
+  BuildOutput output = OpenOutput(out, in.config, {append, overwrite, false});
+  std::unique_ptr<TileStore>& store = output.store;
   MosaicPlan plan = PlanMosaic(in.config.map, in.camera, in.frame, in.frames.frames, in.channels);
   for (const auto& w : in.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
 

@@ -10,6 +10,7 @@
 #include "cli/server_setup.h"
 #include "cli/shutdown_signal.h"
 #include "core/mosaic/build_config.h"
+#include "core/tiles/build_state.h"
 #include "core/tiles/tile_store.h"
 #include "core/util/error.h"
 #include "server/catalog_server.h"
@@ -106,7 +107,6 @@ int RunServe(int argc, char** argv, int first) {
 
   server::EventHub events;
   server::TileSource tiles(path, 8);
-  const std::map<std::string, std::string> metadata = tiles.Metadata("");
   std::unique_ptr<TileStore> writer = read_only ? nullptr : OpenForMarks(path);
   std::unique_ptr<TileStore> reader = writer ? nullptr : OpenExistingMap(path, /*writable=*/false);
   const TileStore& records = writer ? *writer : *reader;
@@ -114,14 +114,23 @@ int RunServe(int argc, char** argv, int first) {
   server::MissionState mission;
   mission.Load(records);
   mission.SetLayers(tiles.Layers(), tiles.Format());
-  auto state = metadata.find("seamap_state");
-  if (state != metadata.end() && state->second == "building") {
-    // Another process may still be writing it: tiles must not be cached for long.
-    tiles.SetExternalWriter(true);
+  // The state as recorded, a build still running (it holds MAP.lock) or
+  // interrupted: the server says which, and how an interrupted one goes on.
+  auto recorded_state = [&tiles] {
+    auto now = tiles.Metadata("");
+    return now.count("seamap_state") ? now["seamap_state"] : std::string();
+  };
+  const MapBuildState state = ReadBuildState(path, recorded_state, records);
+  auto publish_state = [&](const MapBuildState& s) {
     server::Progress p = mission.progress();
-    p.state = "building";
+    if (s.state == "building" || s.state == "interrupted") p.state = s.state;
+    p.state_detail = s.Explanation();
     mission.SetProgress(p);
-  }
+    // Another process may still be writing it: tiles must not be cached for long.
+    tiles.SetExternalWriter(s.state == "building");
+    if (s.state == "interrupted") std::fprintf(stderr, "seamap serve: %s: %s\n", path.c_str(), s.Explanation().c_str());
+  };
+  publish_state(state);
   server::DetectionRegistry detections(writer.get(), &events);
   detections.Load(records);
 
@@ -142,28 +151,29 @@ int RunServe(int argc, char** argv, int first) {
   std::fflush(stdout);
   // A map another process is still building: follow it every two seconds
   // (frames, track, state) and tell the browsers.
-  std::string state_seen = state != metadata.end() ? state->second : "";
+  std::string state_seen = state.state;
   {
     std::unique_lock<std::mutex> lock(mutex);
     while (!stopped.wait_for(lock, std::chrono::seconds(2), [&] { return stop; })) {
       lock.unlock();
       try {
-        auto now = tiles.Metadata("");
-        const std::string state_now = now.count("seamap_state") ? now["seamap_state"] : "";
-        if (state_now == "building" || state_seen == "building") {
+        const MapBuildState now = ReadBuildState(path, recorded_state, records);
+        if (now.state == "building" || state_seen == "building") {
           const int track_before = mission.TrackSize();
           mission.Load(records);
+          if (now.state != state_seen) publish_state(now);
           server::Progress p = mission.progress();
-          p.state = state_now == "building" ? "building" : state_now == "complete" ? "complete" : "stopped";
+          p.state =
+              now.state == "building" || now.state == "complete" || now.state == "interrupted" ? now.state : "stopped";
+          p.state_detail = now.Explanation();
           mission.SetProgress(p);
-          tiles.SetExternalWriter(state_now == "building");
           for (const TrackPoint& t : mission.TrackFrom(track_before))
             events.Publish("track", server::TrackPointJson(t).dump());
           auto status = mission.StatusJson();
           if (!status["last_pose"].is_null()) events.Publish("pose", status["last_pose"].dump());
           events.Publish("progress", status.dump());
         }
-        state_seen = state_now;
+        state_seen = now.state;
       } catch (const std::exception& e) {
         std::fprintf(stderr, "warning: cannot follow %s: %s\n", path.c_str(), e.what());
       }

@@ -72,6 +72,11 @@ build colour '{"tile_format":"jpg"}' "colour 1392x1040 x$colour_frames, jpeg"
 build gray '{"tile_format":"png","enhance":{"ops":[{"op":"flatfield"},{"op":"dehaze","gate":false},{"op":"clahe","clip_limit":3}]},"layers":"enhanced"}' "gray x$gray_frames + default enhance chain"
 "$seamap" enhance-report "$out/gray/photo" --ops default --max-frames 20 --detector orb 2>/dev/null |
   awk '/->/ && $NF ~ /^[0-9.]+$/ {print "enhance default chain, 696x520 gray:  " $NF " ms/frame (chain alone)"}' | head -1
+# Crash-safe builds (docs/RESUME.md): checkpoints off, default (every 10 s), at every batch.
+for every in 0 10 1e-9; do
+  build gray "{\"tile_format\":\"png\",\"png_level\":1,\"checkpoint_seconds\":$every}" "gray x$gray_frames, checkpoint_seconds $every"
+  python3 -c 'import json,sys; r=[json.load(open(p)) for p in sys.argv[1:]]; print("  checkpoints %s, ms each %s" % ([x["checkpoints"] for x in r], [round(1000*x["checkpoint_seconds"]/max(1,x["checkpoints"]),1) for x in r]))' $(seq -f "$out/gray.report.%g.json" 1 "$runs")
+done
 echo "camera rate: 5 frames/s (200 ms/frame budget); seed paper: 173 ms/frame on an Atom Z8350"
 simulate long "$long_frames" "--image-format jpg --line-length 40"
 build long '{"tile_format":"png","png_level":1}' "gray x$long_frames (memory)"

@@ -165,6 +165,7 @@ nlohmann::json MissionState::StatusJson() const {
   std::lock_guard<std::mutex> lock(mutex_);
   nlohmann::json j = {{"name", name_},
                       {"state", progress_.state},
+                      {"state_detail", progress_.state_detail},
                       {"replay", replay_},
                       {"frames_done", progress_.frames_done},
                       {"frames_total", progress_.frames_total},

@@ -20,7 +20,8 @@
 namespace seamap::server {
 
 struct Progress {
-  std::string state = "complete";  // "building", "complete" or "stopped"
+  std::string state = "complete";  // "building", "complete", "stopped" or "interrupted"
+  std::string state_detail;        // interrupted: what happened and the command that resumes it
   int frames_done = 0;             // frames seen (used + rejected)
   int frames_total = 0;            // 0 when unknown (a watched folder)
   int frames_rejected = 0;

@@ -51,8 +51,7 @@ cv::Scalar Colour(const json& v, const std::string& source, const std::string& k
   return cv::Scalar(rgb & 0xff, (rgb >> 8) & 0xff, (rgb >> 16) & 0xff);
 }
 
-void ApplyNavigation(const json& nav, const std::string& source, NavReadOptions* out,
-                     NavigationSettings* settings) {
+void ApplyNavigation(const json& nav, const std::string& source, NavReadOptions* out, NavigationSettings* settings) {
   if (!nav.is_object()) throw InputError(source, 0, "navigation", "expected an object");
   for (auto& [key, v] : nav.items()) {
     const std::string k = "navigation." + key;
@@ -111,6 +110,9 @@ void BufferSettings::Check(const std::string& source) const {
   CheckRange(batch_frames, 1, 100000, source, "batch_frames");
   if (!(batch_seconds >= 0))
     throw InputError(source, 0, "batch_seconds", "expected a number >= 0, got " + std::to_string(batch_seconds));
+  if (!(checkpoint_seconds >= 0))
+    throw InputError(source, 0, "checkpoint_seconds",
+                     "expected a number >= 0, got " + std::to_string(checkpoint_seconds));
 }
 
 void FrameSettings::Check(const std::string& source) const {
@@ -120,7 +122,8 @@ void FrameSettings::Check(const std::string& source) const {
 }
 
 void NavigationSettings::Check(const std::string& source) const {
-  for (const auto& [value, key] : {std::pair{noise_m, "navigation.noise_m"}, {drift_m_per_min, "navigation.drift_m_per_min"},
+  for (const auto& [value, key] : {std::pair{noise_m, "navigation.noise_m"},
+                                   {drift_m_per_min, "navigation.drift_m_per_min"},
                                    {heading_noise_deg, "navigation.heading_noise_deg"}})
     if (!(value >= 0) || !std::isfinite(value))
       throw InputError(source, 0, key, "expected a number >= 0, got " + std::to_string(value));
@@ -181,6 +184,8 @@ void ApplyBuildConfig(const json& s, const std::string& source, BuildConfig* c) 
       c->buffer.batch_frames = Int(v, source, key);
     else if (key == "batch_seconds")
       c->buffer.batch_seconds = Number(v, source, key);
+    else if (key == "checkpoint_seconds")
+      c->buffer.checkpoint_seconds = Number(v, source, key);
     else if (key == "live_tiles")
       c->buffer.live_tiles = Bool(v, source, key);
     else if (key == "max_footprint_ratio")

@@ -47,6 +47,9 @@ struct BufferSettings {
   int memory_cap_mb = 512;     // shared out by MemoryBudget
   int batch_frames = 25;       // overviews and a transaction are flushed this often,
   double batch_seconds = 1.0;  // but not more often than this (fast offline builds)
+  // `seamap build` saves what it needs to resume (--resume) at the first
+  // batch this long after the last checkpoint (0: no checkpoints, not resumable).
+  double checkpoint_seconds = 10.0;
   // Also write the tiles still being painted at every batch, so a live view
   // shows the map right under the vehicle (replay turns this on).
   bool live_tiles = false;
@@ -66,8 +69,8 @@ struct FrameSettings {
 // before painting (the config's "navigation" object; core/trajectory).
 struct NavigationSettings {
   bool refine = false;
-  double noise_m = 0.05;          // stated white position noise
-  double drift_m_per_min = 1.0;   // stated drift rate of dead reckoning
+  double noise_m = 0.05;           // stated white position noise
+  double drift_m_per_min = 1.0;    // stated drift rate of dead reckoning
   double heading_noise_deg = 1.0;  // stated heading noise
   void Check(const std::string& source) const;
 };

@@ -172,6 +172,7 @@ void FramePipeline::DeliverReady(bool wait_for_one) {
     if (usable && !wait_for_one && !IsReady(q.warp)) return;
     wait_for_one = false;
     PlacedFrame p = std::move(q.loaded.placed);
+    p.handover = usable;
     if (usable) {
       p.warped = q.warp.get();
       q.loaded.image.Release();

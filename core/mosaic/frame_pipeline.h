@@ -34,6 +34,7 @@ struct PlacedFrame {
   std::optional<WarpedFrame> warped;               // nullopt when rejected
   std::optional<std::array<LatLon, 4>> footprint;  // where its corners land, when they do
   std::string reject_field, reject_reason;
+  bool handover = false;  // it reached the warp: its pose was its neighbours' handover partner
 };
 
 struct FramePipelineOptions {

@@ -37,19 +37,7 @@ std::pair<FrameRecord, TrackPoint> MissionRecorder::Record(const PlacedFrame& p)
   record.roll_deg = pose.roll_deg;
   if (p.footprint) record.footprint = *p.footprint;
   record.status = p.warped ? "used" : p.reject_reason;
-  if (p.warped) {
-    LatLonBounds b = bounds_.value_or(LatLonBounds{540, 90, -540, -90});
-    for (const auto& c : *p.footprint) {
-      // Around the origin's meridian: a survey across the antimeridian has
-      // bounds past +-180 (east > west), not the whole world.
-      const double lon = frame_.origin().lon + std::remainder(c.lon - frame_.origin().lon, 360.0);
-      b.west = std::min(b.west, lon);
-      b.east = std::max(b.east, lon);
-      b.south = std::min(b.south, c.lat);
-      b.north = std::max(b.north, c.lat);
-    }
-    bounds_ = b;
-  }
+  if (p.warped) Extend(*p.footprint);
   if (p.spec.nav_pose) {
     const VehiclePose& nav = *p.spec.nav_pose;  // through the same local frame as the placed pose
     NavigatedPose& n = record.nav.emplace();
@@ -72,6 +60,28 @@ std::pair<FrameRecord, TrackPoint> MissionRecorder::Record(const PlacedFrame& p)
   if (record.nav) point.nav = NavigatedPosition{record.nav->position, record.nav->heading_deg};
   store_->PutTrackPoint(point);
   return {record, point};
+}
+
+void MissionRecorder::Extend(const std::array<LatLon, 4>& footprint) {
+  LatLonBounds b = bounds_.value_or(LatLonBounds{540, 90, -540, -90});
+  for (const auto& c : footprint) {
+    // Around the origin's meridian: a survey across the antimeridian has
+    // bounds past +-180 (east > west), not the whole world.
+    const double lon = frame_.origin().lon + std::remainder(c.lon - frame_.origin().lon, 360.0);
+    b.west = std::min(b.west, lon);
+    b.east = std::max(b.east, lon);
+    b.south = std::min(b.south, c.lat);
+    b.north = std::max(b.north, c.lat);
+  }
+  bounds_ = b;
+}
+
+void MissionRecorder::Resume(int frame_id_offset, int next_track_seq, const std::vector<FrameRecord>& recorded) {
+  frame_id_offset_ = frame_id_offset;
+  track_seq_ = next_track_seq;
+  bounds_.reset();
+  for (const FrameRecord& f : recorded)
+    if (f.status == "used") Extend(f.footprint);
 }
 
 void MissionRecorder::WriteState(const std::string& state, int frames_used, int frames_rejected) {

@@ -4,9 +4,11 @@
 // photos), the vehicle's track, and the map's metadata and build state.
 // A frame placed with a corrected pose (FrameSpec::nav_pose set) keeps the
 // navigation's pose too, in its record and its track point.
+#include <array>
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "core/geo/local_frame.h"
 #include "core/geo/web_mercator.h"
@@ -36,11 +38,18 @@ class MissionRecorder {
   void WriteState(const std::string& state, int frames_used, int frames_rejected);
 
   const std::optional<LatLonBounds>& bounds() const { return bounds_; }
+  int frame_id_offset() const { return frame_id_offset_; }
+  int next_track_seq() const { return track_seq_; }
+  // Continues a build from its checkpoint (--resume): its frame ids and
+  // track seqs, and the bounds of the frames it had recorded (`recorded`).
+  void Resume(int frame_id_offset, int next_track_seq, const std::vector<FrameRecord>& recorded);
 
  private:
   TileStore* store_;
   LocalFrame frame_;
   MapDescription description_;
+  void Extend(const std::array<LatLon, 4>& footprint);
+
   std::optional<LatLonBounds> bounds_;  // of the used frames' footprints
   int frame_id_offset_ = 0;
   int track_seq_ = 0;

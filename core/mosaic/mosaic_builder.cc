@@ -1,9 +1,11 @@
 #include "core/mosaic/mosaic_builder.h"
 
 #include <algorithm>
+#include <cstdio>
 
 #include <opencv2/core.hpp>
 
+#include "core/util/error.h"
 #include "core/util/process_stats.h"
 
 namespace seamap {
@@ -46,7 +48,7 @@ MapDescription DescriptionOf(const BuildConfig& config, const MosaicPlan& plan) 
 }  // namespace
 
 MosaicBuilder::MosaicBuilder(const BuildConfig& config, const CameraModel& camera, const LocalFrame& frame,
-                             const MosaicPlan& plan, TileStore* store, BuildHooks hooks)
+                             const MosaicPlan& plan, TileStore* store, BuildHooks hooks, const BuildStart& start)
     : config_(config),
       plan_(plan),
       store_(store),
@@ -58,9 +60,11 @@ MosaicBuilder::MosaicBuilder(const BuildConfig& config, const CameraModel& camer
                                                  plan.base_zoom,
                                                  MemoryBudget::Of(config.buffer.memory_cap_mb).overview_bytes)),
       buffer_(
-          BufferOptionsOf(config, plan), &forecast_, [this](const TileId& id, const cv::Mat& tile) { Finished(id, tile); },
+          BufferOptionsOf(config, plan), &forecast_,
+          [this](const TileId& id, const cv::Mat& tile) { Finished(id, tile); },
           [this](const TileId& id) { return writer_->ReadToPaint(id, plan_.channels, config_.map.tile_size); }),
       recorder_(store, frame, DescriptionOf(config, plan)),
+      mode_(start),
       start_(std::chrono::steady_clock::now()),
       last_flush_(start_),
       start_cpu_(ProcessCpuSeconds()) {
@@ -81,12 +85,26 @@ MosaicBuilder::MosaicBuilder(const BuildConfig& config, const CameraModel& camer
   pipeline.preprocess = hooks_.preprocess;
   const size_t frame_bytes = static_cast<size_t>(camera.width) * camera.height * plan.channels + 1;
   const size_t threads = static_cast<size_t>(pool_->size());
-  pipeline.depth = std::clamp(MemoryBudget::Of(config.buffer.memory_cap_mb).frames_bytes / frame_bytes,
-                              2 * threads + 4, 8 * threads);
+  pipeline.depth = std::clamp(MemoryBudget::Of(config.buffer.memory_cap_mb).frames_bytes / frame_bytes, 2 * threads + 4,
+                              8 * threads);
   pipeline_ = std::make_unique<FramePipeline>(&warper_, pool_.get(), std::move(pipeline),
                                               [this](PlacedFrame placed) { Consume(std::move(placed)); });
+  const auto metadata = store_->Metadata();
+  if (auto state = metadata.find("seamap_state"); state != metadata.end()) previous_state_ = state->second;
+  // checkpoint_seconds 0: none (a resumed build still reads the one it resumes from).
+  if (mode_.checkpoints && store_->KeepsCheckpoints() && (config.buffer.checkpoint_seconds > 0 || mode_.resume))
+    checkpointer_ = std::make_unique<BuildCheckpointer>(store_, &buffer_, &forecast_, pool_.get(), config.map.tile_size,
+                                                        plan.channels);
+  last_checkpoint_ = start_;
+  if (mode_.resume) {
+    Resume();
+    return;
+  }
   recorder_.WriteState("building", 0, 0);
-  store_->Flush();
+  if (checkpointer_)
+    WriteCheckpoint();  // the start: what a failure before the next one returns to
+  else
+    store_->Flush();
 }
 
 MosaicBuilder::~MosaicBuilder() {
@@ -94,6 +112,99 @@ MosaicBuilder::~MosaicBuilder() {
   // the writer its jobs use still exists.
   pipeline_.reset();
   pool_.reset();
+  if (!finished_ && checkpointer_) Abandon();
+}
+
+nlohmann::json MosaicBuilder::Settings(const BuildConfig& c, const MosaicPlan& plan, bool enhanced) {
+  return {{"tile_size", c.map.tile_size},
+          {"base_zoom", plan.base_zoom},
+          {"min_zoom", plan.min_zoom},
+          {"channels", plan.channels},
+          {"tile_format", TileExtension(c.map.encoding.format)},
+          {"png_level", c.map.encoding.png_level},
+          {"jpeg_quality", c.map.encoding.jpeg_quality},
+          {"webp_quality", c.map.encoding.webp_quality},
+          {"feather_power", c.blend.feather_power},
+          {"seam_band", c.blend.seam_band},
+          {"blend_all_overlaps", c.blend.blend_all_overlaps},
+          {"linger_frames", c.buffer.linger_frames},
+          {"lookahead_frames", c.buffer.lookahead_frames},
+          {"memory_cap_mb", c.buffer.memory_cap_mb},
+          {"max_footprint_ratio", c.frames.max_footprint_ratio},
+          {"sixteen_bit_white", c.frames.sixteen_bit_white},
+          {"enhance", enhanced ? c.enhance.value_or(nlohmann::json("on")) : nlohmann::json(nullptr)}};
+}
+
+void MosaicBuilder::WriteCheckpoint() {
+  const auto began = std::chrono::steady_clock::now();
+  BuildProgress p;
+  p.frame_index = last_index_;
+  p.handover_index = handover_index_;
+  p.frames_total = mode_.frames_total;
+  p.consumed = consumed_;
+  p.frame_id_offset = recorder_.frame_id_offset();
+  p.track_seq = recorder_.next_track_seq();
+  p.frames_used = stats_.frames_used;
+  p.tiles_written = writer_->tiles_written();
+  p.tile_bytes = writer_->bytes_written();
+  p.readbacks = buffer_.readbacks();
+  p.previous_state = previous_state_;
+  p.command = mode_.command;
+  p.settings = Settings(config_, plan_, static_cast<bool>(hooks_.preprocess));
+  // Frames after the last one consumed (ids from here on) are newer than the checkpoint.
+  checkpointer_->Write(p, int64_t{p.frame_id_offset} + last_index_ + 1, p.track_seq);
+  checkpoint_index_ = last_index_;
+  last_checkpoint_ = std::chrono::steady_clock::now();
+  ++stats_.checkpoints;
+  stats_.checkpoint_seconds += std::chrono::duration<double>(last_checkpoint_ - began).count();
+}
+
+void MosaicBuilder::Resume() {
+  const std::optional<BuildProgress> progress = checkpointer_ ? checkpointer_->Read() : std::nullopt;
+  if (!progress) throw InputError("", 0, "--resume", "the map has no checkpoint to resume from");
+  const nlohmann::json now = Settings(config_, plan_, static_cast<bool>(hooks_.preprocess));
+  for (const auto& [key, was] : progress->settings.items()) {
+    const nlohmann::json is = now.value(key, nlohmann::json(nullptr));
+    if (is != was)
+      throw InputError("", 0, key,
+                       "was " + was.dump() + " when the build began and is " + is.dump() +
+                           " now: resume with the same arguments and config (or --overwrite to start again)");
+  }
+  store_->RollBackToCheckpoint();  // tiles, frames and track as they were at the checkpoint
+  checkpointer_->Restore(*progress);
+  consumed_ = last_flush_frame_ = progress->consumed;
+  last_index_ = resume_index_ = checkpoint_index_ = progress->frame_index;
+  handover_index_ = progress->handover_index;
+  // The last frame that reached the warp goes through the pipeline again
+  // (not painted): the next frame hands pixels over to it as it did.
+  prime_from_ = handover_index_ >= 0 ? handover_index_ : resume_index_ + 1;
+  previous_state_ = progress->previous_state;
+  std::vector<FrameRecord> recorded;
+  for (FrameRecord& f : store_->Frames())
+    if (f.id >= progress->frame_id_offset && f.id <= progress->frame_id_offset + progress->frame_index)
+      recorded.push_back(std::move(f));
+  recorder_.Resume(progress->frame_id_offset, progress->track_seq, recorded);
+  stats_.frames_seen = progress->consumed;
+  stats_.frames_used = progress->frames_used;
+  for (const FrameRecord& f : recorded)
+    if (f.status != "used") stats_.rejections.push_back({f.image_path, 0, "", f.status});
+  writer_->Resume(progress->tiles_written, progress->tile_bytes, store_->TileIds());
+  recorder_.WriteState("building", stats_.frames_used, static_cast<int>(stats_.rejections.size()));
+  store_->Flush();
+}
+
+void MosaicBuilder::Abandon() {
+  // Nothing of this build is worth keeping yet and the map was complete
+  // before it: return it to that, tiles and state (a failed --append).
+  if (checkpoint_index_ >= 0 || previous_state_ != "complete") return;
+  try {
+    store_->RollBackToCheckpoint();
+    store_->SetMetadata("seamap_state", previous_state_);
+    store_->DropCheckpoint();
+    store_->Flush();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "warning: cannot return the map to its state before this build: %s\n", e.what());
+  }
 }
 
 void MosaicBuilder::Foresee(const std::vector<FrameSpec>& frames) {
@@ -122,11 +233,14 @@ void MosaicBuilder::Foresee(const std::vector<FrameSpec>& frames) {
     const Outline outline = outlines[i].get();
     if (!outline) continue;
     const auto& b = outline->box;
-    forecast_.Add(frames[i].index, plan_.base_zoom, TilesUnder(plan_.base_zoom, config_.map.tile_size, b[0], b[1], b[2], b[3]));
+    forecast_.Add(frames[i].index, plan_.base_zoom,
+                  TilesUnder(plan_.base_zoom, config_.map.tile_size, b[0], b[1], b[2], b[3]));
   }
 }
 
-void MosaicBuilder::Push(const FrameSpec& frame) { pipeline_->Push(frame); }
+void MosaicBuilder::Push(const FrameSpec& frame) {
+  if (frame.index >= prime_from_) pipeline_->Push(frame);
+}
 
 void MosaicBuilder::Reject(const Rejection& rejection) {
   ++stats_.frames_seen;
@@ -134,6 +248,8 @@ void MosaicBuilder::Reject(const Rejection& rejection) {
 }
 
 void MosaicBuilder::Consume(PlacedFrame placed) {
+  if (placed.spec.index <= resume_index_) return;  // done before the checkpoint: a handover partner only
+  if (placed.handover) handover_index_ = placed.spec.index;
   ++stats_.frames_seen;
   ++consumed_;  // this frame's number: tiles it paints are stamped with it
   last_index_ = placed.spec.index;
@@ -175,6 +291,10 @@ void MosaicBuilder::FlushBatch() {
   recorder_.WriteState("building", stats_.frames_used, static_cast<int>(stats_.rejections.size()));
   writer_->Flush();
   UpdateWriteStats();  // live progress for a replay
+  if (checkpointer_ && config_.buffer.checkpoint_seconds > 0 &&
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - last_checkpoint_).count() >=
+          config_.buffer.checkpoint_seconds)
+    WriteCheckpoint();
 }
 
 void MosaicBuilder::UpdateWriteStats() {
@@ -192,6 +312,7 @@ void MosaicBuilder::Finish() {
   UpdateWriteStats();
   stats_.tiles_per_zoom = writer_->distinct_tiles_per_zoom();
   recorder_.WriteState("complete", stats_.frames_used, static_cast<int>(stats_.rejections.size()));
+  if (checkpointer_) store_->DropCheckpoint();  // in the same transaction as "complete"
   store_->Flush();
   stats_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   stats_.cpu_seconds = ProcessCpuSeconds() - start_cpu_;

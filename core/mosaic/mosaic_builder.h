@@ -11,6 +11,10 @@
 // Seams: the pose each frame is placed with is FrameSpec::pose, set by
 // whoever makes the FrameSpecs (the navigation, or a corrected trajectory);
 // finished tiles reach TileConsumers (BuildHooks::tile_consumers).
+//
+// Crash safety (BuildStart): an offline build writes checkpoints
+// (build_checkpointer.h) when its store keeps them, and a builder can start
+// from the last one instead of from scratch.
 #include <chrono>
 #include <cstdint>
 #include <functional>
@@ -23,6 +27,7 @@
 #include "core/camera/camera_model.h"
 #include "core/geo/local_frame.h"
 #include "core/geo/web_mercator.h"
+#include "core/mosaic/build_checkpointer.h"
 #include "core/mosaic/build_config.h"
 #include "core/mosaic/frame_pipeline.h"
 #include "core/mosaic/frame_warper.h"
@@ -42,13 +47,15 @@ namespace seamap {
 struct BuildStats {
   int frames_seen = 0;
   int frames_used = 0;
-  std::vector<Rejection> rejections;      // frames skipped, with reasons
-  int64_t tiles_written = 0;              // store writes, rewrites included
+  std::vector<Rejection> rejections;  // frames skipped, with reasons
+  int64_t tiles_written = 0;          // store writes, rewrites included
   int64_t tile_bytes = 0;
   std::map<int, int64_t> tiles_per_zoom;  // distinct tiles
   int64_t readbacks = 0;                  // tiles read back to continue painting
   double seconds = 0;
-  double cpu_seconds = 0;  // process CPU time (all threads) over the same span
+  double cpu_seconds = 0;         // process CPU time (all threads) over the same span
+  int checkpoints = 0;            // written by this run (BuildStart::checkpoints)
+  double checkpoint_seconds = 0;  // spent writing them
 };
 
 struct BuildHooks {
@@ -60,17 +67,34 @@ struct BuildHooks {
   std::vector<TileConsumer*> tile_consumers;
 };
 
+// How a builder meets its store.
+struct BuildStart {
+  // Save checkpoints every `checkpoint_seconds` (BufferSettings) when the
+  // store keeps them. A builder destroyed unfinished then returns a map that
+  // was complete before it (--append) to its previous tiles and state, unless
+  // it had checkpointed frames (then the map is interrupted, and resumable).
+  bool checkpoints = false;
+  // Continue from the store's checkpoint (it must have one, written by a
+  // build of the same survey and settings): frames up to it are not painted
+  // again. InputError naming the setting when the settings differ.
+  bool resume = false;
+  int frames_total = 0;  // frames in the survey (recorded in checkpoints)
+  // The command line that started the build (its --resume hint; "": none).
+  std::string command;
+};
+
 class MosaicBuilder {
  public:
-  MosaicBuilder(const BuildConfig& config, const CameraModel& camera, const LocalFrame& frame,
-                const MosaicPlan& plan, TileStore* store, BuildHooks hooks = {});
+  MosaicBuilder(const BuildConfig& config, const CameraModel& camera, const LocalFrame& frame, const MosaicPlan& plan,
+                TileStore* store, BuildHooks hooks = {}, const BuildStart& start = {});
   ~MosaicBuilder();
 
   // Offline builds: the whole survey, before the first Push. A tile is then
   // kept in the buffer while a frame among the next `lookahead_frames` will
   // be over it, so a survey line returning to it does not read it back.
   void Foresee(const std::vector<FrameSpec>& frames);
-  // Queues a frame; blocks while the pipeline is full. Frames must come in acquisition order.
+  // Queues a frame; blocks while the pipeline is full. Frames must come in
+  // acquisition order. A resumed builder passes over those done before.
   void Push(const FrameSpec& frame);
   // Rejects a frame before it enters the pipeline (e.g. navigation problems).
   void Reject(const Rejection& rejection);
@@ -79,12 +103,21 @@ class MosaicBuilder {
 
   const BuildStats& stats() const { return stats_; }
   const MosaicPlan& plan() const { return plan_; }
+  // A resumed builder: the acquisition index of the last frame its checkpoint had (else -1).
+  int resumed_after() const { return resume_index_; }
+
+  // What shapes the tiles: a build resumed with other values would not
+  // finish the map it began (keys as in the config file).
+  static nlohmann::json Settings(const BuildConfig& config, const MosaicPlan& plan, bool enhanced);
 
  private:
   void Consume(PlacedFrame placed);  // a frame out of the pipeline, in acquisition order
   void FlushBatch();
   void Finished(const TileId& id, const cv::Mat& tile);  // a base tile is finished
   void UpdateWriteStats();
+  void WriteCheckpoint();
+  void Resume();
+  void Abandon();  // unfinished: see BuildStart::checkpoints
 
   BuildConfig config_;
   MosaicPlan plan_;
@@ -97,14 +130,22 @@ class MosaicBuilder {
   TileForecast forecast_;
   TileBuffer buffer_;
   MissionRecorder recorder_;
-  std::unique_ptr<FramePipeline> pipeline_;  // last: its jobs use the members above
-  int consumed_ = 0;    // frames out of the pipeline so far
-  int last_index_ = -1;  // acquisition index of the last of them
+  BuildStart mode_;
+  std::unique_ptr<BuildCheckpointer> checkpointer_;  // null: no checkpoints
+  std::unique_ptr<FramePipeline> pipeline_;          // last: its jobs use the members above
+  int consumed_ = 0;                                 // frames out of the pipeline so far
+  int last_index_ = -1;                              // acquisition index of the last of them
   BuildStats stats_;
   std::chrono::steady_clock::time_point start_, last_flush_;
   double start_cpu_ = 0;
   int last_flush_frame_ = 0;
   bool finished_ = false;
+  int handover_index_ = -1;     // the last consumed frame that reached the warp
+  int resume_index_ = -1;       // frames up to this one were done before the checkpoint
+  int prime_from_ = 0;          // frames from this one on go through the pipeline
+  int checkpoint_index_ = -1;   // frame_index of the last checkpoint written or resumed from
+  std::string previous_state_;  // the map's state before this build began
+  std::chrono::steady_clock::time_point last_checkpoint_;
 };
 
 }  // namespace seamap

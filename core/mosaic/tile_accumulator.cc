@@ -34,6 +34,13 @@ void TileAccumulator::Seed(const cv::Mat& tile, const cv::Mat& weights) {
   }
 }
 
+void TileAccumulator::Restore(const cv::Mat& sums, const cv::Mat& weight_sums) {
+  CV_Assert(sums.type() == sum_.type() && sums.size() == sum_.size());
+  CV_Assert(weight_sums.type() == CV_32F && weight_sums.size() == weight_.size());
+  sums.copyTo(sum_);
+  weight_sums.copyTo(weight_);
+}
+
 cv::Mat TileAccumulator::Weights() const {
   cv::Mat out;
   weight_.convertTo(out, CV_16U, 256.0);  // rounds and saturates

@@ -38,6 +38,12 @@ class TileAccumulator {
   // CV_8UC2 (gray, alpha) or CV_8UC4 (BGRA).
   cv::Mat Finalize() const;
 
+  // The running sums exactly as they are (a build's checkpoint), and back:
+  // a tile continued from them blends on as if it had never stopped.
+  const cv::Mat& sums() const { return sum_; }
+  const cv::Mat& weight_sums() const { return weight_; }
+  void Restore(const cv::Mat& sums, const cv::Mat& weight_sums);
+
   size_t Bytes() const { return sum_.total() * sum_.elemSize() + weight_.total() * weight_.elemSize(); }
 
  private:

@@ -43,9 +43,11 @@ void TileBuffer::Paint(const WarpedFrame& frame, int frame_number) {
       if (!PaintsAny(frame, roi)) continue;
       // Past the antimeridian, column tx is tile `wrapped`, a world away.
       const int wrapped = WrapTileX(options_.zoom, tx);
-      Slot& slot = Open(TileId{options_.zoom, wrapped, static_cast<int>(ty)});
+      const TileId id{options_.zoom, wrapped, static_cast<int>(ty)};
+      Slot& slot = Open(id);
       slot.accumulator->Blend(frame, (wrapped - tx) * ts);
       slot.last_frame = frame_number;
+      changed_tiles_.insert(id);
     }
   }
 }
@@ -64,8 +66,9 @@ TileBuffer::Slot& TileBuffer::Open(const TileId& id) {
     ++readbacks_;
   }
   if (kept != kept_.end()) {  // the accumulator has them now
-    kept_bytes_ -= BytesOf(kept->second.weights);
+    kept_bytes_ -= kept->second.bytes;
     kept_.erase(kept);
+    changed_kept_.insert(id);
   }
   bytes_ += slot.accumulator->Bytes();
   return tiles_.emplace(id, std::move(slot)).first->second;
@@ -107,29 +110,88 @@ void TileBuffer::FinishAll() {
 void TileBuffer::Finish(const TileId& id) {
   auto it = tiles_.find(id);
   const cv::Mat tile = it->second.accumulator->Finalize();
-  KeepWeights(id, it->second.accumulator->Weights());
+  cv::Mat weights = it->second.accumulator->Weights();
+  const size_t weight_bytes = BytesOf(weights);
+  KeepWeights(id, std::move(weights), weight_bytes);
   bytes_ -= it->second.accumulator->Bytes();
   tiles_.erase(it);
+  changed_tiles_.insert(id);
   finished_(id, tile);
 }
 
-void TileBuffer::KeepWeights(const TileId& id, cv::Mat weights) {
-  if (auto old = kept_.find(id); old != kept_.end()) kept_bytes_ -= BytesOf(old->second.weights);
-  kept_bytes_ += BytesOf(weights);
-  kept_[id] = {std::move(weights), ++kept_stamp_};
+void TileBuffer::KeepWeights(const TileId& id, cv::Mat weights, size_t bytes) {
+  if (auto old = kept_.find(id); old != kept_.end()) kept_bytes_ -= old->second.bytes;
+  kept_bytes_ += bytes;
+  kept_[id] = {std::move(weights), ++kept_stamp_, bytes};
   kept_order_.push_back({id, kept_stamp_});
+  changed_kept_.insert(id);
   while (kept_bytes_ > options_.finished_weights_bytes && !kept_order_.empty()) {
     const auto [oldest_id, stamp] = kept_order_.front();
     kept_order_.pop_front();
     auto oldest = kept_.find(oldest_id);
     if (oldest == kept_.end() || oldest->second.stamp != stamp) continue;  // superseded
-    kept_bytes_ -= BytesOf(oldest->second.weights);
+    kept_bytes_ -= oldest->second.bytes;
     kept_.erase(oldest);
+    changed_kept_.insert(oldest_id);
   }
 }
 
 void TileBuffer::ForEachUnfinished(const std::function<void(const TileId&, const cv::Mat&)>& visit) const {
   for (const auto& [id, slot] : tiles_) visit(id, slot.accumulator->Finalize());
+}
+
+TileBuffer::Changes TileBuffer::TakeChanges() {
+  Changes c;
+  c.tiles.assign(changed_tiles_.begin(), changed_tiles_.end());
+  c.kept.assign(changed_kept_.begin(), changed_kept_.end());
+  std::sort(c.tiles.begin(), c.tiles.end());
+  std::sort(c.kept.begin(), c.kept.end());
+  changed_tiles_.clear();
+  changed_kept_.clear();
+  return c;
+}
+
+const TileAccumulator* TileBuffer::Unfinished(const TileId& id) const {
+  auto it = tiles_.find(id);
+  return it == tiles_.end() ? nullptr : it->second.accumulator.get();
+}
+
+std::vector<std::pair<TileId, int>> TileBuffer::LastFrames() const {
+  std::vector<std::pair<TileId, int>> out;
+  for (const auto& [id, slot] : tiles_) out.push_back({id, slot.last_frame});
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::vector<std::pair<TileId, uint64_t>> TileBuffer::KeptOrder() const {
+  std::vector<std::pair<TileId, uint64_t>> out;
+  for (const auto& [id, k] : kept_) out.push_back({id, k.stamp});
+  std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
+  return out;
+}
+
+const cv::Mat* TileBuffer::Kept(const TileId& id) const {
+  auto it = kept_.find(id);
+  return it == kept_.end() ? nullptr : &it->second.weights;
+}
+
+void TileBuffer::RestoreTile(const TileId& id, int last_frame, const cv::Mat& sums, const cv::Mat& weight_sums) {
+  const int ts = options_.tile_size;
+  Slot slot;
+  slot.accumulator = std::make_unique<TileAccumulator>(ts, options_.channels, int64_t{id.x} * ts, int64_t{id.y} * ts);
+  slot.accumulator->Restore(sums, weight_sums);
+  slot.last_frame = last_frame;
+  bytes_ += slot.accumulator->Bytes();
+  tiles_[id] = std::move(slot);
+}
+
+void TileBuffer::RestoreKept(const TileId& id, uint64_t stamp, cv::Mat weights) {
+  // Restored oldest first: the budget drops the same ones as the build that saved them would have.
+  const size_t bytes = static_cast<size_t>(options_.tile_size) * options_.tile_size * sizeof(uint16_t);
+  kept_bytes_ += bytes;
+  kept_[id] = {std::move(weights), stamp, bytes};
+  kept_order_.push_back({id, stamp});
+  kept_stamp_ = std::max(kept_stamp_, stamp);
 }
 
 }  // namespace seamap

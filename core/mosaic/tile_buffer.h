@@ -14,7 +14,9 @@
 #include <functional>
 #include <memory>
 #include <unordered_map>
+#include <unordered_set>
 #include <utility>
+#include <vector>
 
 #include <opencv2/core.hpp>
 
@@ -28,9 +30,9 @@ namespace seamap {
 struct TileBufferOptions {
   int zoom = 0, tile_size = 256, channels = 1;
   int linger_frames = 1;
-  int lookahead_frames = 0;            // how far ahead the forecast is heeded (0: not at all)
-  size_t memory_bytes = 0;             // tiles being painted
-  size_t finished_weights_bytes = 0;   // weights of finished tiles, for painting them again
+  int lookahead_frames = 0;           // how far ahead the forecast is heeded (0: not at all)
+  size_t memory_bytes = 0;            // tiles being painted
+  size_t finished_weights_bytes = 0;  // weights of finished tiles, for painting them again
 };
 
 class TileBuffer {
@@ -55,6 +57,26 @@ class TileBuffer {
   int64_t readbacks() const { return readbacks_; }
   size_t bytes() const { return bytes_; }
 
+  // Checkpoints (core/mosaic/build_checkpointer.h): the tiles and kept
+  // weights that changed since the last call, each once; whether each is
+  // still there says whether to save or forget it.
+  struct Changes {
+    std::vector<TileId> tiles, kept;
+  };
+  Changes TakeChanges();
+  const TileAccumulator* Unfinished(const TileId& id) const;  // null when not in the buffer
+  std::vector<std::pair<TileId, int>> LastFrames() const;     // every unfinished tile, in tile order
+  // Kept weights, oldest first, with their stamps; Kept: null when not kept,
+  // an empty Mat when they were not saved at a checkpoint (see RestoreKept).
+  std::vector<std::pair<TileId, uint64_t>> KeptOrder() const;
+  const cv::Mat* Kept(const TileId& id) const;
+  // Back to a checkpoint's state, on an empty buffer. Kept weights given as
+  // an empty Mat still count against the budget (so the same ones are
+  // dropped later); a tile painted again seeds as if they were unknown.
+  void RestoreTile(const TileId& id, int last_frame, const cv::Mat& sums, const cv::Mat& weight_sums);
+  void RestoreKept(const TileId& id, uint64_t stamp, cv::Mat weights);
+  void RestoreReadbacks(int64_t readbacks) { readbacks_ = readbacks; }
+
  private:
   struct Slot {
     std::unique_ptr<TileAccumulator> accumulator;
@@ -63,7 +85,7 @@ class TileBuffer {
   void Touch(const WarpedFrame& frame, int frame_number);  // the tiles under its box stay
   Slot& Open(const TileId& id);
   void Finish(const TileId& id);
-  void KeepWeights(const TileId& id, cv::Mat weights);
+  void KeepWeights(const TileId& id, cv::Mat weights, size_t bytes);
 
   TileBufferOptions options_;
   const TileForecast* forecast_;
@@ -76,11 +98,13 @@ class TileBuffer {
   struct KeptWeights {
     cv::Mat weights;
     uint64_t stamp;  // which entry of kept_order_ is this one's
+    size_t bytes;    // of the weights, even when not restored
   };
   std::unordered_map<TileId, KeptWeights, TileIdHash> kept_;
   std::deque<std::pair<TileId, uint64_t>> kept_order_;
   uint64_t kept_stamp_ = 0;
   size_t kept_bytes_ = 0;
+  std::unordered_set<TileId, TileIdHash> changed_tiles_, changed_kept_;  // since TakeChanges
 };
 
 }  // namespace seamap

@@ -5,8 +5,7 @@
 
 namespace seamap {
 
-TileWriter::TileWriter(TileStore* store, ThreadPool* pool, TileEncoding encoding,
-                       std::vector<TileConsumer*> consumers)
+TileWriter::TileWriter(TileStore* store, ThreadPool* pool, TileEncoding encoding, std::vector<TileConsumer*> consumers)
     : store_(store), pool_(pool), encoding_(encoding), consumers_(std::move(consumers)) {}
 
 TileWriter::~TileWriter() {
@@ -108,6 +107,13 @@ void TileWriter::Flush() {
   }
   if (error) std::rethrow_exception(error);
   store_->Flush();
+}
+
+void TileWriter::Resume(int64_t tiles_written, int64_t bytes_written, const std::vector<TileId>& stored) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  written_ = tiles_written;
+  bytes_ = bytes_written;
+  seen_.insert(stored.begin(), stored.end());
 }
 
 std::map<int, int64_t> TileWriter::distinct_tiles_per_zoom() const {

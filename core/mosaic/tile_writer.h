@@ -43,6 +43,9 @@ class TileWriter {
   // Waits for every submitted tile to be written, then commits the store.
   void Flush();
 
+  // A resumed build: the counts of the build it continues, and the tiles it had written.
+  void Resume(int64_t tiles_written, int64_t bytes_written, const std::vector<TileId>& stored);
+
   int64_t tiles_written() const { return written_; }  // store writes
   int64_t bytes_written() const { return bytes_; }
   std::map<int, int64_t> distinct_tiles_per_zoom() const;  // tiles that exist, by zoom

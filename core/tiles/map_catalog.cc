@@ -7,6 +7,7 @@
 #include <set>
 #include <sstream>
 
+#include "core/tiles/map_lock.h"
 #include "core/tiles/tile_store.h"
 #include "core/util/error.h"
 
@@ -135,6 +136,10 @@ std::vector<CatalogEntry> MapCatalog::Scan() {
       seen.entry.modified_unix_s = modified;
       Read(&seen.entry);
     }
+    // A build in progress holds the map's lock; without it the build was
+    // interrupted (asked at every scan: a killed build changes no file).
+    if (seen.entry.state == "building" || seen.entry.state == "interrupted")
+      seen.entry.state = MapLock::Holder(p.string()) ? "building" : "interrupted";
     // Ids follow the sorted paths, so they stay stable while files are added
     // with other names; a clash gets -2, -3...
     std::string id = CatalogId(p.filename().string());

@@ -20,7 +20,8 @@ struct CatalogEntry {
   bool available = false;
   std::string reason;  // why not available
   std::string name;    // metadata "name", else the file name
-  std::string state;   // seamap_state: building, complete, stopped ("complete" when absent)
+  std::string state;   // seamap_state: building, complete, stopped ("complete" when absent), or
+                       // interrupted (building, but no process holds its lock: core/tiles/build_state.h)
   std::string format;  // tile extension
   std::optional<LatLonBounds> bounds;
   int min_zoom = 0, max_zoom = 0;

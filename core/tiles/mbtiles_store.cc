@@ -133,6 +133,7 @@ MBTilesStore::MBTilesStore(const std::string& path, Mode mode) : path_(path), mo
       put_track_ = Prepare(InsertSql("track", kTrackColumns).c_str());
     }
     get_tile_ = Prepare("SELECT tile_data FROM tiles WHERE zoom_level = ? AND tile_column = ? AND tile_row = ?");
+    journal_ = std::make_unique<MBTilesJournal>(db_);
     opened_ = true;
   } catch (const std::exception& e) {
     std::string message = e.what();
@@ -148,6 +149,7 @@ MBTilesStore::~MBTilesStore() {
     Flush();
   } catch (...) {  // destructors must not throw; Flush() explicitly to see errors
   }
+  journal_.reset();  // its statements first: SQLite closes no connection with statements open
   for (sqlite3_stmt* s : {put_tile_, get_tile_, put_meta_, put_frame_, put_track_}) sqlite3_finalize(s);
   sqlite3_close(db_);
 }
@@ -194,6 +196,12 @@ void MBTilesStore::CommitLocked() {
   pending_writes_ = 0;
 }
 
+void MBTilesStore::AbandonLocked() {
+  if (in_transaction_ && !sqlite3_get_autocommit(db_)) sqlite3_exec(db_, "ROLLBACK", nullptr, nullptr, nullptr);
+  in_transaction_ = false;
+  pending_writes_ = 0;
+}
+
 void MBTilesStore::Flush() {
   std::lock_guard<std::mutex> lock(mutex_);
   CommitLocked();
@@ -201,11 +209,13 @@ void MBTilesStore::Flush() {
 
 void MBTilesStore::PutTile(const TileId& id, const std::vector<uint8_t>& bytes) {
   std::lock_guard<std::mutex> lock(mutex_);
-  PutTileLocked(put_tile_, id, bytes);
+  PutTileLocked("", put_tile_, id, bytes);
 }
 
-void MBTilesStore::PutTileLocked(sqlite3_stmt* put, const TileId& id, const std::vector<uint8_t>& bytes) {
+void MBTilesStore::PutTileLocked(const std::string& layer, sqlite3_stmt* put, const TileId& id,
+                                 const std::vector<uint8_t>& bytes) {
   BeginWrite();
+  journal_->BeforeTileWrite(layer, id);
   StatementReset reset(put);
   sqlite3_bind_int(put, 1, id.z);
   sqlite3_bind_int(put, 2, id.x);
@@ -260,73 +270,44 @@ int64_t MBTilesStore::CountRows(const std::string& table) const {
   return sqlite3_column_int64(q.s, 0);
 }
 
-// A named extra tile layer in the same file: table tiles_<name> with the
-// MBTiles tiles schema, metadata under "layer.<name>.<key>". Frames and the
-// track belong to the mission, so the layer reads the main ones and ignores
-// writes.
-class MBTilesStore::Layer : public TileStore {
- public:
-  Layer(MBTilesStore* parent, std::string name) : parent_(parent), name_(std::move(name)) {
-    std::lock_guard<std::mutex> lock(parent_->mutex_);
-    const std::string table = "tiles_" + name_;
-    if (parent_->mode_ != Mode::kReadOnly) {
-      parent_->Exec(("CREATE TABLE IF NOT EXISTS " + table +
-                     " (zoom_level integer, tile_column integer, tile_row integer, tile_data blob);"
-                     "CREATE UNIQUE INDEX IF NOT EXISTS " +
-                     table + "_index ON " + table + " (zoom_level, tile_column, tile_row);")
-                        .c_str());
-      put_ = parent_->Prepare(
-          ("INSERT OR REPLACE INTO " + table + " (zoom_level, tile_column, tile_row, tile_data) VALUES (?, ?, ?, ?)")
-              .c_str());
-    }
-    get_ = parent_->Prepare(
-        ("SELECT tile_data FROM " + table + " WHERE zoom_level = ? AND tile_column = ? AND tile_row = ?").c_str());
+void MBTilesStore::WriteCheckpointOf(const std::string& layer, const CheckpointUpdate& update) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  BeginWrite();
+  try {
+    journal_->Write(layer, update);
+  } catch (...) {
+    AbandonLocked();  // half a checkpoint must never be committed
+    throw;
   }
-  ~Layer() override {
-    sqlite3_finalize(put_);
-    sqlite3_finalize(get_);
-  }
-  void PutTile(const TileId& id, const std::vector<uint8_t>& bytes) override {
-    if (!put_) throw std::runtime_error(parent_->path_ + ": opened read-only");
-    std::lock_guard<std::mutex> lock(parent_->mutex_);
-    parent_->PutTileLocked(put_, id, bytes);
-  }
-  std::optional<std::vector<uint8_t>> GetTile(const TileId& id) const override {
-    std::lock_guard<std::mutex> lock(parent_->mutex_);
-    return parent_->GetTileLocked(get_, id);
-  }
-  int64_t TileCount() const override { return parent_->CountRows("tiles_" + name_); }
-  std::vector<TileId> TileIds() const override { return parent_->ReadTileIds("tiles_" + name_); }
-  void SetMetadata(const std::string& key, const std::string& value) override {
-    parent_->SetMetadata(Prefix() + key, value);
-  }
-  std::map<std::string, std::string> Metadata() const override {
-    std::map<std::string, std::string> out;
-    for (const auto& [k, v] : parent_->Metadata())
-      if (k.compare(0, Prefix().size(), Prefix()) == 0) out[k.substr(Prefix().size())] = v;
-    return out;
-  }
-  void PutFrame(const FrameRecord&) override {}
-  void PutTrackPoint(const TrackPoint&) override {}
-  std::vector<FrameRecord> Frames() const override { return parent_->Frames(); }
-  std::vector<TrackPoint> Track() const override { return parent_->Track(); }
-  void PutDetection(const Detection& d) override { parent_->PutDetection(d); }
-  void DeleteDetection(int64_t id) override { parent_->DeleteDetection(id); }
-  std::vector<Detection> Detections() const override { return parent_->Detections(); }
-  void Flush() override { parent_->Flush(); }
-  std::unique_ptr<TileStore> OpenLayer(const std::string& name) override { return parent_->OpenLayer(name); }
+  CommitLocked();
+}
 
- private:
-  std::string Prefix() const { return "layer." + name_ + "."; }
-  MBTilesStore* parent_;
-  std::string name_;
-  sqlite3_stmt* put_ = nullptr;
-  sqlite3_stmt* get_ = nullptr;
-};
+std::optional<StoredCheckpoint> MBTilesStore::ReadCheckpoint() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return journal_->Read("");
+}
 
-std::unique_ptr<TileStore> MBTilesStore::OpenLayer(const std::string& name) {
-  CheckLayerName(name);
-  return std::make_unique<Layer>(this, name);
+std::optional<std::vector<uint8_t>> MBTilesStore::ReadCheckpointBlob(int kind, const TileId& id) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return journal_->ReadBlob("", kind, id);
+}
+
+void MBTilesStore::RollBackOf(const std::string& layer) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  BeginWrite();
+  try {
+    journal_->RollBack(layer);
+  } catch (...) {
+    AbandonLocked();
+    throw;
+  }
+  CommitLocked();
+}
+
+void MBTilesStore::DropOf(const std::string& layer) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  BeginWrite();
+  journal_->Drop(layer);
 }
 
 void MBTilesStore::SetMetadata(const std::string& key, const std::string& value) {

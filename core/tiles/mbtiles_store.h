@@ -4,10 +4,12 @@
 // columns, added later, are added to an older file opened to write and read
 // as NULL from one opened read-only). Writes are
 // batched in a transaction that Flush() commits (and every 500 writes).
+// Checkpoints of crash-safe builds: core/tiles/mbtiles_journal.h.
 #include <cstdint>
 #include <mutex>
 #include <string>
 
+#include "core/tiles/mbtiles_journal.h"
 #include "core/tiles/tile_store.h"
 
 struct sqlite3;
@@ -49,13 +51,24 @@ class MBTilesStore : public TileStore {
   void Flush() override;
   std::unique_ptr<TileStore> OpenLayer(const std::string& name) override;
 
+  bool KeepsCheckpoints() const override { return mode_ != Mode::kReadOnly; }
+  void WriteCheckpoint(const CheckpointUpdate& update) override { WriteCheckpointOf("", update); }
+  std::optional<StoredCheckpoint> ReadCheckpoint() const override;
+  std::optional<std::vector<uint8_t>> ReadCheckpointBlob(int kind, const TileId& id) const override;
+  void RollBackToCheckpoint() override { RollBackOf(""); }
+  void DropCheckpoint() override { DropOf(""); }
+
   const std::string& path() const { return path_; }
 
  private:
   class Layer;
   static constexpr int kMaxPendingWrites = 500;
 
-  void PutTileLocked(sqlite3_stmt* put, const TileId& id, const std::vector<uint8_t>& bytes);
+  // layer: "" for the main tiles table (the journal's key).
+  void PutTileLocked(const std::string& layer, sqlite3_stmt* put, const TileId& id, const std::vector<uint8_t>& bytes);
+  void WriteCheckpointOf(const std::string& layer, const CheckpointUpdate& update);
+  void RollBackOf(const std::string& layer);
+  void DropOf(const std::string& layer);
   std::optional<std::vector<uint8_t>> GetTileLocked(sqlite3_stmt* get, const TileId& id) const;
   int64_t CountRows(const std::string& table) const;
   std::vector<TileId> ReadTileIds(const std::string& table) const;
@@ -74,6 +87,8 @@ class MBTilesStore : public TileStore {
   // Counts a write and commits when the batch is full; call with mutex_ held.
   void EndWrite();
   void CommitLocked();
+  // Rolls the open transaction back (back to the last commit, which is consistent).
+  void AbandonLocked();
 
   std::string path_;
   Mode mode_;
@@ -82,6 +97,7 @@ class MBTilesStore : public TileStore {
   bool opened_ = false;
   bool in_transaction_ = false;
   int pending_writes_ = 0;
+  std::unique_ptr<MBTilesJournal> journal_;
   // Prepared once, reused (reset after each step).
   sqlite3_stmt* put_tile_ = nullptr;
   sqlite3_stmt* get_tile_ = nullptr;

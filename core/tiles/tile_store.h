@@ -10,6 +10,7 @@
 
 #include "core/geo/web_mercator.h"
 #include "core/tiles/mission_records.h"
+#include "core/tiles/store_checkpoint.h"
 
 namespace seamap {
 
@@ -48,6 +49,24 @@ class TileStore {
   // tiles and metadata, the mission's frames and track. The returned store
   // must not outlive this one. Names are [a-z0-9_]+ (InputError otherwise).
   virtual std::unique_ptr<TileStore> OpenLayer(const std::string& name) = 0;
+
+  // Crash-safe builds, one checkpoint per layer (core/tiles/store_checkpoint.h).
+  // A store that keeps checkpoints (MBTiles) journals every tile written
+  // after one, so that it can return its tiles, frames and track to the
+  // checkpoint however it was interrupted. Others keep none.
+  virtual bool KeepsCheckpoints() const { return false; }
+  // Records the update and starts a new journal, then commits everything
+  // written so far with it.
+  virtual void WriteCheckpoint(const CheckpointUpdate&) {}
+  virtual std::optional<StoredCheckpoint> ReadCheckpoint() const { return std::nullopt; }
+  virtual std::optional<std::vector<uint8_t>> ReadCheckpointBlob(int /*kind*/, const TileId&) const {
+    return std::nullopt;
+  }
+  // Back to the checkpoint: tiles written since get their earlier version
+  // (or go), newer frames and track points go; commits.
+  virtual void RollBackToCheckpoint() {}
+  // The build is over: forgets the checkpoint, in the open transaction (Flush commits).
+  virtual void DropCheckpoint() {}
 };
 
 // Throws InputError(name, 0, "layer", ...) unless name matches [a-z0-9_]{1,32}.

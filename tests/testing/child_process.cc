@@ -73,7 +73,7 @@ std::optional<std::string> ChildProcess::WaitForLine(const std::string& needle, 
 std::optional<int> ChildProcess::Wait(std::chrono::seconds timeout) {
   if (exit_code_) return exit_code_;
   const auto deadline = std::chrono::steady_clock::now() + timeout;
-  while (std::chrono::steady_clock::now() < deadline) {
+  while (true) {  // at least once: Wait(0s) asks without waiting
     // Keep draining stdout so the program never blocks on a full pipe.
     if (out_fd_ >= 0) {
       pollfd p{out_fd_, POLLIN, 0};
@@ -88,9 +88,9 @@ std::optional<int> ChildProcess::Wait(std::chrono::seconds timeout) {
       exit_code_ = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
       return exit_code_;
     }
+    if (std::chrono::steady_clock::now() >= deadline) return std::nullopt;
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
-  return std::nullopt;
 }
 
 void ChildProcess::Signal(int sig) {

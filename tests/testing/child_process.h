@@ -20,7 +20,7 @@ class ChildProcess {
 
   // The next stdout line containing `needle`, waiting up to `timeout`.
   std::optional<std::string> WaitForLine(const std::string& needle, std::chrono::seconds timeout);
-  // Waits for the exit; the exit code, or nullopt on timeout.
+  // Waits for the exit; the exit code, or nullopt on timeout (0s: has it ended?).
   std::optional<int> Wait(std::chrono::seconds timeout);
   void Signal(int sig);
   // Everything read from stdout so far.

@@ -63,6 +63,7 @@ TEST(BuildConfig, CheckNamesTheKeyOfEachConcern) {
   EXPECT_EQ(key_of([](BuildConfig& c) { c.blend.feather_power = 0; }), "feather_power");
   EXPECT_EQ(key_of([](BuildConfig& c) { c.buffer.memory_cap_mb = 4; }), "memory_cap_mb");
   EXPECT_EQ(key_of([](BuildConfig& c) { c.buffer.batch_seconds = -1; }), "batch_seconds");
+  EXPECT_EQ(key_of([](BuildConfig& c) { c.buffer.checkpoint_seconds = -1; }), "checkpoint_seconds");
   EXPECT_EQ(key_of([](BuildConfig& c) { c.frames.sixteen_bit_white = 0; }), "sixteen_bit_white");
   EXPECT_EQ(key_of([](BuildConfig& c) { c.threads = -2; }), "threads");
   EXPECT_EQ(key_of([](BuildConfig& c) { c.layers = "all"; }), "layers");

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include "core/tiles/map_lock.h"
 #include "core/tiles/tile_store.h"
 #include "core/util/error.h"
 #include "tests/testing/temp_dir.h"
@@ -67,7 +68,7 @@ TEST(MapCatalog, ListsMapsAndFoldersWithTheirIndexAndBrokenFilesWithTheReason) {
   const CatalogEntry* two = Find(entries, "dive-2-north");
   ASSERT_NE(two, nullptr);
   EXPECT_TRUE(two->available) << two->reason;
-  EXPECT_EQ(two->state, "building");
+  EXPECT_EQ(two->state, "interrupted");  // "building", but no process holds its lock
   const CatalogEntry* folder = Find(entries, "folder_map");
   ASSERT_NE(folder, nullptr);
   EXPECT_TRUE(folder->available) << folder->reason;
@@ -77,6 +78,19 @@ TEST(MapCatalog, ListsMapsAndFoldersWithTheirIndexAndBrokenFilesWithTheReason) {
   ASSERT_NE(broken, nullptr);
   EXPECT_FALSE(broken->available);
   EXPECT_NE(broken->reason.find("broken.mbtiles"), std::string::npos) << broken->reason;
+}
+
+TEST(MapCatalog, AMapIsBuildingWhileItsBuilderHoldsItsLock) {
+  testing::TempDir dir;
+  const std::string path = (dir / "dive.mbtiles").string();
+  MakeMap(path, "Dive", 1, "building");
+  MapCatalog catalog(dir.path().string());
+  {
+    MapLock lock = MapLock::Acquire(path, "--out");
+    ASSERT_EQ(catalog.Scan().size(), 1u);
+    EXPECT_EQ(catalog.Scan()[0].state, "building");
+  }
+  EXPECT_EQ(catalog.Scan()[0].state, "interrupted");
 }
 
 TEST(MapCatalog, SeesMapsAddedRemovedAndChangedWhileServing) {

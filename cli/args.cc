@@ -24,10 +24,12 @@ Args::Args(int argc, char** argv, int first, std::set<std::string> flags) : know
       auto eq = name.find('=');
       if (eq != std::string::npos) {
         values_[name.substr(0, eq)] = name.substr(eq + 1);
+        all_values_[name.substr(0, eq)].push_back(name.substr(eq + 1));
       } else if (known_flags_.count(name)) {
         flags_set_.insert(name);
       } else if (i + 1 < argc) {
         values_[name] = argv[++i];
+        all_values_[name].push_back(argv[i]);
       } else {
         throw InputError("", 0, "--" + name, "expected a value after it");
       }
@@ -66,6 +68,12 @@ int Args::GetInt(const std::string& name, int fallback) {
   double d = ParseNumber(*v, name);
   if (d != std::floor(d)) throw InputError("", 0, "--" + name, "expected a whole number, got '" + *v + "'");
   return static_cast<int>(d);
+}
+
+std::vector<std::string> Args::GetAll(const std::string& name) {
+  used_.insert(name);
+  auto it = all_values_.find(name);
+  return it == all_values_.end() ? std::vector<std::string>{} : it->second;
 }
 
 bool Args::Flag(const std::string& name) {

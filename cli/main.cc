@@ -25,6 +25,9 @@ const char* kUsage =
     "  export          copy a map between MBTiles and a tile folder\n"
     "  trajectory      estimate a survey's trajectory from its photos (refine, vo, ekf)\n"
     "  trajectory-eval compare a trajectory with ground truth: ATE, drift, cross-pass seams\n"
+    "  georef          georeference SLAM keyframes and point clouds from a towed GPS buoy\n"
+    "  simulate-buoy   simulate a buoy-GPS survey with exact truth (for georef)\n"
+    "  georef-eval     compare georef's output with a simulated survey's truth\n"
     "\n"
     "Run 'seamap <command> --help' for a command's options.\n";
 
@@ -53,6 +56,9 @@ int main(int argc, char** argv) {
     if (command == "export") return RunExport(argc, argv, 2);
     if (command == "trajectory") return RunTrajectory(argc, argv, 2);
     if (command == "trajectory-eval") return RunTrajectoryEval(argc, argv, 2);
+    if (command == "georef") return RunGeoref(argc, argv, 2);
+    if (command == "simulate-buoy") return RunSimulateBuoy(argc, argv, 2);
+    if (command == "georef-eval") return RunGeorefEval(argc, argv, 2);
   } catch (const seamap::InputError& e) {
     std::fprintf(stderr, "seamap %s: error: %s\n", command.c_str(), e.what());
     return 2;

@@ -17,6 +17,7 @@
 #include "core/georef/georef_report.h"
 #include "core/georef/georeferencer.h"
 #include "core/georef/point_cloud_ply.h"
+#include "core/georef/seabed_altitude.h"
 #include "core/georef/tum_trajectory.h"
 #include "core/nav/nav_values.h"
 #include "core/util/error.h"
@@ -43,6 +44,9 @@ Georeferences SLAM keyframes with the GPS fixes of a buoy towed on a tether.
   --origin LAT,LON    centre of the working frame; the cloud is then written in local metres
                       east, north, up about it instead of UTM
   --utm-zone Z        UTM zone for the cloud, e.g. 33N (default: from the buoy's median position)
+  --altitude-csv FILE CSV time_s,altitude_m (sounder or DVL): nav.csv gets an altitude_m column,
+                      which seamap build needs
+  --altitude-from-cloud  altitude_m from the georeferenced cloud (--points) below each keyframe
 Exit 2 for bad input (naming file and line), too few taut keyframes, or degenerate geometry.
 )";
 
@@ -61,6 +65,8 @@ struct Inputs {
   GeorefOptions options;
   std::optional<LatLon> origin;
   std::optional<UtmZoneId> utm_zone;
+  std::string altitude_file;
+  bool altitude_from_cloud = false;
 };
 
 Inputs ParseInputs(Args& args) {
@@ -100,6 +106,12 @@ Inputs ParseInputs(Args& args) {
     const LatLonArg ll = ParseLatLon(*origin, "--origin");
     in.origin = LatLon{ll.lat, ll.lon};
   }
+  in.altitude_file = args.GetOr("altitude-csv", "");
+  in.altitude_from_cloud = args.Flag("altitude-from-cloud");
+  if (in.altitude_from_cloud && in.points.empty())
+    throw InputError("", 0, "--altitude-from-cloud", "needs the point cloud: give --points and --points-out");
+  if (in.altitude_from_cloud && !in.altitude_file.empty())
+    throw InputError("", 0, "--altitude-from-cloud", "give either --altitude-csv FILE or --altitude-from-cloud");
   if (auto zone = args.Get("utm-zone")) {
     std::string why;
     const auto parsed = ParseUtmZone(*zone, &why);
@@ -110,31 +122,46 @@ Inputs ParseInputs(Args& args) {
   return in;
 }
 
-void WriteNav(const std::string& path, const std::vector<SubmapGeoref>& submaps, const LocalFrame& frame) {
+// Every keyframe of every sub-map, in time order.
+std::vector<const KeyframeGeoref*> NavRows(const std::vector<SubmapGeoref>& submaps) {
   std::vector<const KeyframeGeoref*> rows;
   for (const auto& s : submaps)
     for (const auto& k : s.keyframes) rows.push_back(&k);
   std::stable_sort(rows.begin(), rows.end(), [](auto* a, auto* b) { return a->time_s < b->time_s; });
+  return rows;
+}
+
+// altitude: per row, or empty for no altitude_m column (a row without one
+// gets an empty field, which seamap build skips and lists).
+void WriteNav(const std::string& path, const std::vector<const KeyframeGeoref*>& rows, const LocalFrame& frame,
+              const std::vector<std::optional<double>>& altitude) {
   std::ofstream out(path);
   if (!out) throw InputError(path, 0, "--out", "cannot write the file");
-  out << "time_s,lat,lon,depth_m,heading_deg,good\n";
+  out << "time_s,lat,lon,depth_m,heading_deg,good" << (altitude.empty() ? "" : ",altitude_m") << "\n";
   char line[200];
-  for (const KeyframeGeoref* k : rows) {
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const KeyframeGeoref* k = rows[i];
     const LatLon ll = frame.ToLatLon({k->position_enu_m.x(), k->position_enu_m.y()});
     const double depth = k->depth_m.value_or(-k->position_enu_m.z());
-    std::snprintf(line, sizeof line, "%.6f,%.9f,%.9f,%.3f,%.2f,%d\n", k->time_s, ll.lat, ll.lon, depth, k->heading_deg,
+    std::snprintf(line, sizeof line, "%.6f,%.9f,%.9f,%.3f,%.2f,%d", k->time_s, ll.lat, ll.lon, depth, k->heading_deg,
                   k->good ? 1 : 0);
     out << line;
+    if (!altitude.empty()) out << "," << (altitude[i] ? Fixed(*altitude[i], 3) : "");
+    out << "\n";
   }
   if (!out) throw InputError(path, 0, "--out", "cannot write the file");
 }
 
-// Maps the cloud by the first sub-map's transform into UTM (or local metres about --origin).
-void WritePoints(const Inputs& in, const Similarity& fit, const LocalFrame& frame, const UtmZoneId& zone) {
+// Maps the cloud by the first sub-map's transform into UTM (or local metres
+// about --origin); returns the mapped points in the working frame.
+std::vector<Eigen::Vector3d> WritePoints(const Inputs& in, const Similarity& fit, const LocalFrame& frame,
+                                         const UtmZoneId& zone) {
   PointCloud cloud = ReadPly(in.points);
   const UtmProjection utm(zone);
+  std::vector<Eigen::Vector3d> working;
   for (size_t i = 0; i < cloud.size(); ++i) {
     const Eigen::Vector3d local = fit.Apply(cloud.Point(i));
+    working.push_back(local);
     if (in.origin) {
       cloud.SetPoint(i, local);
     } else {
@@ -150,6 +177,7 @@ void WritePoints(const Inputs& in, const Similarity& fit, const LocalFrame& fram
                                            " (EPSG:" + std::to_string(zone.Epsg()) +
                                            ") easting, northing, and up (= -depth), metres, WGS84");
   WritePly(in.points_out, cloud);
+  return working;
 }
 
 std::string Summary(const SubmapGeoref& s) {
@@ -167,7 +195,7 @@ std::string Summary(const SubmapGeoref& s) {
 }  // namespace
 
 int RunGeoref(int argc, char** argv, int first) {
-  Args args(argc, argv, first, {"quiet", "help"});
+  Args args(argc, argv, first, {"quiet", "help", "altitude-from-cloud"});
   if (args.Flag("help")) {
     std::fputs(kUsage, stdout);
     return 0;
@@ -197,6 +225,13 @@ int RunGeoref(int argc, char** argv, int first) {
     warnings.insert(warnings.end(), log.warnings.begin(), log.warnings.end());
     depth = DepthProfile::Samples(log.samples);
   }
+  std::optional<DepthProfile> altitude_series;  // read before any output is written
+  if (!in.altitude_file.empty()) {
+    const DepthLog log = ReadAltitudeLog(in.altitude_file);
+    for (const auto& r : log.rejected) std::fprintf(stderr, "skipped: %s\n", r.Message().c_str());
+    warnings.insert(warnings.end(), log.warnings.begin(), log.warnings.end());
+    altitude_series = DepthProfile::Samples(log.samples);
+  }
   GeorefOptions options = in.options;
   options.depth_sigma_m = std::max(options.depth_sigma_m, depth.NoiseSigma());
 
@@ -225,8 +260,24 @@ int RunGeoref(int argc, char** argv, int first) {
   for (const auto& s : submaps)
     if (s.degenerate) throw InputError(s.source, 0, "", "cannot georeference: " + s.reason);
 
-  WriteNav(in.out, submaps, frame);
-  if (!in.points.empty()) WritePoints(in, submaps.front().transform, frame, zone);
+  std::vector<Eigen::Vector3d> cloud;
+  if (!in.points.empty()) cloud = WritePoints(in, submaps.front().transform, frame, zone);
+  const std::vector<const KeyframeGeoref*> rows = NavRows(submaps);
+  std::vector<std::optional<double>> altitude;
+  if (altitude_series) {
+    for (const KeyframeGeoref* k : rows) altitude.push_back(altitude_series->At(k->time_s));
+  } else if (in.altitude_from_cloud) {
+    std::vector<Eigen::Vector3d> positions;
+    for (const KeyframeGeoref* k : rows) positions.push_back(k->position_enu_m);
+    altitude = AltitudeFromCloud(positions, cloud, SeabedAltitudeOptions{});
+  }
+  const auto missing = std::count(altitude.begin(), altitude.end(), std::nullopt);
+  if (missing > 0)
+    std::fprintf(stderr, "warning: %s: %ld of %zu keyframes have no altitude (%s); seamap build skips them\n",
+                 in.out.c_str(), static_cast<long>(missing), rows.size(),
+                 in.altitude_from_cloud ? "fewer than 5 cloud points within 2 m below them"
+                                        : "outside the altitude log's span or in a gap over 10 s");
+  WriteNav(in.out, rows, frame, altitude);
   int total = 0, good = 0;
   for (const auto& s : submaps) total += static_cast<int>(s.keyframes.size()), good += s.good;
   std::printf("georeferenced %d keyframes (%d good) in %zu sub-map%s -> %s%s%s\n", total, good, submaps.size(),

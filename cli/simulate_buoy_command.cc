@@ -10,7 +10,7 @@ namespace seamap::cli {
 namespace {
 
 const char* kUsage = R"(usage: seamap simulate-buoy --out DIR [options]
-Simulates a vehicle towing a GPS buoy: keyframes.txt (TUM, SLAM frame), buoy.csv, depth.csv,
+Simulates a vehicle towing a GPS buoy: keyframes.txt (TUM, SLAM frame), buoy.csv, depth.csv, altitude.csv,
 cloud.ply (SLAM frame), and the truth: truth.csv, truth.json, cloud_truth.ply.
   --out DIR               output folder (must be empty unless --force)    --force
   --seed N                random seed (default 1)       --origin LAT,LON (default 51.0563,13.6190)

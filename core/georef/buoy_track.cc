@@ -119,7 +119,10 @@ BuoyLocalFit BuoyTrack::FitAt(double t, double window_s, double from_s, double t
   for (auto it = first; it != fixes_.end() && it->time_s <= hi; ++it) window.push_back(&*it);
   std::vector<bool> used(window.size(), true);
   BuoyLocalFit fit;
-  for (int round = 0; round < 3; ++round) {
+  // One fix at a time, the worst beyond 3.5 sigma: a 20 m multipath jump
+  // bends the first fit so far that a cut of everything beyond the bound
+  // would drop clean fixes with it. Dropped fixes back within it return.
+  for (int round = 0; round < 12; ++round) {
     Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
     Eigen::Matrix<double, 3, 2> rhs = Eigen::Matrix<double, 3, 2>::Zero();
     int n = 0, before = 0, after = 0;
@@ -143,19 +146,20 @@ BuoyLocalFit BuoyTrack::FitAt(double t, double window_s, double from_s, double t
     fit.position_sigma_m = std::sqrt(std::max(cov(0, 0), 0.0));
     fit.direction_sigma_rad = std::sqrt(std::max(cov(1, 1), 0.0)) / std::max(fit.velocity_en_mps.norm(), 1e-6);
     fit.fixes = n;
-    int dropped = 0;
-    bool changed = false;
+    fit.dropped = static_cast<int>(window.size()) - n;
+    int worst = -1;
+    double worst_ratio = 3.5;
+    bool readmitted = false;
     for (size_t j = 0; j < window.size(); ++j) {
       const double dt = window[j]->time_s - t;
       const Eigen::Vector2d model =
           coef.row(0).transpose() + dt * coef.row(1).transpose() + dt * dt * coef.row(2).transpose();
-      const bool inside = (window[j]->position_en_m - model).norm() <= 3.5 * window[j]->sigma_m;
-      if (inside != used[j]) changed = true;
-      used[j] = inside;
-      dropped += !inside;
+      const double ratio = (window[j]->position_en_m - model).norm() / window[j]->sigma_m;
+      if (used[j] && ratio > worst_ratio) worst_ratio = ratio, worst = static_cast<int>(j);
+      if (!used[j] && ratio <= 3.5) used[j] = true, readmitted = true;
     }
-    fit.dropped = dropped;
-    if (!changed) break;
+    if (worst >= 0) used[worst] = false;
+    if (worst < 0 && !readmitted) break;
   }
   return fit;
 }

@@ -118,21 +118,22 @@ BuoyTrack MakeBuoyTrack(const BuoyLog& log, const LocalFrame& frame) {
   return BuoyTrack(std::move(fixes));
 }
 
-DepthLog ReadDepthLog(const std::string& path) {
+namespace {
+
+DepthLog ReadTimeSeries(const std::string& path, const std::string& column, bool positive) {
   const Table t = ReadTable(path);
-  for (const char* column : {"time_s", "depth_m"})
-    if (!t.columns.Has(column))
-      throw InputError(path, t.csv.header_line, column,
-                       std::string("no ") + column + " column; accepted names: " + AcceptedNames(column));
+  for (const std::string& name : {std::string("time_s"), column})
+    if (!t.columns.Has(name))
+      throw InputError(path, t.csv.header_line, name, "no " + name + " column; accepted names: " + AcceptedNames(name));
   DepthLog log;
   if (!t.columns.unknown.empty()) {
     std::string names;
     for (const auto& u : t.columns.unknown) names += (names.empty() ? "" : ", ") + u;
     log.warnings.push_back(path + ":" + std::to_string(t.csv.header_line) + ": ignoring unknown columns: " + names);
   }
-  const size_t time_index = t.columns.index.at("time_s"), depth_index = t.columns.index.at("depth_m");
+  const size_t time_index = t.columns.index.at("time_s"), value_index = t.columns.index.at(column);
   for (const CsvRow& row : t.csv.rows) {
-    if (std::max(time_index, depth_index) >= row.fields.size()) {
+    if (std::max(time_index, value_index) >= row.fields.size()) {
       log.rejected.push_back({path, row.line, "", "line has " + std::to_string(row.fields.size()) + " fields"});
       continue;
     }
@@ -142,23 +143,35 @@ DepthLog ReadDepthLog(const std::string& path) {
       log.rejected.push_back({path, row.line, "time_s", "time_s " + why});
       continue;
     }
-    const auto depth = ParseNumber(Trim(row.fields[depth_index]), &why, t.decimal_comma);
-    if (!depth) {
-      log.rejected.push_back({path, row.line, "depth_m", "depth_m " + why});
+    const auto value = ParseNumber(Trim(row.fields[value_index]), &why, t.decimal_comma);
+    if (!value) {
+      log.rejected.push_back({path, row.line, column, column + " " + why});
       continue;
     }
-    if (*depth < 0) {
-      log.rejected.push_back({path, row.line, "depth_m", "depth_m must be >= 0, got " + FormatNumber(*depth)});
+    if (positive ? !(*value > 0) : *value < 0) {
+      log.rejected.push_back(
+          {path, row.line, column,
+           column + (positive ? " must be > 0, got " : " must be >= 0, got ") + FormatNumber(*value)});
       continue;
     }
-    log.samples.push_back({*time, *depth});
+    log.samples.push_back({*time, *value});
   }
   if (log.samples.empty()) {
-    if (log.rejected.empty()) throw InputError(path, t.csv.header_line, "", "no depth rows after the header");
+    if (log.rejected.empty()) throw InputError(path, t.csv.header_line, "", "no " + column + " rows after the header");
     const Rejection& first = log.rejected.front();
-    throw InputError(path, first.line, first.field, "no usable depth row; first problem: " + first.reason);
+    throw InputError(path, first.line, first.field, "no usable " + column + " row; first problem: " + first.reason);
   }
   return log;
+}
+
+}  // namespace
+
+DepthLog ReadDepthLog(const std::string& path) {
+  return ReadTimeSeries(path, "depth_m", false);
+}
+
+DepthLog ReadAltitudeLog(const std::string& path) {
+  return ReadTimeSeries(path, "altitude_m", true);
 }
 
 }  // namespace seamap

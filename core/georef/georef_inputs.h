@@ -40,7 +40,7 @@ LatLon MedianPosition(const BuoyLog& log);
 BuoyTrack MakeBuoyTrack(const BuoyLog& log, const LocalFrame& frame);
 
 struct DepthLog {
-  std::vector<std::pair<double, double>> samples;  // time_s, depth_m
+  std::vector<std::pair<double, double>> samples;  // time_s, depth_m (or altitude_m)
   std::vector<Rejection> rejected;
   std::vector<std::string> warnings;
 };
@@ -48,5 +48,9 @@ struct DepthLog {
 // CSV with time_s and depth_m (aliases apply). Throws InputError naming file,
 // line and field when a column is missing or no row is usable.
 DepthLog ReadDepthLog(const std::string& path);
+
+// CSV with time_s and altitude_m (a sounder's or DVL's height above the
+// seabed, > 0), read the same way.
+DepthLog ReadAltitudeLog(const std::string& path);
 
 }  // namespace seamap

@@ -1,6 +1,6 @@
 #pragma once
 // The settings of a buoy georeferencing run. Defaults are the values tuned on
-// simulated surveys (docs/GEOREFERENCING.md).
+// simulated surveys (docs/GEOREF.md).
 #include "core/georef/slam_path.h"
 
 namespace seamap {

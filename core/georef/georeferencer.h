@@ -3,7 +3,7 @@
 // a taut tether, where that puts the vehicle, and the similarity (scale,
 // rotation, translation) from SLAM coordinates to the working frame (metres
 // east, north, up), with the degenerate cases refused and the fit's expected
-// error. See docs/GEOREFERENCING.md.
+// error. See docs/GEOREF.md.
 #include <array>
 #include <map>
 #include <optional>

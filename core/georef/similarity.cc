@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include <Eigen/LU>
 #include <Eigen/SVD>
 
 namespace seamap {

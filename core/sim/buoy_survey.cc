@@ -171,9 +171,16 @@ BuoySurveySummary SimulateBuoySurvey(const BuoySurveyOptions& o) {
     ++summary.fixes;
   }
 
-  std::string depth_csv = "time_s,depth_m\n";
-  for (double t = 0; t <= duration + 1; t += 1.0)
+  // The seabed (depth, positive down) and a sounder's altitude above it.
+  auto seabed_depth_at = [&](double e, double n) {
+    return o.seabed_depth_m + 0.5 * std::sin(e / 7) * std::cos(n / 11);
+  };
+  std::string depth_csv = "time_s,depth_m\n", altitude_csv = "time_s,altitude_m\n";
+  for (double t = 0; t <= duration + 1; t += 1.0) {
     depth_csv += Line("%.3f,%.4f\n", kEpochS + t, depth_at(t) + o.depth_noise_m * gauss(rng));
+    const Eigen::Vector2d p = position_at(t);
+    altitude_csv += Line("%.3f,%.4f\n", kEpochS + t, seabed_depth_at(p.x(), p.y()) - depth_at(t));
+  }
 
   // Keyframes at the true poses, every interval +- a third, twice as often in turns.
   struct Truth {
@@ -244,7 +251,7 @@ BuoySurveySummary SimulateBuoySurvey(const BuoySurveyOptions& o) {
   for (int k = 0; k < o.cloud_points; ++k) {
     const double e = lo.x() - 10 + (hi.x() - lo.x() + 20) * uniform(rng);
     const double n = lo.y() - 10 + (hi.y() - lo.y() + 20) * uniform(rng);
-    seabed.push_back({e, n, -(o.seabed_depth_m + 0.5 * std::sin(e / 7) * std::cos(n / 11))});
+    seabed.push_back({e, n, -seabed_depth_at(e, n)});
   }
   WritePly((out / "cloud_truth.ply").string(), [&] {
     PointCloud c = MakePointCloud(seabed, PointCloud::Format::kBinaryLittleEndian);
@@ -269,6 +276,7 @@ BuoySurveySummary SimulateBuoySurvey(const BuoySurveyOptions& o) {
   };
   write("buoy.csv", buoy_csv);
   write("depth.csv", depth_csv);
+  write("altitude.csv", altitude_csv);
   write("truth.csv", truth_csv);
   nlohmann::json j = {{"seed", o.seed},
                       {"origin", {{"lat", o.origin.lat}, {"lon", o.origin.lon}}},

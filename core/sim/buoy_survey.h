@@ -56,7 +56,7 @@ struct BuoySurveySummary {
 };
 
 // Writes keyframes.txt (keyframes_N.txt with submaps > 1), buoy.csv,
-// depth.csv, truth.csv, truth.json, cloud.ply and cloud_truth.ply to
+// depth.csv, altitude.csv (a sounder above the seabed), truth.csv, truth.json, cloud.ply and cloud_truth.ply to
 // out_dir. Throws InputError naming the option for bad settings, or when
 // out_dir holds a previous run and force is not set.
 BuoySurveySummary SimulateBuoySurvey(const BuoySurveyOptions& options);

@@ -3,11 +3,16 @@
 // the exit codes and messages for bad input and degenerate surveys.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
 #include "core/georef/point_cloud_ply.h"
+#include "core/nav/csv_table.h"
+#include "core/tiles/mbtiles_store.h"
 #include "tests/integration/survey_fixture.h"
 
 namespace seamap {
@@ -142,6 +147,73 @@ TEST_F(GeorefCli, ClocksThatDoNotOverlapAreNamed) {
   std::string log;
   EXPECT_EQ(Georef("", &log), 2);
   EXPECT_TRUE(Contains(log, "no keyframe falls within the buoy's time span")) << log;
+}
+
+// nav.csv with an altitude (a sounder's log, or the cloud's seabed) is what
+// seamap build reads: photos timed at keyframes land at the georeferenced
+// positions, and the mission's track is the georeferenced one.
+TEST_F(GeorefCli, TheGeoreferencedTrajectoryFeedsSeamapBuild) {
+  Simulate("--gps-sigma 0.5 --seed 7");
+  std::string log;
+  ASSERT_EQ(Georef("--altitude-csv " + Path("survey/altitude.csv"), &log), 0) << log;
+  const CsvTable nav = ParseCsv(ReadTextLines(Path("nav.csv")));
+  ASSERT_EQ(nav.header,
+            (std::vector<std::string>{"time_s", "lat", "lon", "depth_m", "heading_deg", "good", "altitude_m"}));
+  ASSERT_GT(nav.rows.size(), 300u);
+  EXPECT_NEAR(std::stod(nav.rows[100].fields[6]), 7.5, 0.6);  // seabed 20 +- 0.5 m, vehicle at 12.5 m
+
+  // Another survey's photos, timed at keyframes 200..239 (their content does not matter here).
+  const auto& photos = testing::DriftingSurvey();
+  std::vector<std::string> names;
+  for (const auto& entry : std::filesystem::directory_iterator(photos.photo))
+    names.push_back(entry.path().filename().string());
+  std::sort(names.begin(), names.end());
+  ASSERT_GE(names.size(), 40u);
+  std::ofstream times(Path("times.csv"));
+  times << "image,time_s\n";
+  for (int k = 0; k < 40; ++k) times << names[k] << "," << nav.rows[200 + k].fields[0] << "\n";
+  times.close();
+  ASSERT_EQ(Seamap("build --images " + photos.photo + " --nav " + Path("nav.csv") + " --image-times " +
+                       Path("times.csv") + " --camera " + photos.camera + " --out " + Path("map.mbtiles") + " --quiet",
+                   &log),
+            0)
+      << log;
+  const std::vector<TrackPoint> track = MBTilesStore(Path("map.mbtiles"), MBTilesStore::Mode::kReadOnly).Track();
+  ASSERT_EQ(track.size(), 40u) << log;
+  for (int k = 0; k < 40; ++k) {
+    const auto& row = nav.rows[200 + k].fields;
+    EXPECT_NEAR(track[k].position.lat, std::stod(row[1]), 1e-8) << k;
+    EXPECT_NEAR(track[k].position.lon, std::stod(row[2]), 1e-8) << k;
+    EXPECT_NEAR(track[k].altitude_m, std::stod(row[6]), 1e-3) << k;
+  }
+}
+
+TEST_F(GeorefCli, AltitudeFromTheGeoreferencedCloud) {
+  Simulate("--gps-sigma 0.5 --seed 8 --cloud-points 20000");
+  std::string log;
+  ASSERT_EQ(
+      Georef("--altitude-from-cloud --points " + Path("survey/cloud.ply") + " --points-out " + Path("cloud_georef.ply"),
+             &log),
+      0)
+      << log;
+  const CsvTable nav = ParseCsv(ReadTextLines(Path("nav.csv")));
+  const CsvTable truth = ParseCsv(ReadTextLines(Path("survey/altitude.csv")));
+  ASSERT_EQ(nav.header.back(), "altitude_m");
+  int with = 0;
+  double sq = 0;
+  for (const auto& row : nav.rows) {
+    if (row.fields.size() < 7 || row.fields[6].empty()) continue;
+    // altitude.csv has a sample each second from the survey's start: the nearest one.
+    const double t = std::stod(row.fields[0]) - std::stod(truth.rows[0].fields[0]);
+    const auto& sample = truth.rows.at(static_cast<size_t>(std::lround(t))).fields;
+    sq += std::pow(std::stod(row.fields[6]) - std::stod(sample[1]), 2);
+    ++with;
+  }
+  EXPECT_GT(with, static_cast<int>(nav.rows.size() * 9 / 10));
+  EXPECT_LT(std::sqrt(sq / with), 0.25);  // the seabed undulates +- 0.5 m; 2 m patches, 0.3 s between samples
+
+  EXPECT_EQ(Georef("--altitude-from-cloud", &log), 2);
+  EXPECT_TRUE(Contains(log, "--altitude-from-cloud")) << log;
 }
 
 }  // namespace

@@ -105,7 +105,7 @@ TEST(PointCloudPly, BadFilesNameTheProblem) {
   EXPECT_EQ(fatal("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
                   "end_header\n1 two 3\n")
                 .line(),
-            7);
+            8);  // the data line after the 7 header lines
   EXPECT_EQ(fatal("ply\nformat binary_little_endian 1.0\nelement vertex 10\nproperty float x\nproperty float y\n"
                   "property float z\nend_header\nxyz")
                 .field(),

@@ -7,6 +7,7 @@
 #   SEAMAP_BENCH_RUNS=5 ...     runs per build line (default 3; the median is shown)
 #   SEAMAP_BENCH_TRAJECTORY=0   skip the trajectory figures (refine, vo, ekf on the drifting survey)
 #   SEAMAP_BENCH_EXPORT=0       skip the export figures (PMTiles, GeoTIFF beside gdal_translate)
+#   SEAMAP_BENCH_GEOREF=0       skip the buoy-GPS georeferencing figures (scripts/bench_georef.sh)
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${SEAMAP_BUILD_DIR:-$root/build}"
@@ -151,6 +152,7 @@ export_figures() {
 }
 [[ "${SEAMAP_BENCH_EXPORT:-1}" == 1 ]] && export_figures
 [[ "${SEAMAP_BENCH_TRAJECTORY:-1}" == 1 ]] && trajectory_figures
+[[ "${SEAMAP_BENCH_GEOREF:-1}" == 1 ]] && "$root/scripts/bench_georef.sh" "$seamap" "$out/georef" "$([[ "$quick" == 1 ]] && echo 3 || echo 10)"
 if [[ "${SEAMAP_BENCH_SERVE:-1}" == 1 ]]; then
   "$root/scripts/bench_serve.sh" "$seamap" "$out/gray.mbtiles" "$out/gray" "$out/serve"
 fi

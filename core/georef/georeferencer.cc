@@ -6,6 +6,7 @@
 
 #include "core/georef/taut_selection.h"
 #include "core/georef/tether.h"
+#include "core/georef/tether_fit.h"
 #include "core/georef/triangle_fit.h"
 #include "core/util/error.h"
 
@@ -102,15 +103,21 @@ class SubmapFitter {
 
  private:
   Similarity FitOn(const TargetSet& set, const std::vector<bool>& used) const {
-    std::vector<Eigen::Vector3d> from, to;
+    std::vector<Eigen::Vector3d> from, to, offsets, buoy;
     std::vector<double> w;
     for (size_t i = 0; i < used.size(); ++i) {
       if (!used[i]) continue;
       from.push_back(c_.path.position(i));
       to.push_back(set.target_enu_m[i]);
       w.push_back(weights_[i]);
+      const Eigen::Vector3d offset(c_.reach_m[i] * set.towing[i].x(), c_.reach_m[i] * set.towing[i].y(), 0);
+      offsets.push_back(offset);
+      buoy.push_back(set.target_enu_m[i] - offset);
     }
-    return FitSimilarity(from, to, w);
+    const Similarity fixed_targets = FitSimilarity(from, to, w);
+    // With the towing directions from the fit's own rotation, fit through
+    // the tether: heading weighed at the buoy's lever arms (tether_fit.h).
+    return set.model ? FitThroughTether(fixed_targets, from, offsets, buoy, w) : fixed_targets;
   }
 
   FitOutcome FitTriangleOn(const TargetSet& set, FitOutcome out) const {

@@ -14,6 +14,10 @@
 #include "core/nav/csv_table.h"
 #include "core/tiles/mbtiles_store.h"
 #include "tests/integration/survey_fixture.h"
+#include "tests/testing/child_process.h"
+
+// After Eigen: httplib brings resolv.h, whose _res macro breaks Eigen's headers.
+#include <httplib.h>
 
 namespace seamap {
 namespace {
@@ -186,6 +190,34 @@ TEST_F(GeorefCli, TheGeoreferencedTrajectoryFeedsSeamapBuild) {
     EXPECT_NEAR(track[k].position.lon, std::stod(row[2]), 1e-8) << k;
     EXPECT_NEAR(track[k].altitude_m, std::stod(row[6]), 1e-3) << k;
   }
+
+  // Served with the buoy's fixes: the vehicle's track and the buoy's beside it.
+  testing::ChildProcess serve({testing::SeamapBinary(), "serve", Path("map.mbtiles"), "--host", "127.0.0.1", "--port",
+                               "0", "--buoy", Path("survey/buoy.csv")});
+  const auto line = serve.WaitForLine("serving http://", std::chrono::seconds(30));
+  ASSERT_TRUE(line) << serve.output();
+  httplib::Client api("127.0.0.1", testing::PortFromServingLine(*line));
+  auto res = api.Get("/api/track?source=buoy");
+  ASSERT_TRUE(res);
+  ASSERT_EQ(res->status, 200) << res->body;
+  const auto buoy = nlohmann::json::parse(res->body);
+  const CsvTable fixes = ParseCsv(ReadTextLines(Path("survey/buoy.csv")));
+  EXPECT_EQ(buoy["properties"]["source"], "buoy");
+  ASSERT_EQ(buoy["geometry"]["coordinates"].size(), fixes.rows.size());
+  EXPECT_NEAR(buoy["geometry"]["coordinates"][10][1].get<double>(), std::stod(fixes.rows[10].fields[1]), 1e-9);
+  EXPECT_NEAR(buoy["geometry"]["coordinates"][10][0].get<double>(), std::stod(fixes.rows[10].fields[2]), 1e-9);
+  res = api.Get("/api/track?source=buoy&since=" + std::to_string(fixes.rows.size() - 2));
+  ASSERT_TRUE(res);
+  EXPECT_EQ(nlohmann::json::parse(res->body)["properties"]["times"].size(), 3u);  // from the point before
+  res = api.Get("/api/track");
+  ASSERT_TRUE(res);
+  const auto vehicle = nlohmann::json::parse(res->body);
+  ASSERT_EQ(vehicle["geometry"]["coordinates"].size(), 40u);
+  EXPECT_NEAR(vehicle["geometry"]["coordinates"][0][1].get<double>(), std::stod(nav.rows[200].fields[1]), 1e-8);
+  res = api.Get("/api/track?source=sonar");
+  ASSERT_TRUE(res);
+  EXPECT_EQ(res->status, 400);
+  EXPECT_TRUE(Contains(res->body, "'buoy'")) << res->body;
 }
 
 TEST_F(GeorefCli, AltitudeFromTheGeoreferencedCloud) {

@@ -112,8 +112,10 @@ int RunServe(int argc, char** argv, int first) {
   ShutdownSignal shutdown;  // before any thread starts
   const bool mbtiles = IsMBTilesPath(path);
   std::error_code ec;
-  if (!mbtiles && fs::is_directory(path, ec) && !fs::exists(fs::path(path) / "metadata.json", ec))
+  if (!mbtiles && fs::is_directory(path, ec) && !fs::exists(fs::path(path) / "metadata.json", ec)) {
+    if (buoy_file) throw InputError(path, 0, "--buoy", "goes with one map, not a folder of maps");
     return ServeCatalogue(path, options, shutdown);
+  }
   if (mbtiles ? !fs::is_regular_file(path, ec) : !fs::is_regular_file(fs::path(path) / "metadata.json", ec))
     throw InputError(
         path, 0, "MAP",

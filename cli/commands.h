@@ -14,6 +14,9 @@ int RunExport(int argc, char** argv, int first);         // cli/export_command.c
 int RunTrajectory(int argc, char** argv, int first);     // cli/trajectory_command.cc
 
 int RunTrajectoryEval(int argc, char** argv, int first);  // cli/trajectory_eval_command.cc
+int RunGeoref(int argc, char** argv, int first);          // cli/georef_command.cc
+int RunSimulateBuoy(int argc, char** argv, int first);    // cli/simulate_buoy_command.cc
+int RunGeorefEval(int argc, char** argv, int first);      // cli/georef_eval_command.cc
 
 int RunSimulateStereo(int argc, char** argv, int first);  // cli/stereo_simulate_command.cc
 int RunStereoModel(int argc, char** argv, int first);     // cli/stereo_model_command.cc

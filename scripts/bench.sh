@@ -10,6 +10,7 @@
 #   SEAMAP_BENCH_STEREO=0       skip the stereo object figures; SEAMAP_BENCH_STEREO_SCENES=N (default 20)
 #   SEAMAP_BENCH_HOSTILE=0      skip the hostile inputs' peak memory (scripts/bench_hostile.sh, alone:
 #                               scripts/bench_hostile.sh build/seamap out/bench/hostile)
+#   SEAMAP_BENCH_GEOREF=0       skip the buoy-GPS georeferencing figures (scripts/bench_georef.sh)
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${SEAMAP_BUILD_DIR:-$root/build}"
@@ -166,6 +167,7 @@ if [[ "${SEAMAP_BENCH_STEREO:-1}" == 1 ]]; then
   python3 "$root/scripts/bench_stereo.py" "$seamap" "$out" "$stereo_scenes" clear,degraded,few
 fi
 [[ "${SEAMAP_BENCH_HOSTILE:-1}" == 1 ]] && "$root/scripts/bench_hostile.sh" "$seamap" "$out/hostile"
+[[ "${SEAMAP_BENCH_GEOREF:-1}" == 1 ]] && "$root/scripts/bench_georef.sh" "$seamap" "$out/georef" "$([[ "$quick" == 1 ]] && echo 3 || echo 10)"
 if [[ "${SEAMAP_BENCH_SERVE:-1}" == 1 ]]; then
   "$root/scripts/bench_serve.sh" "$seamap" "$out/gray.mbtiles" "$out/gray" "$out/serve"
 fi

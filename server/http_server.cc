@@ -242,6 +242,10 @@ void HttpServer::Routes() {
           // Start at the point the client already has, so the new piece joins the line.
           const int from = std::max(0, since - 1);
           res.set_header("Cache-Control", "no-cache");
+          if (source == TrackSource::kBuoy) {
+            SendJson(res, TrackFeature(mission_->BuoyTrackFrom(from), source, mission_->BuoyTrackSize(), false));
+            return;
+          }
           SendJson(res, TrackFeature(mission_->TrackFrom(from), source, mission_->TrackSize(),
                                      mission_->TrajectoryCorrected()));
         }));

@@ -211,6 +211,23 @@ int MissionState::TrackSize() const {
   return track_.empty() ? 0 : track_.back().seq + 1;
 }
 
+void MissionState::SetBuoyTrack(std::vector<TrackPoint> fixes) {
+  for (size_t i = 0; i < fixes.size(); ++i) fixes[i].seq = static_cast<int>(i);
+  std::lock_guard<std::mutex> lock(mutex_);
+  buoy_track_ = std::move(fixes);
+}
+
+std::vector<TrackPoint> MissionState::BuoyTrackFrom(int first_seq) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (first_seq >= static_cast<int>(buoy_track_.size())) return {};
+  return {buoy_track_.begin() + std::max(first_seq, 0), buoy_track_.end()};
+}
+
+int MissionState::BuoyTrackSize() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return static_cast<int>(buoy_track_.size());
+}
+
 std::vector<FrameRecord> MissionState::FramesCovering(const LatLon& p, size_t limit) const {
   std::vector<std::pair<double, const FrameRecord*>> hits;
   std::lock_guard<std::mutex> lock(mutex_);

@@ -56,6 +56,10 @@ class MissionState {
   // Track points with seq >= first_seq.
   std::vector<TrackPoint> TrackFrom(int first_seq) const;
   int TrackSize() const;
+  // The GPS buoy's fixes (seamap serve --buoy), seq 0.. in time order.
+  void SetBuoyTrack(std::vector<TrackPoint> fixes);
+  std::vector<TrackPoint> BuoyTrackFrom(int first_seq) const;
+  int BuoyTrackSize() const;
   // Used frames whose footprint contains the point, nearest footprint centre first.
   std::vector<FrameRecord> FramesCovering(const LatLon& point, size_t limit) const;
   std::optional<FrameRecord> Frame(int id) const;
@@ -72,11 +76,12 @@ class MissionState {
   Progress progress_;
   bool token_required_ = false, writable_ = false;
   std::atomic<bool> building_{false};
-  std::vector<FrameRecord> frames_;  // in id order
-  std::vector<TrackPoint> track_;    // in seq order
-  int corrected_frames_ = 0;         // frames with the navigation's pose beside the placed one
-  nlohmann::json trajectory_;        // how the poses were estimated (seamap_trajectory metadata), or null
-  int corrected_points_ = 0;         // track points likewise
+  std::vector<FrameRecord> frames_;     // in id order
+  std::vector<TrackPoint> track_;       // in seq order
+  std::vector<TrackPoint> buoy_track_;  // in seq order
+  int corrected_frames_ = 0;            // frames with the navigation's pose beside the placed one
+  nlohmann::json trajectory_;           // how the poses were estimated (seamap_trajectory metadata), or null
+  int corrected_points_ = 0;            // track points likewise
 };
 
 // Point-in-polygon (even-odd rule) on lon/lat, for footprints of a few metres.

@@ -7,11 +7,12 @@ namespace seamap::server {
 TrackSource ParseTrackSource(const std::optional<std::string>& text) {
   if (!text || *text == "estimated") return TrackSource::kEstimated;
   if (*text == "nav") return TrackSource::kNav;
-  throw ApiError(400, "parameter 'source': expected 'estimated' or 'nav', got '" + *text + "'");
+  if (*text == "buoy") return TrackSource::kBuoy;
+  throw ApiError(400, "parameter 'source': expected 'estimated', 'nav' or 'buoy', got '" + *text + "'");
 }
 
 const char* TrackSourceName(TrackSource source) {
-  return source == TrackSource::kNav ? "nav" : "estimated";
+  return source == TrackSource::kNav ? "nav" : source == TrackSource::kBuoy ? "buoy" : "estimated";
 }
 
 LatLon TrackPosition(const TrackPoint& point, TrackSource source) {

@@ -2,7 +2,8 @@
 // The vehicle's track as GET /api/track answers it, from either source: the
 // estimated track (the positions the frames were placed at, corrected where
 // the trajectory was) or the navigation's (its original positions where the
-// trajectory was corrected, the same positions elsewhere).
+// trajectory was corrected, the same positions elsewhere); or the GPS buoy's
+// track (its fixes, given to seamap serve --buoy) beside the vehicle's.
 #include <optional>
 #include <string>
 #include <vector>
@@ -13,9 +14,9 @@
 
 namespace seamap::server {
 
-enum class TrackSource { kEstimated, kNav };
+enum class TrackSource { kEstimated, kNav, kBuoy };
 
-// The `source` parameter: absent or "estimated", or "nav"; anything else is
+// The `source` parameter: absent or "estimated", "nav" or "buoy"; anything else is
 // ApiError 400 naming the parameter.
 TrackSource ParseTrackSource(const std::optional<std::string>& text);
 const char* TrackSourceName(TrackSource source);

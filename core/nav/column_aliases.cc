@@ -25,6 +25,11 @@ const std::vector<std::pair<std::string, std::vector<std::string>>>& Aliases() {
       {"heading_deg", {"heading_deg", "heading", "yaw", "yaw_deg", "hdg"}},
       {"pitch_deg", {"pitch_deg", "pitch"}},
       {"roll_deg", {"roll_deg", "roll"}},
+      // GPS quality (a buoy's fixes) and the georeferenced keyframes' mark.
+      {"sigma_m", {"sigma_m", "sigma", "h_sigma", "hacc", "horizontal_accuracy", "accuracy_m", "std_m"}},
+      {"hdop", {"hdop"}},
+      {"fix_quality", {"fix_quality", "quality", "gps_quality", "fix"}},
+      {"good", {"good"}},
   };
   return table;
 }

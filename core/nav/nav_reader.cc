@@ -201,7 +201,7 @@ PositionKind ChoosePosition(const Source& source, const std::string& path, const
   if (kind == PositionKind::kUtm && !has("utm_zone") && !options.utm_zone)
     throw InputError(path, source.header_line, "utm_zone",
                      "UTM easting/northing need a zone: add a utm_zone column (e.g. 52N) or give --utm-zone ZONE");
-  if (!has("altitude_m"))
+  if (!has("altitude_m") && options.require_altitude)
     throw InputError(
         path, source.header_line, "altitude_m",
         "no altitude column; found: " + FoundList(source) + "; accepted names: " + AcceptedNames("altitude_m"));
@@ -331,8 +331,8 @@ Parsed ParseRow(const RawRow& raw, PositionKind kind, const NavReadOptions& opti
     CheckRange("lon", ll.lon, -180, 180, false);
     out.geo = ll;
   }
-  pose.altitude_m = row.Required("altitude_m");
-  if (!(pose.altitude_m > 0))
+  pose.altitude_m = options.require_altitude ? row.Required("altitude_m") : row.Number("altitude_m").value_or(0);
+  if (options.require_altitude && !(pose.altitude_m > 0))
     throw Reject{"altitude_m", "altitude_m must be > 0, got " + FormatNumber(pose.altitude_m)};
   if (pose.altitude_m > nav_limits::kMaxAltitudeM)
     throw Reject{"altitude_m", "altitude_m must be at most " + FormatNumber(nav_limits::kMaxAltitudeM) +

@@ -38,6 +38,9 @@ struct NavReadOptions {
   // UTM zone (1..60) and hemisphere when the file has easting/northing but no zone column.
   std::optional<int> utm_zone;
   bool utm_north = true;
+  // False for position logs that have no altitude (a GPS buoy's fixes): the
+  // column is then optional and not checked.
+  bool require_altitude = true;
 };
 
 struct NavTable {

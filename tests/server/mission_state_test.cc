@@ -24,6 +24,21 @@ std::vector<int> Ids(const std::vector<FrameRecord>& frames) {
   return ids;
 }
 
+TEST(MissionState, BuoyTrackNumberedInOrderAndServedFromASeq) {
+  MissionState mission;
+  EXPECT_EQ(mission.BuoyTrackSize(), 0);
+  std::vector<TrackPoint> fixes(5);
+  for (int i = 0; i < 5; ++i) fixes[i].position = {51.0 + i * 1e-5, 13.6}, fixes[i].time_s = 100.0 + i;
+  mission.SetBuoyTrack(fixes);
+  EXPECT_EQ(mission.BuoyTrackSize(), 5);
+  const auto tail = mission.BuoyTrackFrom(3);
+  ASSERT_EQ(tail.size(), 2u);
+  EXPECT_EQ(tail[0].seq, 3);
+  EXPECT_DOUBLE_EQ(tail[1].position.lat, 51.0 + 4e-5);
+  EXPECT_TRUE(mission.BuoyTrackFrom(5).empty());
+  EXPECT_EQ(mission.TrackSize(), 0);  // the vehicle's track is apart
+}
+
 TEST(FootprintContains, AxisAlignedSquare) {
   const auto fp = MakeFrame(0, {43, 5}, 0.001, "used", "").footprint;
   EXPECT_TRUE(FootprintContains(fp, {43, 5}));

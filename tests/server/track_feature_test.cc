@@ -25,6 +25,8 @@ TEST(TrackSource, ParsesTheParameterAndNamesItWhenWrong) {
   EXPECT_EQ(ParseTrackSource(std::nullopt), TrackSource::kEstimated);
   EXPECT_EQ(ParseTrackSource("estimated"), TrackSource::kEstimated);
   EXPECT_EQ(ParseTrackSource("nav"), TrackSource::kNav);
+  EXPECT_EQ(ParseTrackSource("buoy"), TrackSource::kBuoy);
+  EXPECT_STREQ(TrackSourceName(TrackSource::kBuoy), "buoy");
   for (const std::string bad : {"", "NAV", "raw", "navigation"}) {
     try {
       ParseTrackSource(bad);

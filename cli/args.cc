@@ -76,12 +76,6 @@ int Args::GetInt(const std::string& name, int fallback) {
   return static_cast<int>(d);
 }
 
-std::vector<std::string> Args::GetAll(const std::string& name) {
-  used_.insert(name);
-  auto it = all_values_.find(name);
-  return it == all_values_.end() ? std::vector<std::string>{} : it->second;
-}
-
 bool Args::Flag(const std::string& name) {
   used_.insert(name);
   return flags_set_.count(name) > 0;

@@ -23,8 +23,6 @@ class Args {
   double GetDouble(const std::string& name, double fallback);
   int GetInt(const std::string& name, int fallback);
   bool Flag(const std::string& name);
-  // Every value of an option that may be given several times, in order.
-  std::vector<std::string> GetAll(const std::string& name);
   // Gives an option a value unless the command line set it.
   void SetDefault(const std::string& name, const std::string& value) { values_.emplace(name, value); }
   const std::vector<std::string>& positionals() const { return positionals_; }

@@ -222,10 +222,10 @@ void MosaicBuilder::Foresee(const std::vector<FrameSpec>& frames) {
       if (!corners || TooSteep(projection.camera(), f.pose, *corners, config_.frames.max_footprint_ratio))
         return std::nullopt;
       Outline outline = projection.Outline(f.pose);
-      if (outline && FramePaintBytes(static_cast<double>(outline->box[2]), static_cast<double>(outline->box[3]),
-                                     config_.map.tile_size, plan_.channels) >
-                         FramePaintLimitBytes(plan_, projection.camera(), config_.map.tile_size,
-                                              config_.buffer.memory_cap_mb))
+      if (outline &&
+          FramePaintBytes(static_cast<double>(outline->box[2]), static_cast<double>(outline->box[3]),
+                          config_.map.tile_size, plan_.channels) >
+              FramePaintLimitBytes(plan_, projection.camera(), config_.map.tile_size, config_.buffer.memory_cap_mb))
         return std::nullopt;  // refused too (TooLargeToPaint)
       return outline;
     }));

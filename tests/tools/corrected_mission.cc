@@ -21,6 +21,7 @@
 #include "core/mosaic/mosaic_builder.h"
 #include "core/nav/frame_list.h"
 #include "core/nav/nav_reader.h"
+#include "core/tiles/map_lock.h"
 #include "core/tiles/tile_store.h"
 
 namespace {
@@ -54,6 +55,8 @@ int Run(int argc, char** argv) {
   const LocalFrame frame(nav.origin);
   BuildConfig config;
   config.map.name = "Corrected survey";
+  // Held as seamap build holds it: a follower takes an unlocked "building" map for an interrupted one.
+  const MapLock lock = MapLock::Acquire(out, "--out");
   auto store = OpenTileStore(out, "png", /*create=*/true);
   const MosaicPlan plan = PlanMosaic(config.map, camera, frame, frames.frames, 1);
   if (pace_ms > 0) {  // as a replay: commit often, tiles under the vehicle too, so a follower sees it grow

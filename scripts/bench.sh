@@ -11,6 +11,7 @@
 #   SEAMAP_BENCH_HOSTILE=0      skip the hostile inputs' peak memory (scripts/bench_hostile.sh, alone:
 #                               scripts/bench_hostile.sh build/seamap out/bench/hostile)
 #   SEAMAP_BENCH_GEOREF=0       skip the buoy-GPS georeferencing figures (scripts/bench_georef.sh)
+#   SEAMAP_BENCH_CONSOLE=0      skip the console's traffic during a 4x replay (Chromium)
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${SEAMAP_BUILD_DIR:-$root/build}"

@@ -91,7 +91,12 @@ std::optional<FrameImage> FrameImage::Read(const std::string& path, int channels
                                            std::string* problem, int64_t max_pixels) {
   const std::optional<ImageHeader> header = ReadImageHeader(path, problem);
   if (!header) return std::nullopt;
-  if (auto too_large = TooLargeToDecode(*header, max_pixels)) {
+  return Read(path, *header, channels, sixteen_bit_white, problem, max_pixels);
+}
+
+std::optional<FrameImage> FrameImage::Read(const std::string& path, const ImageHeader& header, int channels,
+                                           int sixteen_bit_white, std::string* problem, int64_t max_pixels) {
+  if (auto too_large = TooLargeToDecode(header, max_pixels)) {
     *problem = *too_large;
     return std::nullopt;
   }
@@ -146,7 +151,7 @@ std::optional<FrameImage> FrameImage::Read(const std::string& path, int channels
   }
   // Formats whose header we do not read are checked once decoded.
   if (int64_t{raw.cols} * raw.rows > max_pixels) {
-    ImageHeader decoded = *header;
+    ImageHeader decoded = header;
     decoded.width = raw.cols;
     decoded.height = raw.rows;
     *problem = *TooLargeToDecode(decoded, max_pixels);

@@ -26,6 +26,11 @@ class FrameImage {
   // max_pixels are refused unread.
   static std::optional<FrameImage> Read(const std::string& path, int channels, int sixteen_bit_white,
                                         std::string* problem, int64_t max_pixels = kDefaultMaxImagePixels);
+  // The same with the header already read (ReadImageHeader): a caller that
+  // checked it first does not read it twice.
+  static std::optional<FrameImage> Read(const std::string& path, const ImageHeader& header, int channels,
+                                        int sixteen_bit_white, std::string* problem,
+                                        int64_t max_pixels = kDefaultMaxImagePixels);
   // An image already decoded (any depth/channels OpenCV reads; converted).
   static FrameImage FromMat(const cv::Mat& image, int channels, int sixteen_bit_white);
 

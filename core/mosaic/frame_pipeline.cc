@@ -85,7 +85,7 @@ FramePipeline::Loaded FramePipeline::Load(const FrameSpec& spec) const {
   if (header->width > 0 && header->pixels() <= options_.max_image_pixels &&
       (header->width != camera.width || header->height != camera.height))
     return wrong_size(header->width, header->height);
-  auto image = FrameImage::Read(spec.image_path, options_.channels, options_.sixteen_bit_white, &problem,
+  auto image = FrameImage::Read(spec.image_path, *header, options_.channels, options_.sixteen_bit_white, &problem,
                                 options_.max_image_pixels);
   if (!image) return reject("image", problem);
   if (image->width() != camera.width || image->height() != camera.height)

@@ -48,12 +48,15 @@ TileAnswer AnswerTile(TileSource& tiles, bool building, std::string_view path,
     TilePath t = ParseTilePath(path);
     const std::string format = tiles.Format();
     const bool same = t.ext == format || (format == "jpg" && t.ext == "jpeg");
-    const auto offered = tiles.Formats();
-    const bool transcoded = !same && std::find(offered.begin(), offered.end(), t.ext) != offered.end();
-    if (!same && !transcoded) {
-      std::string names;
-      for (const auto& f : offered) names += (names.empty() ? "." : " or .") + f;
-      return Error(404, "this mission's tiles are " + names + ", not ." + t.ext);
+    bool transcoded = false;
+    if (!same) {  // the formats offered only when another is asked for: not on every tile
+      const auto offered = tiles.Formats();
+      transcoded = std::find(offered.begin(), offered.end(), t.ext) != offered.end();
+      if (!transcoded) {
+        std::string names;
+        for (const auto& f : offered) names += (names.empty() ? "." : " or .") + f;
+        return Error(404, "this mission's tiles are " + names + ", not ." + t.ext);
+      }
     }
     std::optional<Tile> tile;
     try {

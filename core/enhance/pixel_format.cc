@@ -34,6 +34,7 @@ cv::Mat FromUnitFloat(const cv::Mat& unit, int type) {
 cv::Mat ToGray8(const cv::Mat& image) {
   cv::Mat gray = image;
   if (image.channels() == 3) cv::cvtColor(image, gray, cv::COLOR_BGR2GRAY);
+  if (image.channels() == 4) cv::cvtColor(image, gray, cv::COLOR_BGRA2GRAY);
   if (gray.depth() == CV_8U) return gray;
   cv::Mat out;
   gray.convertTo(out, CV_8U, 255.0 / FullScale(gray));

@@ -19,7 +19,7 @@ cv::Mat ToUnitFloat(const cv::Mat& image);
 // Back to `type` (one of the supported types, same channel count), saturating.
 cv::Mat FromUnitFloat(const cv::Mat& unit, int type);
 
-// 8-bit single-channel view of any supported image (for detectors and metrics).
+// 8-bit single-channel view of any supported image, BGRA too (for detectors and metrics).
 cv::Mat ToGray8(const cv::Mat& image);
 
 // Single-channel luminance of a unit float image (itself when already gray).

@@ -6,6 +6,7 @@
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "core/enhance/pixel_format.h"
 #include "core/util/error.h"
 
 namespace seamap {
@@ -17,16 +18,8 @@ void SiftOptions::Check() const {
   if (!(clahe_clip >= 0)) throw InputError("", 0, "--clahe", "expected a number >= 0");
 }
 
-cv::Mat StereoGray8(const cv::Mat& image) {
-  cv::Mat gray = image;
-  if (gray.channels() == 3) cv::cvtColor(gray, gray, cv::COLOR_BGR2GRAY);
-  if (gray.channels() == 4) cv::cvtColor(gray, gray, cv::COLOR_BGRA2GRAY);
-  if (gray.depth() == CV_16U) gray.convertTo(gray, CV_8U, 1.0 / 257);
-  return gray;
-}
-
 ImageFeatures DetectSift(const cv::Mat& image, const SiftOptions& options) {
-  cv::Mat gray = StereoGray8(image);
+  cv::Mat gray = ToGray8(image);
   if (options.clahe_clip > 0) cv::createCLAHE(options.clahe_clip, {8, 8})->apply(gray, gray);
   auto sift = cv::SIFT::create(options.max_features, 3, options.contrast_threshold, 10, 1.6, CV_8U);
   std::vector<cv::KeyPoint> keypoints;
@@ -51,7 +44,7 @@ ImageFeatures DetectSift(const cv::Mat& image, const SiftOptions& options) {
 
 cv::Point2d MeasureSiftOffsetPx(const cv::Mat& image, SiftOptions options) {
   options.offset_px = 0;
-  const cv::Mat gray = StereoGray8(image);
+  const cv::Mat gray = ToGray8(image);
   const ImageFeatures direct = DetectSift(gray, options);
   std::vector<double> bx, by;
   for (int axis = 0; axis < 2; ++axis) {  // mirrored left-right, then top-bottom

@@ -39,6 +39,4 @@ ImageFeatures DetectSift(const cv::Mat& image, const SiftOptions& options);
 // difference. Uses options.offset_px = 0 internally.
 cv::Point2d MeasureSiftOffsetPx(const cv::Mat& image, SiftOptions options);
 
-cv::Mat StereoGray8(const cv::Mat& image);
-
 }  // namespace seamap

@@ -6,6 +6,7 @@
 
 #include <opencv2/imgcodecs.hpp>
 
+#include "core/enhance/pixel_format.h"
 #include "core/stereo/sift_features.h"
 #include "core/util/error.h"
 
@@ -75,7 +76,7 @@ LoadedPair LoadStereoPair(const PairFiles& files, cv::Size expected_size, const 
       throw InputError(*path, 0, "",
                        cv::format("image is %dx%d but %s is for %dx%d images", m.cols, m.rows, calibration_path.c_str(),
                                   expected_size.width, expected_size.height));
-    *image = StereoGray8(m);
+    *image = ToGray8(m);
   }
   return pair;
 }

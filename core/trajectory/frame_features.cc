@@ -6,20 +6,10 @@
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "core/enhance/pixel_format.h"
 #include "core/util/error.h"
 
 namespace seamap {
-namespace {
-
-cv::Mat ToGray8(const cv::Mat& image) {
-  cv::Mat gray = image;
-  if (gray.channels() == 3) cv::cvtColor(gray, gray, cv::COLOR_BGR2GRAY);
-  if (gray.channels() == 4) cv::cvtColor(gray, gray, cv::COLOR_BGRA2GRAY);
-  if (gray.depth() == CV_16U) gray.convertTo(gray, CV_8U, 1.0 / 256);
-  return gray;
-}
-
-}  // namespace
 
 void FeatureOptions::Check() const {
   if (max_features < 50) throw InputError("", 0, "max_features", "expected at least 50");

@@ -99,4 +99,10 @@ LatLonArg ParseLatLon(const std::string& text, const std::string& param) {
   return r;
 }
 
+uint64_t SeedArg(Args& args) {
+  const int seed = args.GetInt("seed", 1);
+  if (seed < 0) throw InputError("", 0, "--seed", "expected a non-negative whole number");
+  return static_cast<uint64_t>(seed);
+}
+
 }  // namespace seamap::cli

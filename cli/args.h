@@ -2,6 +2,7 @@
 // Minimal command-line parsing shared by the subcommands: `--name value`,
 // `--name=value`, boolean `--flag`, and positionals. Unknown or malformed
 // options raise InputError naming the option and what was expected.
+#include <cstdint>
 #include <map>
 #include <optional>
 #include <set>
@@ -44,5 +45,8 @@ struct LatLonArg {
   double lat, lon;
 };
 LatLonArg ParseLatLon(const std::string& text, const std::string& param);
+
+// --seed N (default 1) of the simulators. Throws InputError naming --seed when negative.
+uint64_t SeedArg(Args& args);
 
 }  // namespace seamap::cli

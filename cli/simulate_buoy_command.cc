@@ -41,9 +41,7 @@ int RunSimulateBuoy(int argc, char** argv, int first) {
   BuoySurveyOptions o;
   o.out_dir = args.Require("out");
   o.force = args.Flag("force");
-  const int seed = args.GetInt("seed", 1);
-  if (seed < 0) throw InputError("", 0, "--seed", "expected a non-negative whole number");
-  o.seed = static_cast<uint64_t>(seed);
+  o.seed = SeedArg(args);
   if (auto origin = args.Get("origin")) {
     const LatLonArg ll = ParseLatLon(*origin, "--origin");
     o.origin = {ll.lat, ll.lon};

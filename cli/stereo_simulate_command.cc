@@ -35,9 +35,7 @@ int RunSimulateStereo(int argc, char** argv, int first) {
   StereoSurveyOptions o;
   o.out_dir = args.Require("out");
   o.force = args.Flag("force");
-  const int seed = args.GetInt("seed", 1);
-  if (seed < 0) throw InputError("", 0, "--seed", "expected a non-negative whole number");
-  o.seed = static_cast<uint64_t>(seed);
+  o.seed = SeedArg(args);
   o.views = args.GetInt("views", o.views);
   o.object_texture = args.GetDouble("texture", o.object_texture);
   o.render.beta_per_m = args.GetDouble("haze", o.render.beta_per_m);

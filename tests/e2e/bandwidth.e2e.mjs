@@ -16,13 +16,9 @@
 import fs from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
-import {fileURLToPath} from 'node:url';
-import {Checks, freePort, killAll, run, sleep, startProcess, stopProcess, waitFor, waitForOutput} from './harness.mjs';
+import {Checks, freePort, killAll, run, sleep, startProcess, stopProcess, waitFor, waitForOutput, testEnvironment} from './harness.mjs';
 
-const here = path.dirname(fileURLToPath(import.meta.url));
-const sourceDir = path.resolve(process.env.SEAMAP_SOURCE_DIR || path.join(here, '..', '..'));
-const seamap = process.env.SEAMAP_BIN || path.join(sourceDir, 'build', 'seamap');
-const artifacts = path.resolve(process.env.SEAMAP_ARTIFACTS || fs.mkdtempSync(path.join(os.tmpdir(), 'seamap-bw-artifacts-')));
+const {sourceDir, seamap, artifacts} = testEnvironment('seamap-bw-artifacts-');
 const budgetMbps = Number(process.env.SEAMAP_BW_BUDGET_MBPS || 0.3);
 const reportOnly = process.env.SEAMAP_BW_REPORT === '1';
 const FRAMES = 600;          // 120 s of survey: 30 s at 4x, room for a slow start

@@ -4,13 +4,9 @@
 import fs from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
-import {fileURLToPath} from 'node:url';
-import {Checks, killAll, run, startProcess, stopProcess, waitFor, waitForOutput} from './harness.mjs';
+import {Checks, killAll, run, startProcess, stopProcess, waitFor, waitForOutput, testEnvironment} from './harness.mjs';
 
-const here = path.dirname(fileURLToPath(import.meta.url));
-const sourceDir = path.resolve(process.env.SEAMAP_SOURCE_DIR || path.join(here, '..', '..'));
-const seamap = process.env.SEAMAP_BIN || path.join(sourceDir, 'build', 'seamap');
-const artifacts = path.resolve(process.env.SEAMAP_ARTIFACTS || fs.mkdtempSync(path.join(os.tmpdir(), 'seamap-e2e-artifacts-')));
+const {sourceDir, seamap, artifacts} = testEnvironment();
 const checks = new Checks();
 const watchdog = setTimeout(() => {
   console.log('not ok - test finished within 120 s');

@@ -16,18 +16,14 @@ import fs from 'node:fs';
 import http from 'node:http';
 import os from 'node:os';
 import path from 'node:path';
-import {fileURLToPath} from 'node:url';
 import {checkConsoleTools} from './console_tools.mjs';
 import {checkCorrectedTracks} from './corrected_tracks.mjs';
-import {Checks, freePort, killAll, run, sleep, startProcess, stopProcess, waitFor, waitForOutput} from './harness.mjs';
+import {Checks, freePort, killAll, run, sleep, startProcess, stopProcess, waitFor, waitForOutput, testEnvironment} from './harness.mjs';
 
-const here = path.dirname(fileURLToPath(import.meta.url));
-const sourceDir = path.resolve(process.env.SEAMAP_SOURCE_DIR || path.join(here, '..', '..'));
-const seamap = process.env.SEAMAP_BIN || path.join(sourceDir, 'build', 'seamap');
+const {sourceDir, seamap, artifacts} = testEnvironment();
 const correctedTool = process.env.SEAMAP_CORRECTED_MISSION || path.join(path.dirname(seamap), 'corrected_mission');
-const artifacts = path.resolve(process.env.SEAMAP_ARTIFACTS || fs.mkdtempSync(path.join(os.tmpdir(), 'seamap-e2e-artifacts-')));
 const speed = process.env.SEAMAP_E2E_SPEED || '0.75';
-const FRAMES = 200;   // about 50 s of replay: the server (--exit-when-done) outlives the checks
+const FRAMES = 200;   // about 50 s of replay, so the early checks watch it grow
 const TOTAL_TIMEOUT_MS = 200000;   // a hung browser or server never hangs ctest
 
 const checks = new Checks();
@@ -70,7 +66,7 @@ async function startServer() {
   fs.mkdirSync(path.join(work, 'out'));
   server = startProcess(seamap, ['replay', survey, '--speed', speed,
     '--out', path.join(work, 'out', 'mission.mbtiles'), '--port', String(port),
-    '--web', path.join(sourceDir, 'web'), '--token', token, '--exit-when-done']);
+    '--web', path.join(sourceDir, 'web'), '--token', token]);  // serves on after the replay: cleanup() stops it
   await waitForOutput(server, new RegExp(`serving http://127\\.0\\.0\\.1:${port}/`), 20000);
   return {base: `http://127.0.0.1:${port}/`, token};
 }

@@ -2,7 +2,22 @@
 // processes that are always ended, free ports, waiting on conditions.
 
 import {spawn} from 'node:child_process';
+import fs from 'node:fs';
 import net from 'node:net';
+import os from 'node:os';
+import path from 'node:path';
+import {fileURLToPath} from 'node:url';
+
+// Where a test finds things: SEAMAP_SOURCE_DIR (the repository, default two
+// folders up), SEAMAP_BIN (default build/seamap) and SEAMAP_ARTIFACTS (for
+// screenshots; default a fresh temporary folder named after `tmpPrefix`).
+export function testEnvironment(tmpPrefix = 'seamap-e2e-artifacts-') {
+  const here = path.dirname(fileURLToPath(import.meta.url));
+  const sourceDir = path.resolve(process.env.SEAMAP_SOURCE_DIR || path.join(here, '..', '..'));
+  const seamap = process.env.SEAMAP_BIN || path.join(sourceDir, 'build', 'seamap');
+  const artifacts = path.resolve(process.env.SEAMAP_ARTIFACTS || fs.mkdtempSync(path.join(os.tmpdir(), tmpPrefix)));
+  return {sourceDir, seamap, artifacts};
+}
 
 export class Checks {
   constructor() {

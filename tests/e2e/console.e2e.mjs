@@ -103,6 +103,24 @@ function tilePixels() {
   return best;
 }
 
+// A track point from early in the survey (surely painted by now), centred,
+// on the map itself: not under a mark, whose click would open the mark.
+function earlyTrackPoint(page) {
+  return page.evaluate(() => {
+    const {map, track} = window.seamap;
+    const points = track.points;
+    const box = map.getContainer().getBoundingClientRect();
+    for (let i = Math.floor(points.length / 3); i < points.length; ++i) {
+      map.setView(points[i], map.getZoom(), {animate: false});
+      const p = map.latLngToContainerPoint(points[i]);
+      const at = {x: box.left + p.x + 3, y: box.top + p.y + 3};
+      const under = document.elementFromPoint(at.x, at.y);
+      if (under && !under.closest('.leaflet-marker-pane, .leaflet-popup-pane, .leaflet-control-container')) return at;
+    }
+    throw new Error('no track point clear of marks');
+  });
+}
+
 async function main() {
   if (!process.env.SEAMAP_E2E_URL && !fs.existsSync(seamap)) throw new Error(`no seamap binary at ${seamap}`);
   if (!fs.existsSync(path.join(sourceDir, 'web', 'vendor', 'leaflet', 'leaflet.js'))) {
@@ -124,6 +142,15 @@ async function main() {
   page.on('pageerror', error => pageErrors.push(error.message));
   page.on('console', message => {
     if (message.type() === 'error') pageErrors.push(`console: ${message.text()}`);
+  });
+  checks.diagnose = () => page.evaluate(() => {
+    const popups = [...document.querySelectorAll('.leaflet-popup')].map(p =>
+      `popup opacity ${getComputedStyle(p).opacity}: ${p.textContent.replace(/\s+/g, ' ').slice(0, 80)}`);
+    const {map} = window.seamap;
+    return [`toast "${document.querySelector('#toast')?.textContent}"`,
+      `token state "${document.querySelector('#token-state')?.textContent}"`,
+      `mode ${document.querySelector('input[name="mode"]:checked')?.id}, zoom ${map.getZoom()}, moving ${map._panAnim?._inProgress ?? false}`,
+      ...popups].join('\n');
   });
 
   const loaded = await checks.run('console loads', async () => {
@@ -310,15 +337,7 @@ async function main() {
 
   await checks.run('a map click lists the covering photos and one opens full size', async () => {
     // Click a track point from early in the survey (surely painted by now).
-    const point = await page.evaluate(() => {
-      const {map, track} = window.seamap;
-      const points = track.points;
-      const ll = points[Math.floor(points.length / 3)];
-      map.setView(ll, map.getZoom(), {animate: false});
-      const p = map.latLngToContainerPoint(ll);
-      const box = map.getContainer().getBoundingClientRect();
-      return {x: box.left + p.x + 3, y: box.top + p.y + 3};
-    });
+    const point = await earlyTrackPoint(page);
     await page.check('#mode-photos');
     await sleep(300);
     await page.mouse.click(point.x, point.y);
@@ -360,14 +379,7 @@ async function main() {
       return r.width > 20 && r.right <= window.innerWidth + 1 ? el.textContent : '';
     });
     if (!/frames/.test(progress)) throw new Error(`progress label not visible at phone width ("${progress}")`);
-    const point = await page.evaluate(() => {
-      const {map, track} = window.seamap;
-      const ll = track.points[Math.floor(track.points.length / 3)];
-      map.setView(ll, map.getZoom(), {animate: false});
-      const p = map.latLngToContainerPoint(ll);
-      const box = map.getContainer().getBoundingClientRect();
-      return {x: box.left + p.x + 3, y: box.top + p.y + 3};
-    });
+    const point = await earlyTrackPoint(page);
     await page.evaluate(() => { document.querySelector('#photo-list').dataset.state = ''; });
     await page.mouse.click(point.x, point.y);
     await page.waitForSelector('#photo-list[data-state="ready"]', {timeout: 10000});

@@ -114,6 +114,8 @@ export async function checkConsoleTools({browser, page, checks, base, shot}) {
     await page.click('.leaflet-popup .mark-form button.danger');
     await waitFor('the mark gone', async () => (await api(base, `api/detections/${id}`)).status === 404, {timeoutMs: 5000});
     await page.waitForSelector(`#detection-list li[data-id="${id}"]`, {state: 'detached', timeout: 5000});
+    // Not even fading out: an invisible popup would still take the next map click.
+    if (await page.$(`.leaflet-popup .detection-popup[data-id="${id}"]`)) throw new Error('its popup is still on the map');
     return '404 and off the list';
   });
 
@@ -132,14 +134,24 @@ export async function checkConsoleTools({browser, page, checks, base, shot}) {
     return `"${shown}" -> cleared${left ? '' : ''}`;
   });
 
-  await checks.run('measuring: a path\'s length and the area it encloses', async () => {
+  await checks.run('measuring: a path\'s length and the area it encloses', () => measuring().finally(async () => {
+    await page.click('#measure-clear');   // pass or fail, the next checks start in photos mode
+    await page.check('#mode-photos');
+  }));
+
+  async function measuring() {
     await page.check('#mode-measure');
     const box = await page.$eval('#map', el => {
       const r = el.getBoundingClientRect();
       return {x: r.left + r.width / 2, y: r.top + r.height / 2};
     });
     const pts = [[box.x - 100, box.y + 80], [box.x + 100, box.y + 80], [box.x - 100, box.y - 80]];
+    const under = [];
     for (const [x, y] of pts) {
+      under.push(await page.evaluate(([px, py]) => {
+        const e = document.elementFromPoint(px, py);
+        return e ? `${e.tagName.toLowerCase()}.${[...e.classList].join('.')}` : 'nothing';
+      }, [x, y]));
       await page.mouse.click(x, y);
       await sleep(150);
     }
@@ -152,14 +164,12 @@ export async function checkConsoleTools({browser, page, checks, base, shot}) {
     }, pts);
     const area = legs.ab * legs.ac / 2;
     if (Math.abs(result.metres - (legs.ab + legs.bc)) > 0.01 * result.metres) {
-      throw new Error(`length ${result.metres} m, expected ${(legs.ab + legs.bc).toFixed(3)}`);
+      throw new Error(`length ${result.metres} m, expected ${(legs.ab + legs.bc).toFixed(3)}; clicked on ${under.join(', ')}`);
     }
     if (!(Math.abs(result.area - area) < 0.01 * area)) throw new Error(`area ${result.area} m², expected ${area.toFixed(3)}`);
     await shot(page, 'console-measure');
-    await page.click('#measure-clear');
-    await page.check('#mode-photos');
     return `${result.metres.toFixed(2)} m, ${result.area.toFixed(2)} m²`;
-  });
+  }
 
   await checks.run('fit shows the whole track; follow keeps the vehicle in view', async () => {
     await page.evaluate(() => window.seamap.map.setView([0, 0], 3, {animate: false}));

@@ -23,6 +23,7 @@ export class Checks {
   constructor() {
     this.passed = 0;
     this.failed = 0;
+    this.diagnose = null;   // async () => text: the page's state, printed under a failure
   }
 
   ok(name, detail = '') {
@@ -44,6 +45,10 @@ export class Checks {
       return true;
     } catch (error) {
       this.fail(name, error);
+      if (this.diagnose) {
+        const state = await this.diagnose().catch(e => `(no diagnosis: ${e.message})`);
+        for (const line of String(state).split('\n')) console.log(`#   ${line}`);
+      }
       return false;
     }
   }

@@ -31,6 +31,7 @@ export class Detections {
     this.group = L.featureGroup().addTo(map);
     this.filter = '';
     this.lastSeq = 0;
+    this.deleted = new Set();   // ids deleted on the server
     $('#detection-class').addEventListener('change', event => {
       this.filter = event.target.value;
       this.render();
@@ -49,9 +50,17 @@ export class Detections {
     this.render();
   }
 
+  // Events come batched: an update sent before a delete can arrive after the
+  // console removed the mark, and must not bring it back.
   onEvent({action, id, feature}) {
-    if (action === 'deleted') this.remove(String(id));
-    else if (feature) this.upsert(feature);
+    const key = String(id ?? feature?.id);
+    if (action === 'deleted') {
+      this.deleted.add(key);
+      this.remove(key);
+    } else if (feature && (action === 'created' || !this.deleted.has(key))) {
+      this.deleted.delete(key);   // SQLite may give a deleted id to a new mark
+      this.upsert(feature);
+    }
   }
 
   upsert(feature, render = true) {
@@ -62,6 +71,7 @@ export class Detections {
     const [lon, lat] = feature.geometry.coordinates;
     let marker = this.markers.get(id);
     const editable = p.source === 'operator' && this.canEdit();
+    const iconKey = `${p.class}|${p.source}`;
     const icon = L.divIcon({
       className: `detection-icon ${p.source === 'operator' ? 'operator' : 'detected'} class-${escapeClass(p.class)}`,
       html: `<span data-detection-id="${id}" title="${escapeHtml(p.class)}" style="background:${classColour(p.class)}"></span>`,
@@ -72,21 +82,50 @@ export class Detections {
     if (!marker) {
       marker = L.marker([lat, lon], {icon, draggable: editable, keyboard: true, title: p.class, riseOnHover: true});
       marker.bindPopup(() => this.popup(id), {minWidth: 200, maxWidth: 280});
-      marker.on('dragend', () => this.move(id, marker.getLatLng()));
+      marker.on('dragstart', () => { marker.beingDragged = true; });
+      marker.on('dragend', () => {
+        marker.beingDragged = false;
+        this.move(id, marker.getLatLng());
+      });
       this.markers.set(id, marker);
     } else {
-      marker.setLatLng([lat, lon]);
-      marker.setIcon(icon);
+      // A live update must not yank a marker from under the operator's
+      // pointer, nor swap its element (that would end a drag): the position
+      // waits for the drop, the icon changes only with the class.
+      if (!marker.beingDragged) marker.setLatLng([lat, lon]);
+      if (marker.iconKey !== iconKey) marker.setIcon(icon);
       if (marker.dragging) editable ? marker.dragging.enable() : marker.dragging.disable();
-      if (marker.isPopupOpen()) marker.setPopupContent(this.popup(id));
+      if (marker.isPopupOpen()) this.refreshPopup(id, marker);
     }
+    marker.iconKey = iconKey;
     marker.getElement()?.setAttribute('data-detection-id', id);
     if (render) this.render();
   }
 
+  // A live update of an open popup keeps the operator's typing: while its
+  // form is being edited only the facts above the form are replaced.
+  refreshPopup(id, marker) {
+    const box = marker.getPopup().getElement()?.querySelector('.detection-popup');
+    const form = box?.querySelector('.mark-form');
+    const editing = form && (form.contains(document.activeElement) ||
+      [...form.querySelectorAll('input')].some(input => input.value !== input.defaultValue));
+    const fresh = this.popup(id);
+    if (!editing || typeof fresh === 'string') {
+      marker.setPopupContent(fresh);
+      return;
+    }
+    fresh.querySelector('.mark-form')?.remove();
+    for (const child of [...box.children]) if (child !== form) child.remove();
+    form.before(...fresh.childNodes);   // (popup.update() would rebuild the form too)
+  }
+
   remove(id, render = true) {
     const marker = this.markers.get(id);
-    if (marker) this.group.removeLayer(marker);
+    if (marker) {
+      const popup = marker.getPopup()?.getElement();
+      this.group.removeLayer(marker);
+      popup?.remove();   // at once: a popup fading out for 200 ms still takes clicks
+    }
     this.markers.delete(id);
     this.features.delete(id);
     if (render) this.render();
@@ -225,6 +264,7 @@ export class Detections {
     if (!confirm('Delete this mark?')) return;
     try {
       await send('DELETE', `/api/detections/${id}`);
+      this.deleted.add(id);
       this.remove(id);
     } catch (error) {
       toast(`delete failed: ${error.message}`);

@@ -314,14 +314,10 @@ struct TileFrontEnd::Connection {
     StopReading();  // httplib had begun an answer: it cannot be followed by ours
   }
 
-  // Raw mode: the client said all it will say; tell httplib once it has it
-  // all, or the connection would wait out httplib's keep-alive. (httplib may
-  // then drop an answer it is still writing: it peeks for the end of input
-  // before each write. Framed requests are never told.)
-  void ShutdownBackendWrite() {
-    if (raw && client_eof && backend && Queued(backend) == 0) shutdown(bufferevent_getfd(backend), SHUT_WR);
-  }
-
+  // Raw mode and the client said all it will say: httplib is not told (a
+  // half-close would make it drop an answer it is still writing: it peeks for
+  // the end of input before each write). Its keep-alive timeout ends the
+  // connection, and OnBackendEvent then closes the client's.
   // Moves everything `from` read to `to` (raw mode).
   static void Relay(bufferevent* from, bufferevent* to) {
     evbuffer_add_buffer(bufferevent_get_output(to), bufferevent_get_input(from));
@@ -353,7 +349,6 @@ struct TileFrontEnd::Connection {
     // Answer what was asked before the client stopped writing, then close.
     c->client_eof = true;
     c->Serve();
-    c->ShutdownBackendWrite();
     c->Flush();
   }
 
@@ -383,7 +378,6 @@ struct TileFrontEnd::Connection {
 
   static void OnBackendWrite(bufferevent*, void* arg) {
     auto* c = static_cast<Connection*>(arg);
-    c->ShutdownBackendWrite();
     c->ResumeReading();
   }
 

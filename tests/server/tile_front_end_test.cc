@@ -452,10 +452,7 @@ TEST_F(TileFrontEndTest, ARandomisedCorpusNeverBreaksTheServer) {
       }
     }
   };
-  auto t0 = std::chrono::steady_clock::now();
   run(20240611, std::chrono::milliseconds(1500));
-  std::cout << "DEBUG run1 " << std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()
-            << std::endl;
   uint64_t seed = std::random_device{}();
   if (const char* env = std::getenv("SEAMAP_FUZZ_SEED")) seed = std::strtoull(env, nullptr, 10);
   std::cout << "randomised corpus: seed " << seed << " (SEAMAP_FUZZ_SEED replays it)" << std::endl;

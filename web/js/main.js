@@ -13,6 +13,7 @@ import {Measure} from './measure.js';
 import {Photos} from './photos.js';
 import {link} from './link.js';
 import {Vehicle, showStatus} from './live.js';
+import {Swipe} from './swipe.js';
 import {Tracks} from './tracks.js';
 import {addPhotoLayers, createMap, cursorReadout, initialView, viewScope} from './map.js';
 import {readViewState, writeViewState} from './url_state.js';
@@ -85,6 +86,15 @@ async function start() {
   else toast(`no map yet: ${tilesResult.reason.message}`);
   firstView();
 
+  // Swipe to compare raw and enhanced; the stream then carries both layers' tiles.
+  const swipe = new Swipe(map, () => photoLayers, () => {
+    if (photoLayers) photoLayers.compare = swipe.compare;
+    swipe.compare?.setBuilding(status?.state === 'building');
+    live.viewChanged();
+  });
+  swipe.bindCheckbox();
+
+
   const origin = status && Array.isArray(status.origin) ? status.origin : null;
   cursorReadout(map, $('#cursor'), origin);
   const frame = origin ? localFrame(origin) : null;
@@ -107,6 +117,7 @@ async function start() {
   const setBuilding = () => {
     footprints.building = status?.state === 'building';
     for (const layer of new Set(photoLayers ? photoLayers.layers.values() : [])) layer.setBuilding(status?.state === 'building');
+    swipe.compare?.setBuilding(status?.state === 'building');
   };
   setBuilding();
   // The stream carries only the tiles of the view: reopened when the view leaves what it asked for.
@@ -115,7 +126,10 @@ async function start() {
   live.reopen();
   let retryingTiles = false;
   live
-    .on('tile', event => tileLayerFor(event.layer)?.refreshTile(event))
+    .on('tile', event => {
+      tileLayerFor(event.layer)?.refreshTile(event);
+      if (swipe.compare && swipe.compare.eventLayer === (event.layer || '')) swipe.compare.refreshTile(event);
+    })
     .on('pose', pose => vehicle.update(pose))
     .on('track', point => tracks.add(point))
     .on('detection', event => detections.onEvent(event))
@@ -129,6 +143,7 @@ async function start() {
         retryingTiles = true;
         addPhotoLayers(map).then(result => {
           photoLayers = result;
+          swipe.showCheckbox();
           setBuilding();
           if (!wanted.center) initialView(map, result.tilejson, status);
           live.reopen();
@@ -224,6 +239,7 @@ async function start() {
   // Layer opacity, low-bandwidth mode, lossless tiles.
   $('#layer-opacity').addEventListener('input', event => {
     for (const layer of new Set(photoLayers ? photoLayers.layers.values() : [])) layer.setOpacity(Number(event.target.value));
+    swipe.compare?.setOpacity(Number(event.target.value));
   });
   const lowBox = $('#low-bandwidth');
   lowBox.checked = link.lowBandwidth;
@@ -265,7 +281,7 @@ async function start() {
   });
 
   // For debugging from the browser console and for the end-to-end test.
-  window.seamap = {map, live, link, track: tracks.estimated, tracks, detections, photos, measure, footprints, vehicle, fitMission, toVehicle, setFollow,
+  window.seamap = {map, live, link, track: tracks.estimated, tracks, detections, photos, measure, footprints, vehicle, swipe, fitMission, toVehicle, setFollow,
     get layers() { return photoLayers; }, get status() { return status; }};
   document.body.dataset.ready = 'true';
 }

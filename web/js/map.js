@@ -37,6 +37,14 @@ export function tileUrl(tilejson) {
   return url.replace(/\.(png|jpg|jpeg)(\?|$)/, '.webp$2');
 }
 
+// A second instance of a photo layer (for the swipe), unknown to the layer
+// switch, which would take its adding for a change of the layer shown.
+export function twinLayer(layer) {
+  const twin = tileLayerFrom(layer.tilejson);
+  twin.eventLayer = layer.eventLayer;
+  return twin;
+}
+
 function tileLayerFrom(tilejson) {
   const maxzoom = tilejson.maxzoom ?? 22;
   const minzoom = tilejson.minzoom ?? 0;
@@ -100,6 +108,8 @@ export async function addPhotoLayers(map) {
 export function viewScope(map, photoLayers) {
   if (!photoLayers || !map._loaded) return {};
   const layer = photoLayers.active;
+  // Comparing by swipe: the other layer's tiles are on screen too.
+  const shown = [layer, ...(photoLayers.compare ? [photoLayers.compare] : [])];
   const zoom = layer._tileZoom ?? Math.round(Math.max(layer.options.minNativeZoom ?? 0,
     Math.min(layer.options.maxNativeZoom ?? 22, map.getZoom())));
   const b = map.getBounds();
@@ -108,7 +118,7 @@ export function viewScope(map, photoLayers) {
   const clamp = (v, lo, hi) => Math.max(lo, Math.min(hi, v));
   const bbox = [clamp(padded.getWest(), -180, 180), clamp(padded.getSouth(), -85.06, 85.06),
     clamp(padded.getEast(), -180, 180), clamp(padded.getNorth(), -85.06, 85.06)];
-  return {layer: layer.eventLayer ?? '', zoom, view, bbox};
+  return {layer: shown.map(l => l.eventLayer ?? '').join(','), zoom, view, bbox};
 }
 
 // The first view: the map's bounds, else its centre, else the vehicle.

@@ -16,7 +16,7 @@
 import fs from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
-import {Checks, freePort, killAll, run, sleep, startProcess, stopProcess, waitFor, waitForOutput, testEnvironment} from './harness.mjs';
+import {Checks, freePort, killAll, linkProxy, run, sleep, startProcess, stopProcess, waitFor, waitForOutput, testEnvironment} from './harness.mjs';
 
 const {sourceDir, seamap, artifacts} = testEnvironment('seamap-bw-artifacts-');
 const budgetMbps = Number(process.env.SEAMAP_BW_BUDGET_MBPS || 0.3);
@@ -29,6 +29,7 @@ const TOTAL_TIMEOUT_MS = 180000;
 const checks = new Checks();
 let browser = null;
 let server = null;
+let proxy = null;
 let work = null;
 
 const watchdog = setTimeout(() => {
@@ -72,7 +73,9 @@ async function main() {
   server = startProcess(seamap, ['replay', survey, '--speed', SPEED, '--out', path.join(work, 'mission.mbtiles'),
     '--port', String(port), '--web', path.join(sourceDir, 'web'), '--quiet']);
   await waitForOutput(server, new RegExp(`serving http://127\\.0\\.0\\.1:${port}/`), 20000);
-  const base = `http://127.0.0.1:${port}/`;
+  const api = `http://127.0.0.1:${port}/`;
+  proxy = await linkProxy(port);   // the browser's way to the server, which the test can cut
+  const base = `http://127.0.0.1:${proxy.port}/`;
 
   browser = await chromium.launch({
     executablePath: process.env.SEAMAP_CHROMIUM || '/usr/bin/chromium',
@@ -126,6 +129,28 @@ async function main() {
     }
     return `track ${before.track} -> ${after.track}, ${after.refreshed - before.refreshed} tiles refreshed`;
   });
+  await checks.run('the link cut for 5 s: the console says so, and catches up when it returns', async () => {
+    const badge = () => page.$eval('#connection', el => el.dataset.state);
+    proxy.cut();
+    const down = await waitFor('the console to see the link down', async () => {
+      const state = await badge();
+      return ['reconnecting', 'offline', 'silent'].includes(state) ? state : null;
+    }, {timeoutMs: 10000});
+    await sleep(5000);   // the replay goes on: poses and track points the console cannot hear
+    const missed = (await (await fetch(new URL('api/track', api))).json()).geometry.coordinates.length;
+    proxy.restore();
+    const back = await waitFor('the link back', async () => {
+      const state = await badge();
+      return ['catching up', 'live'].includes(state) ? state : null;
+    }, {timeoutMs: 15000});
+    const shown = await waitFor('the track caught up', async () => {
+      const n = await page.evaluate(() => window.seamap.track.points.length);
+      return n >= missed ? n : null;
+    }, {timeoutMs: 10000}).catch(async () => {
+      throw new Error(`the console shows ${await page.evaluate(() => window.seamap.track.points.length)} track points, the server had ${missed} before the link returned`);
+    });
+    return `${down} -> ${back}; track ${shown} points (${missed} on the server when the link returned)`;
+  });
   await checks.run('tiles being painted are marked pending, and none once the map is finished', async () => {
     if (!pendingSeen) throw new Error('no tile on screen was marked pending while the map was building');
     await page.waitForSelector('#progress[data-state="complete"]', {timeout: 60000});
@@ -153,6 +178,7 @@ try {
   if (server) console.log(`# server output:\n${server.output.slice(-3000).replace(/^/gm, '# ')}`);
 } finally {
   if (browser) await browser.close().catch(() => {});
+  proxy?.close();
   if (server) await stopProcess(server);
   killAll();
   if (work) fs.rmSync(work, {recursive: true, force: true});

@@ -145,3 +145,35 @@ export function waitForOutput(child, pattern, timeoutMs) {
     return pattern.test(child.output);
   }, {timeoutMs, intervalMs: 100});
 }
+
+// A TCP relay to 127.0.0.1:targetPort standing in for the ship's Wi-Fi: cut()
+// drops every connection and refuses new ones until restore().
+export async function linkProxy(targetPort) {
+  const sockets = new Set();
+  let up = true;
+  const server = net.createServer(client => {
+    if (!up) return client.destroy();
+    const upstream = net.connect(targetPort, '127.0.0.1');
+    for (const s of [client, upstream]) {
+      sockets.add(s);
+      s.on('close', () => sockets.delete(s));
+      s.on('error', () => {});
+    }
+    client.pipe(upstream).pipe(client);
+    client.on('close', () => upstream.destroy());
+    upstream.on('close', () => client.destroy());
+  });
+  await new Promise(resolve => server.listen(0, '127.0.0.1', resolve));
+  return {
+    port: server.address().port,
+    cut() {
+      up = false;
+      for (const s of sockets) s.destroy();
+    },
+    restore() { up = true; },
+    close() {
+      this.cut();
+      server.close();
+    },
+  };
+}

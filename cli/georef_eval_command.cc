@@ -15,7 +15,7 @@
 #include "core/geo/local_frame.h"
 #include "core/geo/utm.h"
 #include "core/georef/point_cloud_ply.h"
-#include "core/nav/csv_table.h"
+#include "core/nav/csv_numbers.h"
 #include "core/nav/nav_values.h"
 #include "core/util/error.h"
 
@@ -30,30 +30,7 @@ with --report, the scale and rotation errors of each sub-map against DIR/truth.j
 --points, the georeferenced cloud against DIR/cloud_truth.ply (same point order).
 )";
 
-using Row = std::map<std::string, double>;
-
-std::vector<Row> ReadCsvNumbers(const std::string& path, const std::vector<std::string>& columns) {
-  const CsvTable table = ParseCsv(ReadTextLines(path));
-  std::vector<int> index;
-  for (const auto& c : columns) {
-    const auto it = std::find(table.header.begin(), table.header.end(), c);
-    if (it == table.header.end()) throw InputError(path, table.header_line, c, "column missing");
-    index.push_back(static_cast<int>(it - table.header.begin()));
-  }
-  std::vector<Row> rows;
-  for (const auto& row : table.rows) {
-    Row r;
-    for (size_t k = 0; k < columns.size(); ++k) {
-      std::string why;
-      const auto v =
-          index[k] < static_cast<int>(row.fields.size()) ? ParseNumber(Trim(row.fields[index[k]]), &why) : std::nullopt;
-      if (!v) throw InputError(path, row.line, columns[k], "expected a number");
-      r[columns[k]] = *v;
-    }
-    rows.push_back(r);
-  }
-  return rows;
-}
+using Row = CsvNumbers;
 
 nlohmann::json ReadJson(const std::string& path) {
   std::ifstream in(path);

@@ -16,6 +16,7 @@
 #include "cli/build_output.h"
 #include "cli/build_setup.h"
 #include "cli/commands.h"
+#include "cli/georef_overlays.h"
 #include "cli/server_setup.h"
 #include "cli/shutdown_signal.h"
 #include "cli/trajectory_setup.h"
@@ -128,7 +129,7 @@ void WaitForFirstFrame(const std::string& nav, const std::string& images, const 
 int RunReplay(int argc, char** argv, int first) {
   Args args(argc, argv, first, {"append", "overwrite", "quiet", "exit-when-done", "help"});
   if (args.Flag("help")) {
-    std::printf("%s%s", kHelp, kServerOptionsHelp);
+    std::printf("%s%s%s", kHelp, kGeorefOverlayHelp, kServerOptionsHelp);
     return 0;
   }
   const std::optional<std::string> watch = args.Get("watch");
@@ -173,6 +174,7 @@ int RunReplay(int argc, char** argv, int first) {
       estimator = std::make_unique<TrajectoryEstimator>(in.camera, EstimatorOptionsFrom(*mode, stated, "--nav-mode"));
     }
   }
+  const GeorefOverlays overlays = ReadGeorefOverlays(args);  // before the map is touched
   args.RejectUnknown();
 
   std::unique_ptr<FrameFeed> feed;
@@ -202,6 +204,7 @@ int RunReplay(int argc, char** argv, int first) {
 
   server::EventHub events;
   server::MissionState mission;
+  overlays.ApplyTo(mission);
   BuildHooks enhance = MakeHooks(in);
   const bool both = in.config.layers == "both" && enhance.preprocess;
   const std::vector<std::string> layers = both ? std::vector<std::string>{"raw", "enhanced"}

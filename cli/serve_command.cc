@@ -7,6 +7,7 @@
 
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "cli/georef_overlays.h"
 #include "cli/server_setup.h"
 #include "cli/shutdown_signal.h"
 #include "core/georef/georef_inputs.h"
@@ -32,9 +33,7 @@ const char* kHelp =
     "\n"
     "  --config FILE       settings; its \"server\" object gives host, port, token, threads\n"
     "  --images DIR        where the original photos are when their recorded paths are gone\n"
-    "  --read-only         never write to the map (operator marks are refused)\n"
-    "  --buoy FILE         a towed GPS buoy's fixes (time_s,lat,lon; seamap georef's --buoy), served\n"
-    "                      as GET /api/track?source=buoy beside the vehicle's track\n";
+    "  --read-only         never write to the map (operator marks are refused)\n";
 
 // The map opened for writing operator marks; null when it cannot be.
 std::unique_ptr<TileStore> OpenForMarks(const std::string& path) {
@@ -84,7 +83,7 @@ int ServeCatalogue(const std::string& folder, const server::ServerOptions& optio
 int RunServe(int argc, char** argv, int first) {
   Args args(argc, argv, first, {"read-only", "help"});
   if (args.Flag("help")) {
-    std::printf("%s%s", kHelp, kServerOptionsHelp);
+    std::printf("%s%s%s", kHelp, kGeorefOverlayHelp, kServerOptionsHelp);
     return 0;
   }
   if (args.positionals().size() != 1)
@@ -96,25 +95,16 @@ int RunServe(int argc, char** argv, int first) {
   server::ServerOptions options = ReadServerOptions(args, config.server, config_path.value_or(""));
   if (auto images = args.Get("images")) options.photo_dir = *images;
   const bool read_only = args.Flag("read-only");
-  const std::optional<std::string> buoy_file = args.Get("buoy");
+  const GeorefOverlays overlays = ReadGeorefOverlays(args);  // before serving: bad input stops here
   args.RejectUnknown();
-  std::vector<TrackPoint> buoy_track;
-  if (buoy_file) {  // read before serving: bad input stops here with file and line
-    const BuoyLog log = ReadBuoyLog(*buoy_file);
-    for (const auto& r : log.rejected) std::fprintf(stderr, "skipped: %s\n", r.Message().c_str());
-    for (const auto& f : log.fixes) {
-      TrackPoint point;
-      point.time_s = f.time_s;
-      point.position = f.position;
-      buoy_track.push_back(point);
-    }
-  }
 
   ShutdownSignal shutdown;  // before any thread starts
   const bool mbtiles = IsMBTilesPath(path);
   std::error_code ec;
   if (!mbtiles && fs::is_directory(path, ec) && !fs::exists(fs::path(path) / "metadata.json", ec)) {
-    if (buoy_file) throw InputError(path, 0, "--buoy", "goes with one map, not a folder of maps");
+    if (overlays.any())
+      throw InputError(path, 0, overlays.buoy_file ? "--buoy" : "--georef-nav",
+                       "goes with one map, not a folder of maps");
     return ServeCatalogue(path, options, shutdown);
   }
   if (mbtiles ? !fs::is_regular_file(path, ec) : !fs::is_regular_file(fs::path(path) / "metadata.json", ec))
@@ -131,7 +121,7 @@ int RunServe(int argc, char** argv, int first) {
   server::MissionState mission;
   mission.Load(records);
   mission.SetLayers(tiles.Layers(), tiles.Format());
-  mission.SetBuoyTrack(std::move(buoy_track));
+  overlays.ApplyTo(mission);
   // The state as recorded, a build still running (it holds MAP.lock) or
   // interrupted: the server says which, and how an interrupted one goes on.
   auto recorded_state = [&tiles] {

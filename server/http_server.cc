@@ -234,6 +234,8 @@ void HttpServer::Routes() {
           SendJson(res, j);
         }));
 
+  s.Get("/api/keyframes",
+        Guard([this](const httplib::Request&, httplib::Response& res) { SendJson(res, mission_->KeyframesJson()); }));
   s.Get("/api/track", Guard([this](const httplib::Request& req, httplib::Response& res) {
           const TrackSource source = ParseTrackSource(Param(req, "source"));
           int since = 0;

@@ -179,7 +179,9 @@ nlohmann::json MissionState::StatusJson() const {
                       {"writable", writable_},
                       {"trajectory_corrected", corrected_frames_ > 0 || corrected_points_ > 0},
                       {"corrected_frames", corrected_frames_},
-                      {"trajectory", trajectory_}};
+                      {"trajectory", trajectory_},
+                      {"buoy_fixes", buoy_track_.size()},
+                      {"keyframes", keyframes_.size()}};
   j["progress"] = progress_.frames_total > 0
                       ? nlohmann::json(std::min(1.0, double(progress_.frames_done) / progress_.frames_total))
                       : nlohmann::json(nullptr);
@@ -226,6 +228,22 @@ std::vector<TrackPoint> MissionState::BuoyTrackFrom(int first_seq) const {
 int MissionState::BuoyTrackSize() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return static_cast<int>(buoy_track_.size());
+}
+
+void MissionState::SetKeyframes(std::vector<GeorefKeyframe> keyframes) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  keyframes_ = std::move(keyframes);
+}
+
+nlohmann::json MissionState::KeyframesJson() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  nlohmann::json features = nlohmann::json::array();
+  for (const auto& k : keyframes_) {
+    features.push_back({{"type", "Feature"},
+                        {"geometry", {{"type", "Point"}, {"coordinates", {k.position.lon, k.position.lat}}}},
+                        {"properties", {{"time_s", k.time_s}, {"good", k.good}}}});
+  }
+  return {{"type", "FeatureCollection"}, {"features", features}};
 }
 
 std::vector<FrameRecord> MissionState::FramesCovering(const LatLon& p, size_t limit) const {

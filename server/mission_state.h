@@ -29,6 +29,13 @@ struct Progress {
   double frames_per_s = 0;
 };
 
+// A SLAM keyframe georeferenced by the buoy; `good`: used in the fit.
+struct GeorefKeyframe {
+  double time_s = 0;
+  LatLon position;
+  bool good = false;
+};
+
 class MissionState {
  public:
   // Frames, track and metadata of a stored mission.
@@ -60,6 +67,11 @@ class MissionState {
   void SetBuoyTrack(std::vector<TrackPoint> fixes);
   std::vector<TrackPoint> BuoyTrackFrom(int first_seq) const;
   int BuoyTrackSize() const;
+  // SLAM keyframes placed by the buoy (seamap georef's nav.csv, given with
+  // --georef-nav): a FeatureCollection of Points with time_s and good (used
+  // in the fit) for /api/keyframes.
+  void SetKeyframes(std::vector<GeorefKeyframe> keyframes);
+  nlohmann::json KeyframesJson() const;
   // Used frames whose footprint contains the point, nearest footprint centre first.
   std::vector<FrameRecord> FramesCovering(const LatLon& point, size_t limit) const;
   std::optional<FrameRecord> Frame(int id) const;
@@ -79,9 +91,10 @@ class MissionState {
   std::vector<FrameRecord> frames_;     // in id order
   std::vector<TrackPoint> track_;       // in seq order
   std::vector<TrackPoint> buoy_track_;  // in seq order
-  int corrected_frames_ = 0;            // frames with the navigation's pose beside the placed one
-  nlohmann::json trajectory_;           // how the poses were estimated (seamap_trajectory metadata), or null
-  int corrected_points_ = 0;            // track points likewise
+  std::vector<GeorefKeyframe> keyframes_;
+  int corrected_frames_ = 0;   // frames with the navigation's pose beside the placed one
+  nlohmann::json trajectory_;  // how the poses were estimated (seamap_trajectory metadata), or null
+  int corrected_points_ = 0;   // track points likewise
 };
 
 // Point-in-polygon (even-odd rule) on lon/lat, for footprints of a few metres.

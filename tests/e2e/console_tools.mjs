@@ -95,6 +95,9 @@ export async function checkConsoleTools({browser, page, checks, base, shot}) {
     await page.mouse.move(from.x, from.y);
     await page.mouse.down();
     for (let i = 1; i <= 10; ++i) await page.mouse.move(from.x + 6 * i, from.y + 4 * i);
+    // Leaflet moves the marker in an animation frame after each mouse move; on
+    // a loaded machine the drop can come before the last one: wait for two.
+    await page.evaluate(() => new Promise(resolve => requestAnimationFrame(() => requestAnimationFrame(resolve))));
     await page.mouse.up();
     const after = await waitFor('the move stored', async () => {
       const {body} = await api(base, `api/detections/${id}`);

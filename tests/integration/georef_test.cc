@@ -191,9 +191,10 @@ TEST_F(GeorefCli, TheGeoreferencedTrajectoryFeedsSeamapBuild) {
     EXPECT_NEAR(track[k].altitude_m, std::stod(row[6]), 1e-3) << k;
   }
 
-  // Served with the buoy's fixes: the vehicle's track and the buoy's beside it.
+  // Served with the buoy's fixes and georef's keyframes: the vehicle's track,
+  // the buoy's beside it, the keyframes with the ones used in the fit.
   testing::ChildProcess serve({testing::SeamapBinary(), "serve", Path("map.mbtiles"), "--host", "127.0.0.1", "--port",
-                               "0", "--buoy", Path("survey/buoy.csv")});
+                               "0", "--buoy", Path("survey/buoy.csv"), "--georef-nav", Path("nav.csv")});
   const auto line = serve.WaitForLine("serving http://", std::chrono::seconds(30));
   ASSERT_TRUE(line) << serve.output();
   httplib::Client api("127.0.0.1", testing::PortFromServingLine(*line));
@@ -214,6 +215,29 @@ TEST_F(GeorefCli, TheGeoreferencedTrajectoryFeedsSeamapBuild) {
   const auto vehicle = nlohmann::json::parse(res->body);
   ASSERT_EQ(vehicle["geometry"]["coordinates"].size(), 40u);
   EXPECT_NEAR(vehicle["geometry"]["coordinates"][0][1].get<double>(), std::stod(nav.rows[200].fields[1]), 1e-8);
+  res = api.Get("/api/keyframes");
+  ASSERT_TRUE(res);
+  const auto keyframes = nlohmann::json::parse(res->body);
+  ASSERT_EQ(keyframes["features"].size(), nav.rows.size());
+  size_t good = 0, served_good = 0;
+  for (size_t k = 0; k < nav.rows.size(); ++k) {
+    good += std::stod(nav.rows[k].fields[5]) != 0;
+    served_good += keyframes["features"][k]["properties"]["good"].get<bool>();
+  }
+  EXPECT_EQ(served_good, good);
+  EXPECT_GT(good, 0u);
+  EXPECT_LT(good, nav.rows.size());  // turns: slack tether, keyframes dropped
+  EXPECT_NEAR(keyframes["features"][5]["geometry"]["coordinates"][1].get<double>(), std::stod(nav.rows[5].fields[1]),
+              1e-9);
+  res = api.Get("/api/status");
+  ASSERT_TRUE(res);
+  const auto status = nlohmann::json::parse(res->body);
+  EXPECT_EQ(status["buoy_fixes"], fixes.rows.size());
+  EXPECT_EQ(status["keyframes"], nav.rows.size());
+  // A nav.csv without the `good` column is refused before serving, naming it.
+  EXPECT_EQ(Seamap("serve " + Path("map.mbtiles") + " --georef-nav " + Path("survey/buoy.csv"), &log), 2) << log;
+  EXPECT_TRUE(Contains(log, "buoy.csv")) << log;
+  EXPECT_TRUE(Contains(log, "good")) << log;
   res = api.Get("/api/track?source=sonar");
   ASSERT_TRUE(res);
   EXPECT_EQ(res->status, 400);

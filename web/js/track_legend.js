@@ -1,11 +1,11 @@
-// A small Leaflet control naming the track lines by colour, with a switch to
-// hide the navigation's track (shown when the trajectory was corrected).
+// A small Leaflet control naming the track lines (and dots) by colour, each
+// with a switch to hide it where it has one.
 
 import {el} from './dom.js';
 
 const L = window.L;
 
-// entries: [{key, label, color, dashArray, track, toggle}]; `toggle`: a checkbox shows/hides `track`.
+// entries: [{key, label, color, dashArray, dot, fill, toggle}]; `toggle(on)`: a checkbox shows/hides it.
 export function trackLegend(map, entries) {
   const Legend = L.Control.extend({
     options: {position: 'bottomright'},
@@ -15,12 +15,14 @@ export function trackLegend(map, entries) {
         const swatch = document.createElementNS('http://www.w3.org/2000/svg', 'svg');  // el() makes HTML elements
         swatch.setAttribute('width', '22');
         swatch.setAttribute('height', '8');
-        swatch.innerHTML = `<line x1="1" y1="4" x2="21" y2="4" stroke="${entry.color}" stroke-width="3"` +
-          `${entry.dashArray ? ` stroke-dasharray="${entry.dashArray}"` : ''}/>`;
+        swatch.innerHTML = entry.dot
+          ? `<circle cx="11" cy="4" r="3" stroke="${entry.color}" fill="${entry.fill ? entry.color : 'none'}"/>`
+          : `<line x1="1" y1="4" x2="21" y2="4" stroke="${entry.color}" stroke-width="3"` +
+            `${entry.dashArray ? ` stroke-dasharray="${entry.dashArray}"` : ''}/>`;
         const label = el('span', {class: 'label'}, entry.label);
         const row = entry.toggle
           ? el('label', {class: 'entry', dataset: {track: entry.key}},
-            el('input', {type: 'checkbox', checked: true, onchange: event => entry.track.setVisible(event.target.checked)}),
+            el('input', {type: 'checkbox', checked: true, onchange: event => entry.toggle(event.target.checked)}),
             swatch, label)
           : el('div', {class: 'entry', dataset: {track: entry.key}}, swatch, label);
         box.append(row);

@@ -152,7 +152,7 @@ BuildCheckpointer::BuildCheckpointer(TileStore* store, TileBuffer* buffer, const
                                      ThreadPool* pool, int tile_size, int channels)
     : store_(store), buffer_(buffer), forecast_(forecast), pool_(pool), tile_size_(tile_size), channels_(channels) {}
 
-void BuildCheckpointer::Write(BuildProgress progress, int64_t frames_from, int64_t track_from) {
+void BuildCheckpointer::Write(BuildProgress progress, int64_t frames_from, int64_t track_from, bool keep_start) {
   const TileBuffer::Changes changes = buffer_->TakeChanges();
   CheckpointUpdate update;
   std::vector<std::future<std::vector<uint8_t>>> packed;
@@ -184,6 +184,7 @@ void BuildCheckpointer::Write(BuildProgress progress, int64_t frames_from, int64
   update.progress = progress.ToJson().dump();
   update.frames_from = frames_from;
   update.track_from = track_from;
+  update.keep_start = keep_start;
   store_->WriteCheckpoint(update);
 }
 

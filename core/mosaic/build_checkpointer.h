@@ -66,7 +66,8 @@ class BuildCheckpointer {
   // tiles and kept lists are filled here) and commits the store with them.
   // frames_from / track_from: see CheckpointUpdate. Call between frames,
   // with every finished tile written.
-  void Write(BuildProgress progress, int64_t frames_from, int64_t track_from);
+  // keep_start: see CheckpointUpdate.
+  void Write(BuildProgress progress, int64_t frames_from, int64_t track_from, bool keep_start = false);
   // The store's checkpoint, if it has one.
   std::optional<BuildProgress> Read() const;
   // Fills the (empty) buffer from the store's checkpoint `progress`.

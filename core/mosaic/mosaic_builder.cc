@@ -102,7 +102,7 @@ MosaicBuilder::MosaicBuilder(const BuildConfig& config, const CameraModel& camer
   }
   recorder_.WriteState("building", 0, 0);
   if (checkpointer_)
-    WriteCheckpoint();  // the start: what a failure before the next one returns to
+    WriteCheckpoint(previous_state_ == "complete");  // the start; an append keeps the map as it was until it ends
   else
     store_->Flush();
 }
@@ -135,7 +135,7 @@ nlohmann::json MosaicBuilder::Settings(const BuildConfig& c, const MosaicPlan& p
           {"enhance", enhanced ? c.enhance.value_or(nlohmann::json("on")) : nlohmann::json(nullptr)}};
 }
 
-void MosaicBuilder::WriteCheckpoint() {
+void MosaicBuilder::WriteCheckpoint(bool keep_start) {
   const auto began = std::chrono::steady_clock::now();
   BuildProgress p;
   p.frame_index = last_index_;
@@ -152,7 +152,7 @@ void MosaicBuilder::WriteCheckpoint() {
   p.command = mode_.command;
   p.settings = Settings(config_, plan_, static_cast<bool>(hooks_.preprocess));
   // Frames after the last one consumed (ids from here on) are newer than the checkpoint.
-  checkpointer_->Write(p, int64_t{p.frame_id_offset} + last_index_ + 1, p.track_seq);
+  checkpointer_->Write(p, int64_t{p.frame_id_offset} + last_index_ + 1, p.track_seq, keep_start);
   checkpoint_index_ = last_index_;
   last_checkpoint_ = std::chrono::steady_clock::now();
   ++stats_.checkpoints;
@@ -194,11 +194,12 @@ void MosaicBuilder::Resume() {
 }
 
 void MosaicBuilder::Abandon() {
-  // Nothing of this build is worth keeping yet and the map was complete
-  // before it: return it to that, tiles and state (a failed --append).
-  if (checkpoint_index_ >= 0 || previous_state_ != "complete") return;
+  // The map was complete before this build (a failed --append, resumed or
+  // not): return it to that, tiles, frames, track and state. Any other
+  // failed build stays interrupted, to be resumed.
+  if (previous_state_ != "complete") return;
   try {
-    store_->RollBackToCheckpoint();
+    if (!store_->RollBackToStart()) return;
     store_->SetMetadata("seamap_state", previous_state_);
     store_->DropCheckpoint();
     store_->Flush();

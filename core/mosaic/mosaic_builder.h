@@ -115,7 +115,8 @@ class MosaicBuilder {
   void FlushBatch();
   void Finished(const TileId& id, const cv::Mat& tile);  // a base tile is finished
   void UpdateWriteStats();
-  void WriteCheckpoint();
+  // keep_start: the first checkpoint of an append to a complete map (see CheckpointUpdate).
+  void WriteCheckpoint(bool keep_start = false);
   void Resume();
   void Abandon();  // unfinished: see BuildStart::checkpoints
 

@@ -15,6 +15,9 @@ CREATE TABLE IF NOT EXISTS seamap_resume (layer text, kind integer, zoom_level i
                                           primary key (layer, kind, zoom_level, tile_column, tile_row));
 CREATE TABLE IF NOT EXISTS seamap_undo (layer text, zoom_level integer, tile_column integer, tile_row integer,
                                         tile_data blob, primary key (layer, zoom_level, tile_column, tile_row));
+CREATE TABLE IF NOT EXISTS seamap_start (layer text primary key, frames_from integer, track_from integer);
+CREATE TABLE IF NOT EXISTS seamap_start_undo (layer text, zoom_level integer, tile_column integer, tile_row integer,
+                                              tile_data blob, primary key (layer, zoom_level, tile_column, tile_row));
 )sql";
 
 // A statement prepared for one use, finalized whatever happens.
@@ -47,6 +50,7 @@ void BindLayer(sqlite3_stmt* s, const std::string& layer) {
 
 MBTilesJournal::~MBTilesJournal() {
   for (auto& [layer, s] : keep_) sqlite3_finalize(s);
+  for (auto& [layer, s] : keep_start_) sqlite3_finalize(s);
 }
 
 void MBTilesJournal::CreateTables(sqlite3* db) {
@@ -66,25 +70,53 @@ void MBTilesJournal::Run(const std::string& sql, const std::string& layer) const
 }
 
 void MBTilesJournal::BeforeTileWrite(const std::string& layer, const TileId& id) {
-  if (!journaling_.count(layer) || !journaled_[layer].insert(id).second) return;
-  sqlite3_stmt*& keep = keep_[layer];
+  if (journaling_.count(layer) && journaled_[layer].insert(id).second) {
+    try {
+      Keep("seamap_undo", keep_, layer, id);
+    } catch (...) {
+      journaled_[layer].erase(id);
+      throw;
+    }
+  }
+  if (KeepsStart(layer) && start_journaled_[layer].insert(id).second) {
+    try {
+      Keep("seamap_start_undo", keep_start_, layer, id);
+    } catch (...) {
+      start_journaled_[layer].erase(id);
+      throw;
+    }
+  }
+}
+
+void MBTilesJournal::Keep(const std::string& undo, std::map<std::string, sqlite3_stmt*>& statements,
+                          const std::string& layer, const TileId& id) {
+  sqlite3_stmt*& keep = statements[layer];
   if (!keep) {
-    const std::string table = TableOf(layer);
-    const std::string sql =
-        "INSERT OR IGNORE INTO seamap_undo (layer, zoom_level, tile_column, tile_row, tile_data) "
-        "SELECT ?1, ?2, ?3, ?4, (SELECT tile_data FROM " +
-        table + " WHERE zoom_level = ?2 AND tile_column = ?3 AND tile_row = ?4)";
-    if (sqlite3_prepare_v2(db_, sql.c_str(), -1, &keep, nullptr) != SQLITE_OK) Fail("prepare undo journal");
+    const std::string sql = "INSERT OR IGNORE INTO " + undo +
+                            " (layer, zoom_level, tile_column, tile_row, tile_data) "
+                            "SELECT ?1, ?2, ?3, ?4, (SELECT tile_data FROM " +
+                            TableOf(layer) + " WHERE zoom_level = ?2 AND tile_column = ?3 AND tile_row = ?4)";
+    if (sqlite3_prepare_v2(db_, sql.c_str(), -1, &keep, nullptr) != SQLITE_OK) Fail("prepare " + undo);
   }
   BindLayer(keep, layer);
   BindTile(keep, 2, id);
   const int rc = sqlite3_step(keep);
   sqlite3_reset(keep);
   sqlite3_clear_bindings(keep);
-  if (rc != SQLITE_DONE) {
-    journaled_[layer].erase(id);
-    Fail("write undo journal");
+  if (rc != SQLITE_DONE) Fail("write " + undo);
+}
+
+// A resumed append finds its start in the file; other maps have none (or no table).
+bool MBTilesJournal::KeepsStart(const std::string& layer) {
+  auto it = keeps_start_.find(layer);
+  if (it != keeps_start_.end()) return it->second;
+  Statement s(db_, "SELECT 1 FROM seamap_start WHERE layer = ?1");
+  bool keeps = false;
+  if (s.get()) {
+    BindLayer(s.get(), layer);
+    keeps = sqlite3_step(s.get()) == SQLITE_ROW;
   }
+  return keeps_start_[layer] = keeps;
 }
 
 void MBTilesJournal::Write(const std::string& layer, const CheckpointUpdate& u) {
@@ -130,6 +162,17 @@ void MBTilesJournal::Write(const std::string& layer, const CheckpointUpdate& u) 
   Run("DELETE FROM seamap_undo WHERE layer = ?1", layer);
   journaling_.insert(layer);
   journaled_[layer].clear();
+  if (u.keep_start) {
+    Run("DELETE FROM seamap_start_undo WHERE layer = ?1", layer);
+    Statement start(db_, "INSERT OR REPLACE INTO seamap_start (layer, frames_from, track_from) VALUES (?1, ?2, ?3)");
+    if (!start.get()) Fail("prepare start");
+    BindLayer(start.get(), layer);
+    sqlite3_bind_int64(start.get(), 2, u.frames_from);
+    sqlite3_bind_int64(start.get(), 3, u.track_from);
+    if (sqlite3_step(start.get()) != SQLITE_DONE) Fail("write start");
+    keeps_start_[layer] = true;
+    start_journaled_[layer].clear();
+  }
 }
 
 std::optional<StoredCheckpoint> MBTilesJournal::Read(const std::string& layer) const {
@@ -163,27 +206,49 @@ std::optional<std::vector<uint8_t>> MBTilesJournal::ReadBlob(const std::string& 
   return std::vector<uint8_t>(data, data + sqlite3_column_bytes(s.get(), 0));
 }
 
-void MBTilesJournal::RollBack(const std::string& layer) {
-  const std::optional<StoredCheckpoint> c = Read(layer);
-  if (!c) return;
+// Tiles written since the undo journal began get the version it kept (or
+// go, where it kept none); newer frames and track points go.
+void MBTilesJournal::Restore(const std::string& undo, const std::string& layer, int64_t frames_from,
+                             int64_t track_from) {
   const std::string table = TableOf(layer);
   const std::string same_tile = "u.layer = ?1 AND u.zoom_level = " + table +
                                 ".zoom_level AND u.tile_column = " + table + ".tile_column AND u.tile_row = " + table +
                                 ".tile_row";
-  Run("DELETE FROM " + table + " WHERE EXISTS (SELECT 1 FROM seamap_undo AS u WHERE " + same_tile +
+  Run("DELETE FROM " + table + " WHERE EXISTS (SELECT 1 FROM " + undo + " AS u WHERE " + same_tile +
           " AND u.tile_data IS NULL)",
       layer);
   Run("INSERT OR REPLACE INTO " + table +
           " (zoom_level, tile_column, tile_row, tile_data) SELECT zoom_level, tile_column, tile_row, tile_data "
-          "FROM seamap_undo WHERE layer = ?1 AND tile_data IS NOT NULL",
+          "FROM " +
+          undo + " WHERE layer = ?1 AND tile_data IS NOT NULL",
       layer);
-  Run("DELETE FROM seamap_undo WHERE layer = ?1", layer);
+  Run("DELETE FROM " + undo + " WHERE layer = ?1", layer);
   if (layer.empty()) {  // the main layer records the mission's frames and track
-    if (c->frames_from >= 0) Run("DELETE FROM frames WHERE id >= " + std::to_string(c->frames_from), layer);
-    if (c->track_from >= 0) Run("DELETE FROM track WHERE seq >= " + std::to_string(c->track_from), layer);
+    if (frames_from >= 0) Run("DELETE FROM frames WHERE id >= " + std::to_string(frames_from), layer);
+    if (track_from >= 0) Run("DELETE FROM track WHERE seq >= " + std::to_string(track_from), layer);
   }
+}
+
+void MBTilesJournal::RollBack(const std::string& layer) {
+  const std::optional<StoredCheckpoint> c = Read(layer);
+  if (!c) return;
+  Restore("seamap_undo", layer, c->frames_from, c->track_from);
   journaling_.insert(layer);
   journaled_[layer].clear();
+}
+
+bool MBTilesJournal::RollBackToStart(const std::string& layer) {
+  if (!KeepsStart(layer)) return false;
+  Statement s(db_, "SELECT frames_from, track_from FROM seamap_start WHERE layer = ?1");
+  if (!s.get()) Fail("read start");
+  BindLayer(s.get(), layer);
+  if (sqlite3_step(s.get()) != SQLITE_ROW) Fail("read start");
+  const int64_t frames_from = sqlite3_column_int64(s.get(), 0), track_from = sqlite3_column_int64(s.get(), 1);
+  // Every tile written since the start has its version from before in
+  // seamap_start_undo (kept in the transaction of its first write).
+  Restore("seamap_start_undo", layer, frames_from, track_from);
+  Drop(layer);
+  return true;
 }
 
 void MBTilesJournal::Drop(const std::string& layer) {
@@ -193,6 +258,12 @@ void MBTilesJournal::Drop(const std::string& layer) {
     Run(std::string("DELETE FROM ") + table + " WHERE layer = ?1", layer);
   journaling_.erase(layer);
   journaled_.erase(layer);
+  Statement start(db_, "SELECT 1 FROM seamap_start");
+  if (!start.get()) return;  // a map from before starts were kept
+  for (const char* table : {"seamap_start_undo", "seamap_start"})
+    Run(std::string("DELETE FROM ") + table + " WHERE layer = ?1", layer);
+  keeps_start_[layer] = false;
+  start_journaled_.erase(layer);
 }
 
 }  // namespace seamap

@@ -73,6 +73,7 @@ class MBTilesStore::Layer : public TileStore {
     return parent_->journal_->ReadBlob(name_, kind, id);
   }
   void RollBackToCheckpoint() override { parent_->RollBackOf(name_); }
+  bool RollBackToStart() override { return parent_->RollBackToStartOf(name_); }
   void DropCheckpoint() override { parent_->DropOf(name_); }
 
  private:

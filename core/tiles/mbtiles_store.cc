@@ -304,6 +304,20 @@ void MBTilesStore::RollBackOf(const std::string& layer) {
   CommitLocked();
 }
 
+bool MBTilesStore::RollBackToStartOf(const std::string& layer) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  BeginWrite();
+  bool kept = false;
+  try {
+    kept = journal_->RollBackToStart(layer);
+  } catch (...) {
+    AbandonLocked();
+    throw;
+  }
+  CommitLocked();
+  return kept;
+}
+
 void MBTilesStore::DropOf(const std::string& layer) {
   std::lock_guard<std::mutex> lock(mutex_);
   BeginWrite();

@@ -56,6 +56,7 @@ class MBTilesStore : public TileStore {
   std::optional<StoredCheckpoint> ReadCheckpoint() const override;
   std::optional<std::vector<uint8_t>> ReadCheckpointBlob(int kind, const TileId& id) const override;
   void RollBackToCheckpoint() override { RollBackOf(""); }
+  bool RollBackToStart() override { return RollBackToStartOf(""); }
   void DropCheckpoint() override { DropOf(""); }
 
   const std::string& path() const { return path_; }
@@ -68,6 +69,7 @@ class MBTilesStore : public TileStore {
   void PutTileLocked(const std::string& layer, sqlite3_stmt* put, const TileId& id, const std::vector<uint8_t>& bytes);
   void WriteCheckpointOf(const std::string& layer, const CheckpointUpdate& update);
   void RollBackOf(const std::string& layer);
+  bool RollBackToStartOf(const std::string& layer);
   void DropOf(const std::string& layer);
   std::optional<std::vector<uint8_t>> GetTileLocked(sqlite3_stmt* get, const TileId& id) const;
   int64_t CountRows(const std::string& table) const;

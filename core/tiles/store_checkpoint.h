@@ -28,6 +28,11 @@ struct CheckpointUpdate {
   int64_t frames_from = -1, track_from = -1;
   std::vector<CheckpointBlob> put;           // written or replaced
   std::vector<std::pair<int, TileId>> drop;  // (kind, id) no longer part of the state
+  // The first checkpoint of a build appending to a complete map: from here
+  // until the checkpoint is dropped the store also keeps every tile's version
+  // from before the build, so that a failed append can return to it
+  // (TileStore::RollBackToStart) however many checkpoints came after.
+  bool keep_start = false;
 };
 
 struct StoredCheckpoint {

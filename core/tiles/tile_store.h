@@ -65,6 +65,10 @@ class TileStore {
   // Back to the checkpoint: tiles written since get their earlier version
   // (or go), newer frames and track points go; commits.
   virtual void RollBackToCheckpoint() {}
+  // Back to before the build whose first checkpoint had keep_start (a failed
+  // --append), however many checkpoints came since: tiles, frames, track;
+  // forgets the checkpoint; commits. False when no start was kept.
+  virtual bool RollBackToStart() { return false; }
   // The build is over: forgets the checkpoint, in the open transaction (Flush commits).
   virtual void DropCheckpoint() {}
 };

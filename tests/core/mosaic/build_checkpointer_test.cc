@@ -5,6 +5,7 @@
 #include "core/mosaic/build_checkpointer.h"
 
 #include <filesystem>
+#include <map>
 
 #include <gtest/gtest.h>
 
@@ -90,8 +91,9 @@ class ResumeTest : public ::testing::Test {
   }
 
   // Builds frames [0, stop) (all when stop < 0) into `path`, resuming when
-  // asked; stopping early drops the builder unfinished, as a crash would.
-  BuildStats Build(const std::string& path, bool resume, int stop, const BuildConfig& config) {
+  // asked; stopping early drops the builder unfinished, as a crash would
+  // (`unfinished`: so does having pushed them all).
+  BuildStats Build(const std::string& path, bool resume, int stop, const BuildConfig& config, bool unfinished = false) {
     MBTilesStore store(path);
     MosaicPlan plan = PlanMosaic(config.map, camera_, frame_, frames_, 1);
     BuildStart start;
@@ -104,6 +106,7 @@ class ResumeTest : public ::testing::Test {
       if (stop >= 0 && f.index >= stop) return builder.stats();
       builder.Push(f);
     }
+    if (unfinished) return builder.stats();
     builder.Finish();
     return builder.stats();
   }
@@ -184,27 +187,52 @@ TEST_F(ResumeTest, OtherSettingsAreRefusedByName) {
 }
 
 TEST_F(ResumeTest, AFailedAppendLeavesTheMapAsItWas) {
-  const std::string path = (dir_ / "m.mbtiles").string();
   std::vector<FrameSpec> all = frames_;
-  frames_.resize(20);
-  Build(path, false, -1, config_);
-  std::map<TileId, std::vector<uint8_t>> before;
-  {
-    MBTilesStore store(path, MBTilesStore::Mode::kReadOnly);
-    for (const TileId& id : store.TileIds()) before[id] = *store.GetTile(id);
-  }
-  frames_.assign(all.begin() + 20, all.end());
-  for (size_t i = 0; i < frames_.size(); ++i) frames_[i].index = static_cast<int>(i);
   BuildConfig rarely = config_;
   rarely.buffer.checkpoint_seconds = 1e6;  // no checkpoint after the start
-  Build(path, false, 12, rarely);          // dropped unfinished: an exception went through
-  MBTilesStore store(path, MBTilesStore::Mode::kReadOnly);
+  // Failing before any checkpoint after the start, and after several (config_: one every batch).
+  for (const BuildConfig* config : {&rarely, &config_}) {
+    const std::string path = (dir_ / (config == &rarely ? "rarely.mbtiles" : "often.mbtiles")).string();
+    frames_.assign(all.begin(), all.begin() + 20);
+    Build(path, false, -1, config_);
+    std::map<TileId, std::vector<uint8_t>> before;
+    {
+      MBTilesStore store(path, MBTilesStore::Mode::kReadOnly);
+      for (const TileId& id : store.TileIds()) before[id] = *store.GetTile(id);
+    }
+    frames_.assign(all.begin() + 20, all.end());
+    for (size_t i = 0; i < frames_.size(); ++i) frames_[i].index = static_cast<int>(i);
+    // Every frame pushed, then dropped unfinished as when an exception went
+    // through: one thread keeps at most 8 frames in flight, so 12 or more
+    // were painted, and with config_ a checkpoint written every 3.
+    BuildConfig one_thread = *config;
+    one_thread.threads = 1;
+    const BuildStats failed = Build(path, false, -1, one_thread, /*unfinished=*/true);
+    EXPECT_GE(failed.checkpoints, config == &rarely ? 1 : 4);
+    MBTilesStore store(path, MBTilesStore::Mode::kReadOnly);
+    EXPECT_EQ(store.Metadata().at("seamap_state"), "complete");
+    EXPECT_FALSE(store.ReadCheckpoint());
+    EXPECT_EQ(store.Frames().size(), 20u);
+    EXPECT_EQ(store.Track().size(), 20u);
+    ASSERT_EQ(store.TileIds().size(), before.size());
+    for (const auto& [id, bytes] : before)
+      EXPECT_TRUE(*store.GetTile(id) == bytes) << id.z << "/" << id.x << "/" << id.y;
+  }
+}
+
+TEST_F(ResumeTest, ASuccessfulAppendKeepsNoVersionsFromBeforeIt) {
+  const std::string path = (dir_ / "m.mbtiles").string();
+  std::vector<FrameSpec> all = frames_;
+  frames_.assign(all.begin(), all.begin() + 20);
+  Build(path, false, -1, config_);
+  frames_.assign(all.begin() + 20, all.end());
+  for (size_t i = 0; i < frames_.size(); ++i) frames_[i].index = static_cast<int>(i);
+  Build(path, false, -1, config_);
+  MBTilesStore store(path);
   EXPECT_EQ(store.Metadata().at("seamap_state"), "complete");
-  EXPECT_FALSE(store.ReadCheckpoint());
-  EXPECT_EQ(store.Frames().size(), 20u);
-  EXPECT_EQ(store.Track().size(), 20u);
-  ASSERT_EQ(store.TileIds().size(), before.size());
-  for (const auto& [id, bytes] : before) EXPECT_TRUE(*store.GetTile(id) == bytes) << id.z << "/" << id.x << "/" << id.y;
+  EXPECT_EQ(store.Frames().size(), 40u);
+  EXPECT_FALSE(store.RollBackToStart());  // the append is over: nothing to return to
+  EXPECT_EQ(store.Frames().size(), 40u);
 }
 
 }  // namespace

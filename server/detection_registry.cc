@@ -4,6 +4,7 @@
 #include <ctime>
 #include <sstream>
 
+#include "core/tiles/record_json.h"
 #include "server/api_error.h"
 
 namespace seamap::server {
@@ -111,20 +112,14 @@ DetectionFilter ParseDetectionFilter(const std::optional<std::string>& bbox, con
 }
 
 nlohmann::json DetectionFeature(const Detection& d) {
+  // Every stored field but lat/lon, which the Point geometry carries.
+  nlohmann::json props = DetectionToJson(d);
+  props.erase("lat");
+  props.erase("lon");
   return {{"type", "Feature"},
           {"id", d.id},
           {"geometry", {{"type", "Point"}, {"coordinates", {d.position.lon, d.position.lat}}}},
-          {"properties",
-           {{"id", d.id},
-            {"class", d.class_name},
-            {"score", d.score},
-            {"note", d.note},
-            {"source", d.source},
-            {"frame_id", d.frame_id ? nlohmann::json(*d.frame_id) : nlohmann::json(nullptr)},
-            {"time_s", d.time_s ? nlohmann::json(*d.time_s) : nlohmann::json(nullptr)},
-            {"created", d.created},
-            {"updated", d.updated},
-            {"seq", d.seq}}}};
+          {"properties", std::move(props)}};
 }
 
 void DetectionRegistry::Load(const TileStore& store) {

@@ -39,6 +39,15 @@ const std::vector<SqlColumn> kFrameNavColumns = {
     {"nav_lat", "real"},         {"nav_lon", "real"},       {"nav_altitude_m", "real"}, {"nav_depth_m", "real"},
     {"nav_heading_deg", "real"}, {"nav_pitch_deg", "real"}, {"nav_roll_deg", "real"}};
 const std::vector<SqlColumn> kTrackNavColumns = {{"nav_lat", "real"}, {"nav_lon", "real"}, {"nav_heading_deg", "real"}};
+// A recogniser's fields and the review status (issue 19); arrays as JSON text.
+const std::vector<SqlColumn> kDetectionObjectColumns = {
+    {"model", "text"},  {"level", "integer"}, {"levels", "text"},       {"box", "text"},
+    {"east_m", "real"}, {"north_m", "real"},  {"size_ew_m", "real"},    {"size_ns_m", "real"},
+    {"frames", "text"}, {"status", "text"},   {"truncated", "integer"}, {"alt_class", "text"}};
+const std::vector<std::string> kDetectionColumns = {
+    "id",     "class",   "score",     "lat",       "lon",    "note",   "source",    "frame_id",
+    "time_s", "created", "updated",   "seq",       "model",  "level",  "levels",    "box",
+    "east_m", "north_m", "size_ew_m", "size_ns_m", "frames", "status", "truncated", "alt_class"};
 
 // Every column in the order rows are bound and read.
 const std::vector<std::string> kFrameColumns = {
@@ -125,6 +134,11 @@ MBTilesStore::MBTilesStore(const std::string& path, Mode mode) : path_(path), mo
       Exec(kSchema);
       AddMissingColumns(db_, "frames", kFrameNavColumns);  // a mission written before they existed
       AddMissingColumns(db_, "track", kTrackNavColumns);
+      AddMissingColumns(db_, "detections", kDetectionObjectColumns);
+      // Before `model`, a recogniser's name was kept in `source`.
+      Exec(
+          "UPDATE detections SET model = source, source = 'recogniser' "
+          "WHERE source NOT IN ('recogniser', 'operator', 'stereo') AND (model IS NULL OR model = '')");
       put_tile_ = Prepare(
           "INSERT OR REPLACE INTO tiles (zoom_level, tile_column, tile_row, tile_data) "
           "VALUES (?, ?, ?, ?)");
@@ -463,25 +477,40 @@ std::vector<TrackPoint> MBTilesStore::Track() const {
 void MBTilesStore::PutDetection(const Detection& d) {
   std::lock_guard<std::mutex> lock(mutex_);
   BeginWrite();
-  OneShot q{
-      Prepare("INSERT OR REPLACE INTO detections (id, class, score, lat, lon, note, source, frame_id, "
-              "time_s, created, updated, seq) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)")};
+  OneShot q{Prepare(InsertSql("detections", kDetectionColumns).c_str())};
   sqlite3_stmt* s = q.s;
+  // Bound texts must outlive the step: SQLITE_TRANSIENT copies them.
+  auto text = [s](int col, const std::string& v) { sqlite3_bind_text(s, col, v.c_str(), -1, SQLITE_TRANSIENT); };
+  auto optional_int = [s](int col, const std::optional<int>& v) {
+    if (v)
+      sqlite3_bind_int(s, col, *v);
+    else
+      sqlite3_bind_null(s, col);
+  };
   sqlite3_bind_int64(s, 1, d.id);
-  sqlite3_bind_text(s, 2, d.class_name.c_str(), -1, SQLITE_STATIC);
+  text(2, d.class_name);
   sqlite3_bind_double(s, 3, d.score);
   sqlite3_bind_double(s, 4, d.position.lat);
   sqlite3_bind_double(s, 5, d.position.lon);
-  sqlite3_bind_text(s, 6, d.note.c_str(), -1, SQLITE_STATIC);
-  sqlite3_bind_text(s, 7, d.source.c_str(), -1, SQLITE_STATIC);
-  if (d.frame_id)
-    sqlite3_bind_int(s, 8, *d.frame_id);
-  else
-    sqlite3_bind_null(s, 8);
+  text(6, d.note);
+  text(7, d.source);
+  optional_int(8, d.frame_id);
   BindOptional(s, 9, d.time_s);
-  sqlite3_bind_text(s, 10, d.created.c_str(), -1, SQLITE_STATIC);
-  sqlite3_bind_text(s, 11, d.updated.c_str(), -1, SQLITE_STATIC);
+  text(10, d.created);
+  text(11, d.updated);
   sqlite3_bind_int64(s, 12, d.seq);
+  text(13, d.model);
+  optional_int(14, d.level);
+  text(15, nlohmann::json(d.levels).dump());
+  text(16, d.box.empty() ? "" : BoxToJson(d.box).dump());
+  BindOptional(s, 17, d.position_m ? std::optional<double>((*d.position_m)[0]) : std::nullopt);
+  BindOptional(s, 18, d.position_m ? std::optional<double>((*d.position_m)[1]) : std::nullopt);
+  BindOptional(s, 19, d.size_m ? std::optional<double>((*d.size_m)[0]) : std::nullopt);
+  BindOptional(s, 20, d.size_m ? std::optional<double>((*d.size_m)[1]) : std::nullopt);
+  text(21, nlohmann::json(d.frames).dump());
+  text(22, d.status);
+  sqlite3_bind_int(s, 23, d.truncated ? 1 : 0);
+  text(24, d.alt_class);
   if (sqlite3_step(s) != SQLITE_DONE) Fail("write detection");
   EndWrite();
 }
@@ -496,24 +525,35 @@ void MBTilesStore::DeleteDetection(int64_t id) {
 }
 
 std::vector<Detection> MBTilesStore::Detections() const {
-  return ReadRows<Detection>(
-      "detections",
-      {"id", "class", "score", "lat", "lon", "note", "source", "frame_id", "time_s", "created", "updated", "seq"}, "id",
-      "read detections", [](sqlite3_stmt* s) {
-        Detection d;
-        d.id = sqlite3_column_int64(s, 0);
-        d.class_name = ColumnText(s, 1);
-        d.score = sqlite3_column_double(s, 2);
-        d.position = {sqlite3_column_double(s, 3), sqlite3_column_double(s, 4)};
-        d.note = ColumnText(s, 5);
-        d.source = ColumnText(s, 6);
-        if (sqlite3_column_type(s, 7) != SQLITE_NULL) d.frame_id = sqlite3_column_int(s, 7);
-        d.time_s = ColumnOptional(s, 8);
-        d.created = ColumnText(s, 9);
-        d.updated = ColumnText(s, 10);
-        d.seq = sqlite3_column_int64(s, 11);
-        return d;
-      });
+  return ReadRows<Detection>("detections", kDetectionColumns, "id", "read detections", [](sqlite3_stmt* s) {
+    Detection d;
+    d.id = sqlite3_column_int64(s, 0);
+    d.class_name = ColumnText(s, 1);
+    d.score = sqlite3_column_double(s, 2);
+    d.position = {sqlite3_column_double(s, 3), sqlite3_column_double(s, 4)};
+    d.note = ColumnText(s, 5);
+    d.source = ColumnText(s, 6);
+    if (sqlite3_column_type(s, 7) != SQLITE_NULL) d.frame_id = sqlite3_column_int(s, 7);
+    d.time_s = ColumnOptional(s, 8);
+    d.created = ColumnText(s, 9);
+    d.updated = ColumnText(s, 10);
+    d.seq = sqlite3_column_int64(s, 11);
+    d.model = ColumnText(s, 12);
+    if (sqlite3_column_type(s, 13) != SQLITE_NULL) d.level = sqlite3_column_int(s, 13);
+    const std::string levels = ColumnText(s, 14), box = ColumnText(s, 15), frames = ColumnText(s, 20);
+    if (!levels.empty()) d.levels = nlohmann::json::parse(levels).get<std::vector<int>>();
+    if (!box.empty()) d.box = BoxFromJson(nlohmann::json::parse(box));
+    if (ColumnsSet(s, 16, 17))
+      d.position_m = std::array<double, 2>{sqlite3_column_double(s, 16), sqlite3_column_double(s, 17)};
+    if (ColumnsSet(s, 18, 19))
+      d.size_m = std::array<double, 2>{sqlite3_column_double(s, 18), sqlite3_column_double(s, 19)};
+    if (!frames.empty()) d.frames = nlohmann::json::parse(frames).get<std::vector<int>>();
+    d.status = ColumnText(s, 21);
+    d.truncated = sqlite3_column_int(s, 22) != 0;
+    d.alt_class = ColumnText(s, 23);
+    NormaliseDetection(&d);
+    return d;
+  });
 }
 
 }  // namespace seamap

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "core/geo/lat_lon.h"
 
@@ -44,18 +45,37 @@ struct TrackPoint {
   std::optional<NavigatedPosition> nav;  // set when the point is a corrected position
 };
 
-// An object on the seabed: found by a recogniser or marked by an operator.
+// An object on the seabed: found by a recogniser (on the map's tiles), marked
+// by an operator, or located by stereo. Recogniser fields stay empty for marks.
 struct Detection {
   int64_t id = 0;
   std::string class_name;
   double score = 1;
-  LatLon position;
+  LatLon position;  // centre
   std::string note;
-  std::string source = "operator";  // "operator" or the recogniser's name
-  std::optional<int> frame_id;      // the photo it was found in
+  std::string source = "operator";                  // "recogniser", "operator" or "stereo"
+  std::string model;                                // recogniser: model file name and content hash
+  std::optional<int> level;                         // zoom of the window that gave the box
+  std::vector<int> levels;                          // every zoom that saw it
+  std::vector<LatLon> box;                          // ring NW, SW, SE, NE, NW (empty for a point mark)
+  std::optional<std::array<double, 2>> position_m;  // [east, north] of the mission origin
+  std::optional<std::array<double, 2>> size_m;      // [east-west, north-south]
+  std::vector<int> frames;                          // photos that saw it, best first
+  std::optional<int> frame_id;                      // the photo it was found in (frames[0])
   std::optional<double> time_s;
-  std::string created, updated;  // ISO 8601 UTC
-  int64_t seq = 0;               // change number: grows with every change
+  std::string status = "unconfirmed";  // "unconfirmed", "confirmed" or "rejected"
+  bool truncated = false;              // only cut boxes were seen (at a window edge)
+  std::string alt_class;               // a class that lost to this one at the same place
+  std::string created, updated;        // ISO 8601 UTC
+  int64_t seq = 0;                     // change number: grows with every change
 };
+
+// Detections stored before `model` and `status` existed kept a recogniser's
+// name in `source`: moves it to `model` and sets the source kind. A missing
+// status becomes "confirmed" for an operator's mark (it is their own call),
+// "unconfirmed" otherwise.
+void NormaliseDetection(Detection* d);
+bool IsDetectionSource(const std::string& source);
+bool IsDetectionStatus(const std::string& status);
 
 }  // namespace seamap

@@ -116,6 +116,28 @@ TrackPoint TrackPointFromJson(const nlohmann::json& j) {
   return p;
 }
 
+nlohmann::json BoxToJson(const std::vector<LatLon>& ring) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const LatLon& c : ring) out.push_back({c.lon, c.lat});
+  return out;
+}
+
+std::vector<LatLon> BoxFromJson(const nlohmann::json& j) {
+  std::vector<LatLon> out;
+  if (!j.is_array()) return out;
+  for (const auto& c : j) out.push_back({c.at(1).get<double>(), c.at(0).get<double>()});
+  return out;
+}
+
+nlohmann::json PairToJson(const std::optional<std::array<double, 2>>& v) {
+  return v ? nlohmann::json({(*v)[0], (*v)[1]}) : nlohmann::json(nullptr);
+}
+
+std::optional<std::array<double, 2>> PairFromJson(const nlohmann::json& j) {
+  if (!j.is_array() || j.size() != 2) return std::nullopt;
+  return std::array<double, 2>{j[0].get<double>(), j[1].get<double>()};
+}
+
 nlohmann::json DetectionToJson(const Detection& d) {
   return {{"id", d.id},
           {"class", d.class_name},
@@ -124,8 +146,18 @@ nlohmann::json DetectionToJson(const Detection& d) {
           {"lon", d.position.lon},
           {"note", d.note},
           {"source", d.source},
+          {"model", d.model},
+          {"level", d.level ? nlohmann::json(*d.level) : nlohmann::json(nullptr)},
+          {"levels", d.levels},
+          {"box", d.box.empty() ? nlohmann::json(nullptr) : BoxToJson(d.box)},
+          {"position_m", PairToJson(d.position_m)},
+          {"size_m", PairToJson(d.size_m)},
+          {"frames", d.frames},
           {"frame_id", d.frame_id ? nlohmann::json(*d.frame_id) : nlohmann::json(nullptr)},
-          {"time_s", d.time_s ? nlohmann::json(*d.time_s) : nlohmann::json(nullptr)},
+          {"time_s", OptionalToJson(d.time_s)},
+          {"status", d.status},
+          {"truncated", d.truncated},
+          {"alt_class", d.alt_class.empty() ? nlohmann::json(nullptr) : nlohmann::json(d.alt_class)},
           {"created", d.created},
           {"updated", d.updated},
           {"seq", d.seq}};
@@ -139,11 +171,22 @@ Detection DetectionFromJson(const nlohmann::json& j) {
   d.position = {j.at("lat").get<double>(), j.at("lon").get<double>()};
   d.note = j.value("note", "");
   d.source = j.value("source", "operator");
-  if (j.contains("frame_id") && !j.at("frame_id").is_null()) d.frame_id = j.at("frame_id").get<int>();
+  d.model = j.value("model", "");
+  if (HasNumber(j, "level")) d.level = j.at("level").get<int>();
+  if (j.contains("levels") && j.at("levels").is_array()) d.levels = j.at("levels").get<std::vector<int>>();
+  if (j.contains("box")) d.box = BoxFromJson(j.at("box"));
+  if (j.contains("position_m")) d.position_m = PairFromJson(j.at("position_m"));
+  if (j.contains("size_m")) d.size_m = PairFromJson(j.at("size_m"));
+  if (j.contains("frames") && j.at("frames").is_array()) d.frames = j.at("frames").get<std::vector<int>>();
+  if (HasNumber(j, "frame_id")) d.frame_id = j.at("frame_id").get<int>();
   d.time_s = OptionalFromJson(j, "time_s");
+  d.status = j.contains("status") && j.at("status").is_string() ? j.at("status").get<std::string>() : "";
+  d.truncated = j.contains("truncated") && j.at("truncated").is_boolean() && j.at("truncated").get<bool>();
+  if (j.contains("alt_class") && j.at("alt_class").is_string()) d.alt_class = j.at("alt_class").get<std::string>();
   d.created = j.value("created", "");
   d.updated = j.value("updated", "");
   d.seq = j.value("seq", int64_t{0});
+  NormaliseDetection(&d);
   return d;
 }
 

@@ -25,7 +25,12 @@ FrameRecord FrameFromJson(const nlohmann::json& j);  // throws nlohmann::json::e
 nlohmann::json TrackPointToJson(const TrackPoint& p);
 TrackPoint TrackPointFromJson(const nlohmann::json& j);
 
-// {"id","class","score","lat","lon","note","source","frame_id","time_s","created","updated","seq"}
+// {"id","class","score","lat","lon","note","source","model","level","levels","box","position_m",
+//  "size_m","frames","frame_id","time_s","status","truncated","alt_class","created","updated","seq"};
+// box is a [[lon,lat],...] ring, position_m [east, north], size_m [ew, ns] (null when unknown).
+// Reading normalises an older record (NormaliseDetection).
+nlohmann::json BoxToJson(const std::vector<LatLon>& ring);
+std::vector<LatLon> BoxFromJson(const nlohmann::json& j);
 nlohmann::json DetectionToJson(const Detection& d);
 Detection DetectionFromJson(const nlohmann::json& j);
 

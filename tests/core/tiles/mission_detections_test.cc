@@ -1,6 +1,7 @@
 // Detections and tile listings in both store kinds, and the ObservedStore
 // decorator that announces committed tiles.
 #include <gtest/gtest.h>
+#include <sqlite3.h>
 
 #include <set>
 
@@ -26,9 +27,21 @@ Detection Mark(int64_t id, const std::string& cls) {
   d.score = 0.75;
   d.position = {43.1001, 131.9002};
   d.note = "note " + cls;
-  d.source = id == 1 ? "recogniser-x" : "operator";
-  d.frame_id = id == 1 ? std::optional<int>(12) : std::nullopt;
-  d.time_s = id == 1 ? std::optional<double>(3.5) : std::nullopt;
+  d.source = id == 1 ? "recogniser" : "operator";
+  d.status = id == 1 ? "rejected" : "confirmed";
+  if (id == 1) {  // every recogniser field
+    d.model = "tiles.onnx@0123abcd";
+    d.level = 23;
+    d.levels = {23, 21};
+    d.box = {{43.1002, 131.9001}, {43.1000, 131.9001}, {43.1000, 131.9003}, {43.1002, 131.9003}, {43.1002, 131.9001}};
+    d.position_m = std::array<double, 2>{12.25, -3.5};
+    d.size_m = std::array<double, 2>{0.8, 0.6};
+    d.frames = {12, 13, 40};
+    d.frame_id = 12;
+    d.time_s = 3.5;
+    d.truncated = true;
+    d.alt_class = "crate";
+  }
   d.created = "2026-11-22T10:00:00Z";
   d.updated = "2026-11-22T10:05:00Z";
   d.seq = id * 10;
@@ -43,6 +56,20 @@ void ExpectSame(const Detection& a, const Detection& b) {
   EXPECT_DOUBLE_EQ(a.position.lon, b.position.lon);
   EXPECT_EQ(a.note, b.note);
   EXPECT_EQ(a.source, b.source);
+  EXPECT_EQ(a.model, b.model);
+  EXPECT_EQ(a.level, b.level);
+  EXPECT_EQ(a.levels, b.levels);
+  ASSERT_EQ(a.box.size(), b.box.size());
+  for (size_t i = 0; i < a.box.size(); ++i) {
+    EXPECT_DOUBLE_EQ(a.box[i].lat, b.box[i].lat);
+    EXPECT_DOUBLE_EQ(a.box[i].lon, b.box[i].lon);
+  }
+  EXPECT_EQ(a.position_m, b.position_m);
+  EXPECT_EQ(a.size_m, b.size_m);
+  EXPECT_EQ(a.frames, b.frames);
+  EXPECT_EQ(a.status, b.status);
+  EXPECT_EQ(a.truncated, b.truncated);
+  EXPECT_EQ(a.alt_class, b.alt_class);
   EXPECT_EQ(a.frame_id, b.frame_id);
   EXPECT_EQ(a.time_s, b.time_s);
   EXPECT_EQ(a.created, b.created);
@@ -107,6 +134,56 @@ TEST_P(StoreKinds, TileIdsListEveryTileOfTheLayerOnly) {
   EXPECT_EQ(layer_ids[0].z, 5);
   EXPECT_EQ(layer_ids[0].x, 4);
   EXPECT_EQ(layer_ids[0].y, 4);
+}
+
+// A mission written before the recogniser's fields existed: one opened
+// read-only reads them as absent, one opened to write gains the columns; a
+// recogniser name kept in `source` moves to `model` either way.
+TEST(MissionDetections, AFileWithTheOldSchemaOpensAndMigrates) {
+  TempDir dir;
+  const std::string path = (dir / "old.mbtiles").string();
+  {
+    sqlite3* db = nullptr;
+    ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+    const char* sql = R"sql(
+CREATE TABLE metadata (name text, value text);
+CREATE TABLE tiles (zoom_level integer, tile_column integer, tile_row integer, tile_data blob);
+CREATE TABLE detections (id integer primary key, class text, score real, lat real, lon real, note text,
+                         source text, frame_id integer, time_s real, created text, updated text, seq integer);
+INSERT INTO detections VALUES (1, 'tyre', 0.9, 43.1, 131.9, '', 'yolo-tiles', 4, 2.5, 'c', 'u', 3);
+INSERT INTO detections VALUES (2, 'wreck', 1.0, 43.2, 131.8, 'big', 'operator', NULL, NULL, 'c', 'u', 4);
+)sql";
+    ASSERT_EQ(sqlite3_exec(db, sql, nullptr, nullptr, nullptr), SQLITE_OK);
+    sqlite3_close(db);
+  }
+  auto check = [](const std::vector<Detection>& all) {
+    ASSERT_EQ(all.size(), 2u);
+    EXPECT_EQ(all[0].source, "recogniser");
+    EXPECT_EQ(all[0].model, "yolo-tiles");
+    EXPECT_EQ(all[0].status, "unconfirmed");
+    EXPECT_EQ(all[0].frame_id, 4);
+    EXPECT_TRUE(all[0].box.empty());
+    EXPECT_FALSE(all[0].position_m.has_value());
+    EXPECT_EQ(all[1].source, "operator");
+    EXPECT_EQ(all[1].model, "");
+    EXPECT_EQ(all[1].status, "confirmed");
+    EXPECT_EQ(all[1].note, "big");
+  };
+  check(MBTilesStore(path, MBTilesStore::Mode::kReadOnly).Detections());
+  {
+    MBTilesStore store(path);  // to write: columns added, the old row migrated
+    check(store.Detections());
+    Detection d = store.Detections()[0];
+    d.status = "confirmed";
+    d.size_m = std::array<double, 2>{0.5, 0.7};
+    store.PutDetection(d);
+    store.Flush();
+  }
+  auto all = MBTilesStore(path, MBTilesStore::Mode::kReadOnly).Detections();
+  ASSERT_EQ(all.size(), 2u);
+  EXPECT_EQ(all[0].status, "confirmed");
+  EXPECT_EQ(all[0].model, "yolo-tiles");
+  EXPECT_EQ(all[0].size_m, (std::array<double, 2>{0.5, 0.7}));
 }
 
 INSTANTIATE_TEST_SUITE_P(MBTilesAndFolder, StoreKinds, ::testing::Bool(),

@@ -1,9 +1,12 @@
 #include "server/detection_registry.h"
 
+#include <algorithm>
 #include <cmath>
 #include <ctime>
 #include <sstream>
 
+#include "core/tiles/mission_classes.h"
+#include "core/tiles/modem_record.h"
 #include "core/tiles/record_json.h"
 #include "server/api_error.h"
 
@@ -54,7 +57,9 @@ LatLon ParsePoint(const nlohmann::json& geometry) {
 // Applies the writable properties; read-only ones a client echoes back are ignored.
 void ApplyProperties(const nlohmann::json& props, Detection* d) {
   if (!props.is_object()) throw ApiError(400, "properties: expected an object");
-  static const std::set<std::string> kReadOnly = {"id", "source", "created", "updated", "seq", "frame_id"};
+  static const std::set<std::string> kReadOnly = {"id",         "source", "created", "updated",   "seq",
+                                                  "frame_id",   "model",  "level",   "levels",    "box",
+                                                  "position_m", "size_m", "frames",  "truncated", "alt_class"};
   for (const auto& [key, value] : props.items()) {
     if (key == "class") {
       if (!value.is_string() || value.get<std::string>().empty() || value.get<std::string>().size() > kMaxClassLength)
@@ -68,6 +73,10 @@ void ApplyProperties(const nlohmann::json& props, Detection* d) {
       if (!value.is_number() || value.get<double>() < 0 || value.get<double>() > 1)
         throw ApiError(400, "properties.score: expected a number in [0, 1]");
       d->score = value.get<double>();
+    } else if (key == "status") {
+      if (!value.is_string() || !IsDetectionStatus(value.get<std::string>()))
+        throw ApiError(400, "properties.status: expected \"unconfirmed\", \"confirmed\" or \"rejected\"");
+      d->status = value.get<std::string>();
     } else if (key == "time_s") {
       if (value.is_null())
         d->time_s.reset();
@@ -76,8 +85,74 @@ void ApplyProperties(const nlohmann::json& props, Detection* d) {
       else
         throw ApiError(400, "properties.time_s: expected a number of seconds or null");
     } else if (!kReadOnly.count(key)) {
-      throw ApiError(400, "properties." + key + ": unknown property; expected class, note, score or time_s");
+      throw ApiError(400, "properties." + key + ": unknown property; expected class, note, score, status or time_s");
     }
+  }
+}
+
+std::vector<std::string> SplitList(const std::string& text) {
+  std::vector<std::string> out;
+  std::stringstream in(text);
+  std::string part;
+  while (std::getline(in, part, ','))
+    if (!part.empty()) out.push_back(part);
+  return out;
+}
+
+bool Passes(const DetectionFilter& f, const Detection& d) {
+  if (f.bbox && (d.position.lon < f.bbox->west || d.position.lon > f.bbox->east || d.position.lat < f.bbox->south ||
+                 d.position.lat > f.bbox->north))
+    return false;
+  if (!f.classes.empty() && !f.classes.count(d.class_name)) return false;
+  if (f.min_score && d.score < *f.min_score) return false;
+  if (f.since && d.seq <= *f.since) return false;
+  if (!f.statuses.empty() && !f.statuses.count(d.status)) return false;
+  if (!f.sources.empty() && !f.sources.count(d.source)) return false;
+  return true;
+}
+
+// Ground distance between two nearby points (equirectangular: exact enough
+// at the centimetre-to-metre scale of matching).
+double DistanceM(const LatLon& a, const LatLon& b) {
+  constexpr double kMetresPerDegree = 6378137.0 * M_PI / 180;
+  const double north = (a.lat - b.lat) * kMetresPerDegree;
+  const double east = (a.lon - b.lon) * kMetresPerDegree * std::cos((a.lat + b.lat) / 2 * M_PI / 180);
+  return std::hypot(north, east);
+}
+
+double SmallerSizeM(const Detection& d) {
+  return d.size_m ? std::min((*d.size_m)[0], (*d.size_m)[1]) : 0;
+}
+
+// The same object again (spec 8.7): class and model agree, centres close.
+bool SameObject(const Detection& published, const Detection& found) {
+  if (published.source == "operator" || published.class_name != found.class_name || published.model != found.model)
+    return false;
+  const double radius = std::max(0.10, std::min(SmallerSizeM(published), SmallerSizeM(found)) / 4);
+  return DistanceM(published.position, found.position) <= radius;
+}
+
+// A recogniser's detection allows `status` and `note` to change; any other
+// property may be echoed back unchanged, but not changed.
+void CheckRecogniserPatch(const Detection& d, const nlohmann::json& patch) {
+  const std::string who = "detection " + std::to_string(d.id) + " comes from the " + d.source;
+  auto refuse = [&](const std::string& what) {
+    throw ApiError(403, who + "; only its status and note can be changed, not " + what);
+  };
+  const bool feature = TypeOf(patch) == "Feature";
+  if (feature && patch.contains("geometry") && !patch["geometry"].is_null()) {
+    const LatLon p = ParsePoint(patch["geometry"]);
+    if (p.lat != d.position.lat || p.lon != d.position.lon) refuse("its position");
+  }
+  const nlohmann::json& props =
+      feature ? (patch.contains("properties") ? patch["properties"] : nlohmann::json()) : patch;
+  if (props.is_null()) return;
+  if (!props.is_object()) throw ApiError(400, "properties: expected an object");
+  const nlohmann::json current = DetectionToJson(d);
+  for (const auto& [key, value] : props.items()) {
+    if (key == "status" || key == "note") continue;
+    auto it = current.find(key);
+    if (it == current.end() || *it != value) refuse("'" + key + "'");
   }
 }
 
@@ -85,7 +160,8 @@ void ApplyProperties(const nlohmann::json& props, Detection* d) {
 
 DetectionFilter ParseDetectionFilter(const std::optional<std::string>& bbox, const std::optional<std::string>& classes,
                                      const std::optional<std::string>& min_score,
-                                     const std::optional<std::string>& since) {
+                                     const std::optional<std::string>& since, const std::optional<std::string>& status,
+                                     const std::optional<std::string>& source) {
   DetectionFilter f;
   if (bbox) {
     std::vector<double> v;
@@ -96,18 +172,26 @@ DetectionFilter ParseDetectionFilter(const std::optional<std::string>& bbox, con
       throw ApiError(400, "parameter 'bbox': expected west,south,east,north with west <= east and south <= north");
     f.bbox = LatLonBounds{v[0], v[1], v[2], v[3]};
   }
-  if (classes) {
-    std::stringstream in(*classes);
-    std::string part;
-    while (std::getline(in, part, ','))
-      if (!part.empty()) f.classes.insert(part);
-  }
+  if (classes)
+    for (const std::string& v : SplitList(*classes)) f.classes.insert(v);
   if (min_score) f.min_score = ParseNumber(*min_score, "min_score");
   if (since) {
     const double v = ParseNumber(*since, "since");
     if (v < 0 || v != std::floor(v)) throw ApiError(400, "parameter 'since': expected a change number >= 0");
     f.since = static_cast<int64_t>(v);
   }
+  if (status)
+    for (const std::string& v : SplitList(*status)) {
+      if (!IsDetectionStatus(v))
+        throw ApiError(400, "parameter 'status': '" + v + "' is not unconfirmed, confirmed or rejected");
+      f.statuses.insert(v);
+    }
+  if (source)
+    for (const std::string& v : SplitList(*source)) {
+      if (!IsDetectionSource(v))
+        throw ApiError(400, "parameter 'source': '" + v + "' is not recogniser, operator or stereo");
+      f.sources.insert(v);
+    }
   return f;
 }
 
@@ -129,18 +213,14 @@ void DetectionRegistry::Load(const TileStore& store) {
     last_seq_ = std::max(last_seq_, d.seq);
     last_id_ = std::max(last_id_, d.id);
   }
+  classes_ = MissionClassTable(store);
 }
 
 nlohmann::json DetectionRegistry::Query(const DetectionFilter& f) const {
   nlohmann::json features = nlohmann::json::array();
   std::lock_guard<std::mutex> lock(mutex_);
   for (const auto& [id, d] : detections_) {
-    if (f.bbox && (d.position.lon < f.bbox->west || d.position.lon > f.bbox->east || d.position.lat < f.bbox->south ||
-                   d.position.lat > f.bbox->north))
-      continue;
-    if (!f.classes.empty() && !f.classes.count(d.class_name)) continue;
-    if (f.min_score && d.score < *f.min_score) continue;
-    if (f.since && d.seq <= *f.since) continue;
+    if (!Passes(f, d)) continue;
     features.push_back(DetectionFeature(d));
   }
   return {{"type", "FeatureCollection"}, {"features", std::move(features)}, {"last_seq", last_seq_}};
@@ -164,12 +244,28 @@ void DetectionRegistry::Announce(const char* action, const Detection& d) {
   events_->Publish("detection", data.dump());
 }
 
+void DetectionRegistry::Store(const Detection& d) {
+  store_->PutDetection(d);
+  if (ExtendClassTable(&classes_, {d.class_name})) StoreClassTable(store_, classes_);
+  if (!t0_stored_) t0_stored_ = StoreMissionT0(store_).has_value();
+}
+
+void DetectionRegistry::Forget(std::map<int64_t, Detection>::iterator it) {
+  Detection gone = it->second;
+  store_->DeleteDetection(gone.id);
+  detections_.erase(it);
+  gone.seq = ++last_seq_;
+  deleted_[gone.id] = gone;
+  Announce("deleted", gone);
+}
+
 nlohmann::json DetectionRegistry::Create(const nlohmann::json& feature) {
   CheckWritable();
   if (!feature.is_object() || TypeOf(feature) != "Feature")
     throw ApiError(400, "body: expected a GeoJSON Feature with a Point geometry");
   Detection d;
   d.position = ParsePoint(feature.contains("geometry") ? feature["geometry"] : nlohmann::json());
+  d.status = "confirmed";  // an operator's own mark, unless the body says otherwise
   ApplyProperties(feature.contains("properties") ? feature["properties"] : nlohmann::json::object(), &d);
   if (d.class_name.empty()) throw ApiError(400, "properties.class: required (what the object is)");
   d.source = "operator";
@@ -177,37 +273,36 @@ nlohmann::json DetectionRegistry::Create(const nlohmann::json& feature) {
   std::lock_guard<std::mutex> lock(mutex_);
   d.id = ++last_id_;  // never reuses the id of a mark deleted in this session
   d.seq = ++last_seq_;
-  store_->PutDetection(d);
+  Store(d);
   store_->Flush();
   detections_[d.id] = d;
   Announce("created", d);
   return DetectionFeature(d);
 }
 
-std::map<int64_t, Detection>::iterator DetectionRegistry::OperatorMark(int64_t id, const char* verb) {
-  auto it = detections_.find(id);
-  if (it == detections_.end()) throw ApiError(404, "no detection " + std::to_string(id));
-  if (it->second.source != "operator")
-    throw ApiError(403, "detection " + std::to_string(id) + " comes from '" + it->second.source +
-                            "'; only operator marks can be " + verb);
-  return it;
-}
-
 nlohmann::json DetectionRegistry::Update(int64_t id, const nlohmann::json& patch) {
   CheckWritable();
   std::lock_guard<std::mutex> lock(mutex_);
-  auto it = OperatorMark(id, "changed");
+  auto it = detections_.find(id);
+  if (it == detections_.end()) throw ApiError(404, "no detection " + std::to_string(id));
   if (!patch.is_object()) throw ApiError(400, "body: expected a GeoJSON Feature or a properties object");
   Detection d = it->second;
+  if (d.source != "operator") CheckRecogniserPatch(d, patch);
   if (TypeOf(patch) == "Feature") {
     if (patch.contains("geometry") && !patch["geometry"].is_null()) d.position = ParsePoint(patch["geometry"]);
     if (patch.contains("properties") && !patch["properties"].is_null()) ApplyProperties(patch["properties"], &d);
   } else {
     ApplyProperties(patch, &d);
   }
+  if (d.source != "operator") {  // echoed read-only values are equal; keep the originals exactly
+    Detection kept = it->second;
+    kept.status = d.status;
+    kept.note = d.note;
+    d = kept;
+  }
   d.updated = UtcNow();
   d.seq = ++last_seq_;
-  store_->PutDetection(d);
+  Store(d);
   store_->Flush();
   it->second = d;
   Announce("updated", d);
@@ -217,13 +312,108 @@ nlohmann::json DetectionRegistry::Update(int64_t id, const nlohmann::json& patch
 void DetectionRegistry::Delete(int64_t id) {
   CheckWritable();
   std::lock_guard<std::mutex> lock(mutex_);
-  auto it = OperatorMark(id, "deleted");
-  const Detection d = it->second;
-  store_->DeleteDetection(id);
+  auto it = detections_.find(id);
+  if (it == detections_.end()) throw ApiError(404, "no detection " + std::to_string(id));
+  if (it->second.source != "operator")
+    throw ApiError(403, "detection " + std::to_string(id) + " comes from the " + it->second.source +
+                            "; it cannot be deleted, only rejected (PATCH status \"rejected\")");
+  Forget(it);
   store_->Flush();
-  detections_.erase(it);
-  ++last_seq_;
-  Announce("deleted", d);
+}
+
+PublishResult DetectionRegistry::Publish(std::vector<Detection> batch, const PublishOptions& options) {
+  CheckWritable();
+  PublishResult result;
+  const std::string now = UtcNow();
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (ExtendClassTable(&classes_, options.model_classes)) StoreClassTable(store_, classes_);
+  std::set<int64_t> seen;
+  for (Detection& d : batch) {
+    if (d.source != "stereo") d.source = "recogniser";
+    auto it = d.id > 0 ? detections_.find(d.id) : detections_.end();
+    if (it != detections_.end() && it->second.source == "operator") it = detections_.end();  // not ours to change
+    if (it == detections_.end() && d.id <= 0)
+      for (auto j = detections_.begin(); j != detections_.end(); ++j)
+        if (!seen.count(j->first) && SameObject(j->second, d)) {
+          it = j;
+          break;
+        }
+    if (it != detections_.end()) {
+      const Detection& old = it->second;
+      d.id = old.id;
+      d.status = old.status;  // the operator's call: a rejected one stays rejected
+      d.note = old.note;
+      d.created = old.created;
+      d.updated = old.updated;
+      d.seq = old.seq;
+      seen.insert(d.id);
+      result.ids.push_back(d.id);
+      if (DetectionToJson(d) == DetectionToJson(old)) {
+        ++result.unchanged;
+        continue;
+      }
+      d.updated = now;
+      d.seq = ++last_seq_;
+      Store(d);
+      it->second = d;
+      ++result.updated;
+      Announce("updated", d);
+    } else {
+      if (d.id <= 0 || detections_.count(d.id)) d.id = ++last_id_;  // an operator's id is never taken over
+      last_id_ = std::max(last_id_, d.id);
+      d.status = "unconfirmed";
+      d.note.clear();
+      d.created = d.updated = now;
+      d.seq = ++last_seq_;
+      Store(d);
+      detections_[d.id] = d;
+      seen.insert(d.id);
+      result.ids.push_back(d.id);
+      ++result.created;
+      Announce("created", d);
+    }
+  }
+  if (!options.replace_model.empty())
+    for (auto it = detections_.begin(); it != detections_.end();) {
+      auto next = std::next(it);
+      const Detection& d = it->second;
+      if (d.source != "operator" && d.model == options.replace_model && d.status == "unconfirmed" &&
+          !seen.count(d.id)) {
+        Forget(it);
+        ++result.deleted;
+      }
+      it = next;
+    }
+  store_->Flush();
+  return result;
+}
+
+PackedDetections DetectionRegistry::Pack(const DetectionFilter& f, size_t max, std::optional<double> t0) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::vector<std::pair<const Detection*, bool>> chosen;  // detection, deleted
+  for (const auto& [id, d] : detections_)
+    if (Passes(f, d)) chosen.push_back({&d, false});
+  for (const auto& [id, d] : deleted_)
+    if (Passes(f, d)) chosen.push_back({&d, true});
+  std::sort(chosen.begin(), chosen.end(), [](const auto& a, const auto& b) { return a.first->seq < b.first->seq; });
+  PackedDetections out;
+  out.last_seq = last_seq_;
+  if (chosen.size() > max) {
+    chosen.resize(max);
+    out.last_seq = chosen.empty() ? f.since.value_or(0) : chosen.back().first->seq;
+  }
+  for (const auto& [d, deleted] : chosen) {
+    const auto class_id = static_cast<uint8_t>(ClassId(classes_, d->class_name));
+    const auto bytes = EncodeModemRecord(ModemRecordOf(*d, class_id, t0, deleted));
+    out.bytes.insert(out.bytes.end(), bytes.begin(), bytes.end());
+  }
+  out.count = chosen.size();
+  return out;
+}
+
+std::vector<std::string> DetectionRegistry::Classes() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return classes_;
 }
 
 }  // namespace seamap::server

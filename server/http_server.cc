@@ -230,6 +230,7 @@ void HttpServer::Routes() {
   s.Get("/api/status", Guard([this](const httplib::Request&, httplib::Response& res) {
           nlohmann::json j = mission_->StatusJson();
           j["event_seq"] = events_->LastId();
+          j["classes"] = detections_->Classes();  // modem record class ids
           res.set_header("Cache-Control", "no-cache");
           SendJson(res, j);
         }));
@@ -300,11 +301,25 @@ void HttpServer::Routes() {
           res.set_content(photo->bytes, photo->content_type.c_str());
         }));
 
-  s.Get("/api/detections", Guard([this](const httplib::Request& req, httplib::Response& res) {
-          DetectionFilter f = ParseDetectionFilter(Param(req, "bbox"), Param(req, "class"), Param(req, "min_score"),
-                                                   Param(req, "since"));
+  auto detection_filter = [](const httplib::Request& req) {
+    return ParseDetectionFilter(Param(req, "bbox"), Param(req, "class"), Param(req, "min_score"), Param(req, "since"),
+                                Param(req, "status"), Param(req, "source"));
+  };
+  s.Get("/api/detections", Guard([this, detection_filter](const httplib::Request& req, httplib::Response& res) {
+          DetectionFilter f = detection_filter(req);
           res.set_header("Cache-Control", "no-cache");
           SendJson(res, detections_->Query(f));
+        }));
+  // 24-byte records for an acoustic modem (docs/MODEM_RECORD.md).
+  s.Get("/api/detections.bin", Guard([this, detection_filter](const httplib::Request& req, httplib::Response& res) {
+          DetectionFilter f = detection_filter(req);
+          size_t max = SIZE_MAX;
+          if (auto v = Param(req, "max")) max = static_cast<size_t>(ParseId(*v, "parameter 'max'"));
+          const PackedDetections packed = detections_->Pack(f, max, mission_->T0());
+          res.set_header("Cache-Control", "no-cache");
+          res.set_header("X-SeaMap-Last-Seq", std::to_string(packed.last_seq));
+          res.set_header("X-SeaMap-Records", std::to_string(packed.count));
+          res.set_content(std::string(packed.bytes.begin(), packed.bytes.end()), "application/octet-stream");
         }));
   s.Get(R"(/api/detections/([^/]+))", Guard([this](const httplib::Request& req, httplib::Response& res) {
           const int64_t id = ParseId(req.matches[1], "detection id");
@@ -472,7 +487,7 @@ bool HttpServer::Screen(const httplib::Request& req, httplib::Response& res, con
   if (origin && origins_.Allowed(*origin)) {
     res.set_header("Access-Control-Allow-Origin", std::string(*origin));
     res.set_header("Vary", "Origin");
-    res.set_header("Access-Control-Expose-Headers", "Location");
+    res.set_header("Access-Control-Expose-Headers", "Location, X-SeaMap-Last-Seq, X-SeaMap-Records");
     if (req.method == "OPTIONS" && req.has_header("Access-Control-Request-Method")) {  // a preflight
       res.set_header("Access-Control-Allow-Methods", "GET, POST, PATCH, DELETE");
       res.set_header("Access-Control-Allow-Headers", "Authorization, Content-Type");

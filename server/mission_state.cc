@@ -1,5 +1,7 @@
 #include "server/mission_state.h"
 
+#include "core/tiles/mission_classes.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -90,6 +92,12 @@ void MissionState::Load(const TileStore& store) {
   if (metadata.count("seamap_origin")) {
     double lat, lon;
     if (std::sscanf(metadata["seamap_origin"].c_str(), "%lf,%lf", &lat, &lon) == 2) origin_ = LatLon{lat, lon};
+  }
+  stored_t0_.reset();
+  if (metadata.count(kT0Key)) {
+    char* end = nullptr;
+    const double t0 = std::strtod(metadata[kT0Key].c_str(), &end);
+    if (*end == '\0' && end != metadata[kT0Key].c_str()) stored_t0_ = t0;
   }
   frames_ = std::move(frames);
   track_ = std::move(track);
@@ -186,6 +194,8 @@ nlohmann::json MissionState::StatusJson() const {
                       ? nlohmann::json(std::min(1.0, double(progress_.frames_done) / progress_.frames_total))
                       : nlohmann::json(nullptr);
   j["origin"] = origin_ ? nlohmann::json::array({origin_->lat, origin_->lon}) : nlohmann::json(nullptr);
+  const std::optional<double> t0 = T0Locked();
+  j["t0"] = t0 ? nlohmann::json(*t0) : nlohmann::json(nullptr);
   j["last_pose"] = nullptr;
   for (auto it = frames_.rbegin(); it != frames_.rend(); ++it) {
     if (it->status == "used") {
@@ -194,6 +204,18 @@ nlohmann::json MissionState::StatusJson() const {
     }
   }
   return j;
+}
+
+std::optional<double> MissionState::T0() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return T0Locked();
+}
+
+std::optional<double> MissionState::T0Locked() const {
+  if (stored_t0_) return stored_t0_;
+  for (const FrameRecord& f : frames_)  // in id order: the first frame with a time
+    if (f.time_s) return f.time_s;
+  return std::nullopt;
 }
 
 bool MissionState::TrajectoryCorrected() const {

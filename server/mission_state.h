@@ -55,8 +55,11 @@ class MissionState {
   void AddFrame(const FrameRecord& frame, const TrackPoint& point);
 
   // {name, state, replay, frames_done, ..., last_pose, origin, layers, format,
-  //  trajectory_corrected, corrected_frames}
+  //  trajectory_corrected, corrected_frames, t0}
   nlohmann::json StatusJson() const;
+  // The time of the mission's first frame (metadata seamap_t0, else the first
+  // frame by id with a time): modem records count tenths of a second from it.
+  std::optional<double> T0() const;
   // Some frames were placed with a corrected pose (a refined or filtered
   // trajectory), the navigation's kept beside it.
   bool TrajectoryCorrected() const;
@@ -95,6 +98,9 @@ class MissionState {
   int corrected_frames_ = 0;   // frames with the navigation's pose beside the placed one
   nlohmann::json trajectory_;  // how the poses were estimated (seamap_trajectory metadata), or null
   int corrected_points_ = 0;   // track points likewise
+  std::optional<double> stored_t0_;
+
+  std::optional<double> T0Locked() const;
 };
 
 // Point-in-polygon (even-odd rule) on lon/lat, for footprints of a few metres.

@@ -85,7 +85,9 @@ uint16_t Crc16CcittFalse(const uint8_t* bytes, size_t size) {
   return crc;
 }
 
-ModemRecord ModemRecordOf(const Detection& d, uint8_t class_id, std::optional<double> t0, bool deleted) {
+ModemRecord ModemRecordOf(const Detection& original, uint8_t class_id, std::optional<double> t0, bool deleted) {
+  Detection d = original;
+  NormaliseDetection(&d);
   ModemRecord r;
   r.class_id = class_id;
   r.id = static_cast<uint16_t>(static_cast<uint64_t>(d.id) & 0xFFFF);

@@ -138,7 +138,9 @@ std::optional<std::array<double, 2>> PairFromJson(const nlohmann::json& j) {
   return std::array<double, 2>{j[0].get<double>(), j[1].get<double>()};
 }
 
-nlohmann::json DetectionToJson(const Detection& d) {
+nlohmann::json DetectionToJson(const Detection& original) {
+  Detection d = original;
+  NormaliseDetection(&d);
   return {{"id", d.id},
           {"class", d.class_name},
           {"score", d.score},

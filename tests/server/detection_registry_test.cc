@@ -307,7 +307,7 @@ TEST_F(DetectionRegistryTest, UpdateChangesAnOperatorMark) {
 }
 
 TEST_F(DetectionRegistryTest, UpdateRejections) {
-  EXPECT_API_ERROR(registry_->Update(1, {{"note", "mine"}}), 403, "recogniser");
+  EXPECT_API_ERROR(registry_->Update(1, {{"class", "rock"}}), 403, "only its status and note");
   EXPECT_API_ERROR(registry_->Update(42, {{"note", "x"}}), 404, "42");
   EXPECT_API_ERROR(registry_->Update(2, json::array()), 400, "body");
   EXPECT_API_ERROR(registry_->Update(2, {{"class", ""}}), 400, "properties.class");
@@ -315,7 +315,7 @@ TEST_F(DetectionRegistryTest, UpdateRejections) {
   bad_geometry["geometry"]["coordinates"] = {5.0, -95.0};
   EXPECT_API_ERROR(registry_->Update(2, bad_geometry), 400, "geometry.coordinates");
   // The recogniser's detection is unchanged, and a failed patch changed nothing.
-  EXPECT_EQ((*registry_->Get(1))["properties"]["note"], "");
+  EXPECT_EQ((*registry_->Get(1))["properties"]["class"], "tyre");
   EXPECT_EQ((*registry_->Get(2))["properties"]["class"], "anchor");
   EXPECT_EQ((*registry_->Get(2))["properties"]["seq"], 2);
   EXPECT_EQ(events_.LastId(), 0u);

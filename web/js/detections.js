@@ -1,6 +1,7 @@
 // Detections and operator marks: markers with popups (class, score, position,
-// time, photo thumbnail), a side list filtered by class that zooms to the
-// object, and adding, editing, moving and deleting operator marks.
+// time, the photos that saw it), a side list filtered by class and score that
+// zooms to the object, confirming or rejecting a recogniser's detection, and
+// adding, editing, moving and deleting operator marks.
 
 import {getJSON, send} from './api.js';
 import {$, el, toast} from './dom.js';
@@ -22,18 +23,30 @@ const scoreText = p => (p.source === 'operator' || p.score === null || p.score =
   ? null : `${(Number(p.score) * 100).toFixed(0)}%`);
 
 export class Detections {
-  constructor(map, {canEdit, frame}) {
+  constructor(map, {canEdit, frame, openPhotos}) {
     this.map = map;
     this.canEdit = canEdit;     // () => bool: token set or not required
     this.frame = frame;         // local frame for east/north, or null
+    this.openPhotos = openPhotos; // (frame ids, index) => the photo viewer on ids[index]
     this.features = new Map();  // id -> Feature
     this.markers = new Map();   // id -> L.Marker
     this.group = L.featureGroup().addTo(map);
     this.filter = '';
     this.lastSeq = 0;
     this.deleted = new Set();   // ids deleted on the server
+    this.minScore = 0;          // recogniser detections below it are hidden (marks never)
+    this.showRejected = true;
     $('#detection-class').addEventListener('change', event => {
       this.filter = event.target.value;
+      this.render();
+    });
+    $('#detection-score').addEventListener('input', event => {
+      this.minScore = Number(event.target.value) / 100;
+      $('#detection-score-value').textContent = `≥ ${event.target.value}%`;
+      this.render();
+    });
+    $('#detection-rejected').addEventListener('change', event => {
+      this.showRejected = event.target.checked;
       this.render();
     });
   }
@@ -71,9 +84,9 @@ export class Detections {
     const [lon, lat] = feature.geometry.coordinates;
     let marker = this.markers.get(id);
     const editable = p.source === 'operator' && this.canEdit();
-    const iconKey = `${p.class}|${p.source}`;
+    const iconKey = `${p.class}|${p.source}|${p.status}`;
     const icon = L.divIcon({
-      className: `detection-icon ${p.source === 'operator' ? 'operator' : 'detected'} class-${escapeClass(p.class)}`,
+      className: `detection-icon ${p.source === 'operator' ? 'operator' : 'detected'} class-${escapeClass(p.class)} status-${escapeClass(p.status || 'unconfirmed')}`,
       html: `<span data-detection-id="${id}" title="${escapeHtml(p.class)}" style="background:${classColour(p.class)}"></span>`,
       iconSize: [18, 18],
       iconAnchor: [9, 9],
@@ -131,7 +144,15 @@ export class Detections {
     if (render) this.render();
   }
 
-  // Markers on the map and the side list follow the class filter.
+  // Whether the filters (class, score, rejected) let a detection through.
+  shown(p) {
+    if (this.filter && p.class !== this.filter) return false;
+    if (p.source === 'operator') return true;
+    if (p.status === 'rejected' && !this.showRejected) return false;
+    return Number(p.score ?? 1) >= this.minScore - 1e-9;
+  }
+
+  // Markers on the map and the side list follow the filters.
   render() {
     const classes = [...new Set([...this.features.values()].map(f => f.properties.class))].sort();
     const select = $('#detection-class');
@@ -146,18 +167,19 @@ export class Detections {
     const sorted = [...this.features.entries()].sort((a, b) => (a[1].properties.time_s ?? 1e18) - (b[1].properties.time_s ?? 1e18));
     for (const [id, feature] of sorted) {
       const marker = this.markers.get(id);
-      const shown = !this.filter || feature.properties.class === this.filter;
+      const shown = this.shown(feature.properties);
       if (shown && !this.group.hasLayer(marker)) this.group.addLayer(marker);
       if (!shown && this.group.hasLayer(marker)) this.group.removeLayer(marker);
       if (marker.getElement()) marker.getElement().setAttribute('data-detection-id', id);
       if (!shown) continue;
       const p = feature.properties;
-      items.push(el('li', {dataset: {id, class: p.class, source: p.source}, tabindex: '0',
+      items.push(el('li', {dataset: {id, class: p.class, source: p.source, status: p.status || ''}, tabindex: '0',
         onclick: () => this.focus(id),
         onkeydown: event => { if (event.key === 'Enter') this.focus(id); }},
         el('span', {class: `swatch ${p.source === 'operator' ? 'operator' : 'detected'}`, style: `background:${classColour(p.class)}`}),
         el('strong', {}, p.class),
-        ` ${scoreText(p) ?? 'mark'}`,
+        el('span', {class: 'list-score'}, ` ${scoreText(p) ?? 'mark'}`),
+        p.source !== 'operator' && p.status && p.status !== 'unconfirmed' ? el('small', {class: 'list-status'}, ` ${p.status}`) : null,
         p.time_s !== null && p.time_s !== undefined ? el('small', {}, ` t ${formatTime(p.time_s)}`) : null));
     }
     list.replaceChildren(...items);
@@ -188,7 +210,7 @@ export class Detections {
         this.render();
       }},
     el('span', {class: 'swatch', style: `background:${classColour(c)}`}), `${c} (${count(c)})`)),
-    el('div', {class: 'shapes'}, '● detected ◆ operator mark'));
+    el('div', {class: 'shapes'}, '● recognised ◆ operator mark'));
     box.dataset.filter = this.filter;
   }
 
@@ -215,15 +237,50 @@ export class Detections {
       el('dl', {},
         scoreText(p) ? [el('dt', {}, 'score'), el('dd', {class: 'popup-score'}, Number(p.score).toFixed(2))] : null,
         el('dt', {}, 'source'), el('dd', {}, p.source === 'operator' ? 'operator mark' : (p.source || '–')),
+        p.model ? [el('dt', {}, 'model'), el('dd', {}, p.model)] : null,
+        p.source !== 'operator' ? [el('dt', {}, 'status'), el('dd', {class: 'popup-status'}, p.status || 'unconfirmed')] : null,
+        p.size_m ? [el('dt', {}, 'size'), el('dd', {}, `${formatMetres(p.size_m[0])} × ${formatMetres(p.size_m[1])}`)] : null,
         el('dt', {}, 'position'), el('dd', {}, where),
         el('dt', {}, 'time'), el('dd', {}, formatTime(p.time_s)),
         p.note ? [el('dt', {}, 'note'), el('dd', {}, p.note)] : null),
-      p.frame_id !== null && p.frame_id !== undefined
-        ? el('a', {href: `/api/frames/${p.frame_id}/image`, target: '_blank', rel: 'noopener'},
-          el('img', {class: 'thumb', src: `/api/frames/${p.frame_id}/image?max=256`, alt: `frame ${p.frame_id}`, loading: 'lazy'}))
-        : null);
+      this.photoStrip(p));
     if (p.source === 'operator' && this.canEdit()) box.append(this.editForm(id, p));
+    if (p.source !== 'operator' && this.canEdit()) box.append(this.reviewButtons(id, p));
     return box;
+  }
+
+  // The photos that saw it (best first), each opening the photo viewer.
+  photoStrip(p) {
+    const ids = (p.frames && p.frames.length ? p.frames
+      : (p.frame_id !== null && p.frame_id !== undefined ? [p.frame_id] : [])).slice(0, 6);
+    if (!ids.length) return null;
+    const open = index => event => {
+      if (!this.openPhotos) return;   // no viewer: the link opens the photo
+      event.preventDefault();
+      this.openPhotos(ids, index);
+    };
+    return el('div', {class: `photo-strip${ids.length === 1 ? ' single' : ''}`},
+      ...ids.map((frameId, index) => el('a', {href: `/api/frames/${frameId}/image`, target: '_blank', rel: 'noopener',
+        dataset: {frame: frameId}, title: `photo ${frameId}`, onclick: open(index)},
+      el('img', {class: 'thumb', src: `/api/frames/${frameId}/image?max=256`, alt: `frame ${frameId}`, loading: 'lazy'}))));
+  }
+
+  // A recogniser's detection: the operator confirms or rejects it (PATCH status).
+  reviewButtons(id, p) {
+    const set = status => async () => {
+      try {
+        const feature = await send('PATCH', `/api/detections/${id}`, {status});
+        this.upsert(feature);
+        toast(`detection ${id} ${status}`);
+      } catch (error) {
+        toast(`${status === 'unconfirmed' ? 'undo' : status.replace(/ed$/, '')} failed: ${error.message}`);
+      }
+    };
+    return el('div', {class: 'buttons review'},
+      p.status !== 'confirmed' ? el('button', {type: 'button', class: 'confirm', onclick: set('confirmed')}, 'confirm') : null,
+      p.status !== 'rejected' ? el('button', {type: 'button', class: 'danger reject', onclick: set('rejected')}, 'reject') : null,
+      p.status === 'confirmed' || p.status === 'rejected'
+        ? el('button', {type: 'button', class: 'undo', onclick: set('unconfirmed')}, 'undo') : null);
   }
 
   editForm(id, p) {

@@ -102,8 +102,8 @@ async function start() {
   const vehicle = new Vehicle(map);
   const tracks = new Tracks(map);              // the navigation's too when corrected
   tracks.update(status);
-  const detections = new Detections(map, {canEdit, frame});
   const photos = new Photos(map);
+  const detections = new Detections(map, {canEdit, frame, openPhotos: (ids, start) => photos.openList(ids, start)});
   const measure = new Measure(map);
   const footprints = new Footprints(map, id => photos.openId(id));
   if (status) vehicle.update(status.last_pose);

@@ -98,6 +98,19 @@ export class Photos {
     }
   }
 
+  // Opens the photos with these ids (those that saw a detection), the
+  // viewer's previous/next stepping through them; starts at ids[start].
+  async openList(ids, start = 0) {
+    const got = await Promise.allSettled(ids.map(id => getJSON(`/api/frames/${id}`)));
+    const frames = got.filter(r => r.status === 'fulfilled').map(r => r.value);
+    if (!frames.length) {
+      toast(`photo ${ids[start]}: not found`);
+      return;
+    }
+    this.frames = frames;
+    this.open(frames.find(f => f.id === ids[start]) || frames[0]);
+  }
+
   // Previous / next photo of the list in the viewer.
   step(delta) {
     if (!this.frames.length) return;

@@ -166,6 +166,18 @@ try {
     return `frames ${frames.join(', ')}`;
   });
 
+  await checks.run('the detections CSV export carries status, model, size and frames', async () => {
+    const csv = await page.evaluate(async () => {
+      const {detectionsCsv} = await import('/js/export.js');
+      return detectionsCsv(await (await fetch('/api/detections')).json());
+    });
+    const [header, ...rows] = csv.trim().split('\n');
+    if (!header.endsWith(',status,model,size_ew_m,size_ns_m,frames')) throw new Error(header);
+    const crate = rows.find(r => r.startsWith(`${ids[1]},crate,`));
+    if (!crate || !/,rejected,seamap-tiles\.onnx@e2e0,0\.6,0\.4,\d+ \d+ \d+$/.test(crate)) throw new Error(crate);
+    return `${rows.length} rows`;
+  });
+
   await checks.run('no script errors on the page', async () => {
     if (errors.length) throw new Error(errors.join(' | '));
     return '';

@@ -63,11 +63,14 @@ try {
   page.setDefaultTimeout(10000);
   const errors = [];
   page.on('pageerror', e => errors.push(e.message));
-  await page.goto(base);
-  await page.waitForSelector('body[data-ready="true"]');
-  await page.fill('#token', token);
-  await page.click('#token-form button[type="submit"]');
-  await page.waitForSelector('body.can-edit', {state: 'attached'});
+  await checks.run('the console opens and takes the token', async () => {
+    await page.goto(base);
+    await page.waitForSelector('body[data-ready="true"]');
+    await page.fill('#token', token);
+    await page.click('#token-form button[type="submit"]');
+    await page.waitForSelector('body.can-edit', {state: 'attached'});
+    return '';
+  });
   const listIds = () => page.$$eval('#detection-list li', lis => lis.map(li => li.dataset.id));
   const markerOf = id => `.leaflet-marker-icon[data-detection-id="${id}"]`;
 
@@ -118,9 +121,9 @@ try {
   await checks.run('reject and confirm in the popup reach the server; rejected ones fade or hide', async () => {
     const crate = ids[1];
     await openPopup(crate);
-    await page.click('.leaflet-popup .buttons.review button.reject');
+    await page.click(`.leaflet-popup .detection-popup[data-id="${crate}"] button.reject`);
     await page.waitForSelector(`${markerOf(crate)}.status-rejected`, {state: 'attached'});
-    await page.waitForFunction(() => document.querySelector('.leaflet-popup .popup-status')?.textContent === 'rejected');
+    await page.waitForSelector(`.leaflet-popup .detection-popup[data-id="${crate}"] .popup-status:text-is("rejected")`);
     const stored = await api('GET', `api/detections/${crate}`);
     if (stored.properties.status !== 'rejected') throw new Error(`server has ${stored.properties.status}`);
     const opacity = await page.$eval(markerOf(crate), e => Number(getComputedStyle(e).opacity));
@@ -133,8 +136,8 @@ try {
 
     const pipe = ids[2];
     await openPopup(pipe);
-    await page.click('.leaflet-popup .buttons.review button.confirm');
-    await page.waitForFunction(() => document.querySelector('.leaflet-popup .popup-status')?.textContent === 'confirmed');
+    await page.click(`.leaflet-popup .detection-popup[data-id="${pipe}"] button.confirm`);
+    await page.waitForSelector(`.leaflet-popup .detection-popup[data-id="${pipe}"] .popup-status:text-is("confirmed")`);
     const confirmed = await api('GET', `api/detections/${pipe}`);
     if (confirmed.properties.status !== 'confirmed') throw new Error(`server has ${confirmed.properties.status}`);
     const patched = await fetch(new URL(`api/detections/${pipe}`, base), {method: 'PATCH',
@@ -147,10 +150,11 @@ try {
   await checks.run('the photos that saw a detection open in the photo viewer', async () => {
     const tyre = ids[0];
     await openPopup(tyre);
-    const frames = await page.$$eval('.leaflet-popup .photo-strip a', as => as.map(a => a.dataset.frame));
+    const strip = `.leaflet-popup .detection-popup[data-id="${tyre}"] .photo-strip a`;   // not a closing popup's
+    const frames = await page.$$eval(strip, as => as.map(a => a.dataset.frame));
     const expected = first.properties.frames.map(String);
     if (frames.join() !== expected.join()) throw new Error(`strip ${frames}, detection frames ${expected}`);
-    await page.click('.leaflet-popup .photo-strip a >> nth=1');
+    await page.click(`${strip} >> nth=1`);
     await page.waitForSelector('#photo-viewer:not([hidden])');
     await page.waitForSelector('#photo-full[data-state="loaded"]');
     const src = await page.getAttribute('#photo-full', 'src');
@@ -160,6 +164,18 @@ try {
     await page.screenshot({path: path.join(artifacts, 'detections-photo.png')});
     await page.click('#photo-viewer-close');
     return `frames ${frames.join(', ')}`;
+  });
+
+  await checks.run('the detections CSV export carries status, model, size and frames', async () => {
+    const csv = await page.evaluate(async () => {
+      const {detectionsCsv} = await import('/js/export.js');
+      return detectionsCsv(await (await fetch('/api/detections')).json());
+    });
+    const [header, ...rows] = csv.trim().split('\n');
+    if (!header.endsWith(',status,model,size_ew_m,size_ns_m,frames')) throw new Error(header);
+    const crate = rows.find(r => r.startsWith(`${ids[1]},crate,`));
+    if (!crate || !/,rejected,seamap-tiles\.onnx@e2e0,0\.6,0\.4,\d+ \d+ \d+$/.test(crate)) throw new Error(crate);
+    return `${rows.length} rows`;
   });
 
   await checks.run('no script errors on the page', async () => {

@@ -18,11 +18,13 @@ export function trackCsv(feature) {
 }
 
 export function detectionsCsv(collection) {
-  const header = 'id,class,score,source,lat,lon,time_s,frame_id,note,created,updated';
+  // New columns go at the end, so spreadsheets made from older exports still line up.
+  const header = 'id,class,score,source,lat,lon,time_s,frame_id,note,created,updated,status,model,size_ew_m,size_ns_m,frames';
   const rows = (collection.features || []).map(f => {
     const p = f.properties;
     const [lon, lat] = f.geometry.coordinates;
-    return csvLine([f.id ?? p.id, p.class, p.score, p.source, lat, lon, p.time_s, p.frame_id, p.note, p.created, p.updated]);
+    return csvLine([f.id ?? p.id, p.class, p.score, p.source, lat, lon, p.time_s, p.frame_id, p.note, p.created, p.updated,
+      p.status, p.model, p.size_m?.[0], p.size_m?.[1], (p.frames || []).join(' ')]);
   });
   return [header, ...rows].join('\n') + '\n';
 }

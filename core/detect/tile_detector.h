@@ -47,6 +47,7 @@ class WindowResults {
   void Replace(const WindowKey& w, std::vector<RawDetection> found) { by_window_[w] = std::move(found); }
   std::vector<RawDetection> All() const;
   size_t windows() const { return by_window_.size(); }
+  bool Has(const WindowKey& w) const { return by_window_.count(w) > 0; }
 
  private:
   std::map<WindowKey, std::vector<RawDetection>> by_window_;

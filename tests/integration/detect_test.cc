@@ -81,6 +81,29 @@ TEST(Detect, BuildDetectEqualsDetectOnTheFinishedMap) {
   EXPECT_GT(with_frames, 0);
 }
 
+// A live replay shows half-painted tiles; its detections still equal detect's on the finished map.
+TEST(Detect, ReplayDetectEqualsDetectOnTheFinishedMap) {
+  testing::TempDir dir;
+  const std::string map = (dir / "m.mbtiles").string();
+  std::string out;
+  ASSERT_EQ(Seamap("replay " + Survey().dir + " --out " + map +
+                       " --speed max --host 127.0.0.1 --port 0 --quiet --exit-when-done --web " + SEAMAP_SOURCE_DIR +
+                       "/web --detect --detect-model " + kV8,
+                   &out),
+            0)
+      << out;
+  EXPECT_NE(out.find("detect: "), std::string::npos) << out;
+  const std::vector<Detection> live = Recognised(map);
+  ASSERT_GE(live.size(), 4u);
+  ASSERT_EQ(Seamap("detect --quiet " + map + " --model " + kV8, &out), 0) << out;
+  const std::vector<Detection> offline = Recognised(map);
+  ASSERT_EQ(offline.size(), live.size());
+  for (size_t i = 0; i < live.size(); ++i) {
+    EXPECT_EQ(offline[i].class_name, live[i].class_name);
+    EXPECT_LT(MetresApart(offline[i].position, live[i].position), 0.001);
+  }
+}
+
 // Exit 2 and the message names `what`.
 void ExpectRefused(const std::string& args, const std::string& what) {
   std::string out;

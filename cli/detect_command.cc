@@ -1,7 +1,11 @@
 // seamap detect: the recogniser on a finished map (spec detections-on-tiles).
+#include <atomic>
 #include <cstdio>
+#include <exception>
 #include <filesystem>
+#include <mutex>
 #include <sstream>
+#include <thread>
 
 #include <opencv2/core.hpp>
 
@@ -28,6 +32,7 @@ const char* kHelp =
     "  --min-score S     drop boxes scoring below S (default 0.4)\n"
     "  --layer NAME      raw | enhanced: the tiles searched (default raw)\n"
     "  --out FILE        also write the detections as GeoJSON\n"
+    "  --threads N       windows searched at once, one network each (default 1)\n"
     "  --quiet           no progress bar\n";
 
 int MetaInt(const std::map<std::string, std::string>& meta, const std::string& key, const std::string& map) {
@@ -55,7 +60,9 @@ int RunDetect(int argc, char** argv, int first) {
   const std::string layer = args.GetOr("layer", "raw");
   const std::optional<std::string> out = args.Get("out");
   const bool quiet = args.Flag("quiet");
+  const int threads = args.GetInt("threads", 1);
   args.RejectUnknown();
+  if (threads < 1 || threads > 64) throw InputError("--threads", 0, "", "expected 1..64");
   if (args.positionals().size() != 1) {
     std::fputs(kHelp, stderr);
     return 2;
@@ -104,20 +111,46 @@ int RunDetect(int argc, char** argv, int first) {
   std::fprintf(stderr, "seamap detect: %s (%s, %s layout, %zu classes) on %s layer %s, zooms %s: %zu windows\n",
                model->name.c_str(), model_path.c_str(), YoloLayoutName(model->layout), model->class_names.size(),
                path.c_str(), layer.c_str(), zoom_text.c_str(), windows.size());
-  WindowSearcher searcher(settings);
+  // One net per thread (a cv::dnn::Net must not run two forwards at once);
+  // windows dealt round-robin; the merge does not depend on who searched what.
+  std::vector<std::unique_ptr<WindowSearcher>> searchers;
+  for (int i = 0; i < threads; ++i) searchers.push_back(std::make_unique<WindowSearcher>(settings));
   const TileReader read = StoreReader(tiles);
   ProgressBar progress("windows", static_cast<long>(windows.size()), !quiet);
-  long done = 0;
-  for (const WindowKey& w : windows) {
-    searcher.Search(w, read);
-    progress.Update(++done);
-  }
+  std::atomic<long> done{0};
+  std::mutex progress_mutex;
+  std::vector<std::thread> pool;
+  std::exception_ptr error;
+  for (int t = 0; t < threads; ++t)
+    pool.emplace_back([&, t] {
+      try {
+        for (size_t i = t; i < windows.size(); i += threads) {
+          searchers[t]->Search(windows[i], read);
+          std::lock_guard<std::mutex> lock(progress_mutex);
+          progress.Update(++done);
+        }
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(progress_mutex);
+        if (!error) error = std::current_exception();
+      }
+    });
+  for (auto& th : pool) th.join();
+  if (error) std::rethrow_exception(error);
   progress.Finish();
-  const std::vector<RecognisedObject> objects = searcher.Objects(store->Frames());
+  std::vector<RawDetection> raw;
+  DetectStats stats;
+  for (const auto& sr : searchers) {
+    const auto r = sr->Raw();
+    raw.insert(raw.end(), r.begin(), r.end());
+    stats.searched += sr->stats().searched;
+    stats.skipped += sr->stats().skipped;
+    stats.window_ms.insert(stats.window_ms.end(), sr->stats().window_ms.begin(), sr->stats().window_ms.end());
+  }
+  const std::vector<RecognisedObject> objects = MergeSearched(settings, std::move(raw), store->Frames());
   StoreRecognised(*store, objects);
   store->Flush();
   if (out) WriteGeoJson(objects, *out, "--out");
-  PrintDetectSummary(objects, searcher.stats(), "");
+  PrintDetectSummary(objects, stats, "");
   return 0;
 }
 

@@ -59,10 +59,15 @@ void WindowSearcher::Search(const WindowKey& w, const TileReader& read) {
 }
 
 std::vector<RecognisedObject> WindowSearcher::Objects(const std::vector<FrameRecord>& frames) const {
-  const LocalFrame frame(settings_.origin);
+  return MergeSearched(settings_, results_.All(), frames);
+}
+
+std::vector<RecognisedObject> MergeSearched(const DetectSettings& settings, std::vector<RawDetection> raw,
+                                            const std::vector<FrameRecord>& frames) {
+  const LocalFrame frame(settings.origin);
   std::vector<RecognisedObject> objects =
-      MergeDetections(results_.All(), settings_.model->class_names, settings_.tile_size, frame);
-  for (RecognisedObject& o : objects) o.model = settings_.model->name;
+      MergeDetections(std::move(raw), settings.model->class_names, settings.tile_size, frame);
+  for (RecognisedObject& o : objects) o.model = settings.model->name;
   AttachFrames(objects, frames);
   return objects;
 }

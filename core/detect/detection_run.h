@@ -44,6 +44,8 @@ class WindowSearcher {
   void Search(const WindowKey& w, const TileReader& read);
   // The merged objects, with the frames that saw them.
   std::vector<RecognisedObject> Objects(const std::vector<FrameRecord>& frames) const;
+  // The latest boxes of every window searched (to merge several searchers' with MergeSearched).
+  std::vector<RawDetection> Raw() const { return results_.All(); }
   const DetectStats& stats() const { return stats_; }
   bool Searched(const WindowKey& w) const { return results_.Has(w); }
 
@@ -53,6 +55,10 @@ class WindowSearcher {
   WindowResults results_;
   DetectStats stats_;
 };
+
+// Merges boxes (of one or several searchers) into objects with the frames that saw them.
+std::vector<RecognisedObject> MergeSearched(const DetectSettings& settings, std::vector<RawDetection> raw,
+                                            const std::vector<FrameRecord>& frames);
 
 // Median and 90th percentile of `v` (0 when empty).
 double Percentile(std::vector<double> v, double p);

@@ -60,7 +60,7 @@ TEST(Detect, BuildDetectEqualsDetectOnTheFinishedMap) {
   const std::vector<Detection> live = Recognised(map);
   ASSERT_GE(live.size(), 4u);
   const std::string geojson = (dir / "d.geojson").string();
-  ASSERT_EQ(Seamap("detect --quiet " + map + " --model " + kV8 + " --out " + geojson, &out), 0) << out;
+  ASSERT_EQ(Seamap("detect --quiet " + map + " --model " + kV8 + " --threads 2 --out " + geojson, &out), 0) << out;
   EXPECT_NE(out.find("crate"), std::string::npos) << out;
   const std::vector<Detection> offline = Recognised(map);
   ASSERT_EQ(offline.size(), live.size());

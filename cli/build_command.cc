@@ -201,7 +201,8 @@ int RunBuild(int argc, char** argv, int first) {
   BuildHooks hooks = both ? BuildHooks{} : enhance;
   std::unique_ptr<LiveDetector> detector;  // searches the main layer's finished tiles
   if (detect_model) {
-    detector = StartLiveDetector(detect_model, plan, in.config.map.tile_size, in.frame.origin(), store.get());
+    detector = StartLiveDetector(detect_model, plan, in.config.map.tile_size, in.frame.origin(), store.get(),
+                                 in.config.detect, in.config_source);
     hooks.tile_consumers.push_back(detector.get());
   }
   MosaicBuilder builder(in.config, in.camera, in.frame, plan, store.get(), hooks, start);

@@ -78,16 +78,35 @@ std::shared_ptr<const YoloModelInfo> LiveDetectArgs(Args& args) {
 }
 
 std::unique_ptr<LiveDetector> StartLiveDetector(std::shared_ptr<const YoloModelInfo> model, const MosaicPlan& plan,
-                                                int tile_size, LatLon origin, const TileStore* store) {
+                                                int tile_size, LatLon origin, const TileStore* store,
+                                                const std::optional<nlohmann::json>& detect_config,
+                                                const std::string& config_source) {
+  std::optional<std::vector<int>> zooms;
+  if (detect_config) {
+    const auto bad = [&](const std::string& key, const std::string& what) {
+      return InputError(config_source, 0, key, what);
+    };
+    if (!detect_config->is_object()) throw bad("detect", "expected an object {\"zooms\": [25, 23]}");
+    for (const auto& [key, v] : detect_config->items()) {
+      if (key != "zooms") throw bad("detect." + key, "unknown key (expected zooms)");
+      if (!v.is_array() || v.empty()) throw bad("detect.zooms", "expected a list of zooms, e.g. [25, 23]");
+      zooms.emplace();
+      for (const auto& z : v) {
+        if (!z.is_number_integer()) throw bad("detect.zooms", "expected a list of zooms, e.g. [25, 23]");
+        zooms->push_back(z.get<int>());
+      }
+    }
+  }
   DetectSettings s;
   s.model = model;
   s.tile_size = tile_size;
   s.origin = origin;
-  s.zooms = ChooseZooms(std::nullopt, "", plan.min_zoom, plan.base_zoom, plan.latitude, tile_size, *model);
-  std::string zooms;
-  for (int z : s.zooms) zooms += (zooms.empty() ? "" : ",") + std::to_string(z);
+  s.zooms = ChooseZooms(zooms, config_source + " detect.zooms", plan.min_zoom, plan.base_zoom, plan.latitude, tile_size,
+                        *model);
+  std::string zoom_text;
+  for (int z : s.zooms) zoom_text += (zoom_text.empty() ? "" : ",") + std::to_string(z);
   std::fprintf(stderr, "detect: %s (%s layout, %zu classes), zooms %s\n", model->name.c_str(),
-               YoloLayoutName(model->layout), model->class_names.size(), zooms.c_str());
+               YoloLayoutName(model->layout), model->class_names.size(), zoom_text.c_str());
   return std::make_unique<LiveDetector>(s, store);
 }
 

@@ -32,9 +32,13 @@ void WriteGeoJson(const std::vector<RecognisedObject>& objects, const std::strin
 // opened); null without --detect. The caller lists both among its options.
 std::shared_ptr<const YoloModelInfo> LiveDetectArgs(Args& args);
 
-// The recogniser of a build: searches the main layer's finished tiles at the default zooms.
+// The recogniser of a build: searches the main layer's finished tiles at
+// the config's detect.zooms ({"detect": {"zooms": [25, 23]}}, InputError
+// naming config_source and the key when malformed), else the default zooms.
 std::unique_ptr<LiveDetector> StartLiveDetector(std::shared_ptr<const YoloModelInfo> model, const MosaicPlan& plan,
-                                                int tile_size, LatLon origin, const TileStore* store);
+                                                int tile_size, LatLon origin, const TileStore* store,
+                                                const std::optional<nlohmann::json>& detect_config,
+                                                const std::string& config_source);
 
 // After the builder's Finish: drains the detector, stores its objects in
 // the mission (replacing the recogniser's earlier ones), prints the summary.

@@ -256,7 +256,8 @@ int RunReplay(int argc, char** argv, int first) {
   if (both) in.config.buffer.memory_cap_mb = std::max(16, in.config.buffer.memory_cap_mb / 2);
   std::unique_ptr<LiveDetector> detector;  // searches the main layer's finished tiles
   if (detect_model) {
-    detector = StartLiveDetector(detect_model, plan, in.config.map.tile_size, in.frame.origin(), store.get());
+    detector = StartLiveDetector(detect_model, plan, in.config.map.tile_size, in.frame.origin(), store.get(),
+                                 in.config.detect, in.config_source);
     hooks.tile_consumers.push_back(detector.get());
   }
   MosaicBuilder builder(in.config, in.camera, in.frame, plan, &observed, hooks);

@@ -130,6 +130,10 @@ TEST(Detect, BadModelsClassesAndOptionsAreRefusedNamingThem) {
                     " --detect --detect-model " + text,
                 "model.onnx: not an ONNX model");
   EXPECT_FALSE(fs::exists(dir / "b.mbtiles"));
+  const std::string config = testing::WriteFile(dir / "c.json", R"({"detect": {"zooms": [12]}})").string();
+  ExpectRefused("build --quiet " + Survey().BuildArgs() + " --config " + config + " --out " +
+                    (dir / "c.mbtiles").string() + " --detect --detect-model " + kV8,
+                "detect.zooms");
   EXPECT_TRUE(Recognised(map).empty());  // nothing was stored by the refused runs
 }
 

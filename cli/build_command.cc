@@ -13,6 +13,7 @@
 #include "cli/build_output.h"
 #include "cli/build_setup.h"
 #include "cli/commands.h"
+#include "cli/detect_setup.h"
 #include "cli/trajectory_setup.h"
 #include "core/mosaic/mosaic_builder.h"
 #include "core/util/error.h"
@@ -43,7 +44,9 @@ const char* kHelp =
     "  --quiet             no progress bar\n"
     "  --report FILE       write the run's figures as JSON (frames, seconds, tiles, bytes, peak RSS)\n"
     "  --refine-nav        refine the navigation from the photos first (seamap trajectory --mode refine),\n"
-    "                      then paint with the refined poses; the mission keeps the navigation's beside them\n";
+    "                      then paint with the refined poses; the mission keeps the navigation's beside them\n"
+    "  --detect            search tiles for objects as they are finished (seamap detect's recogniser)\n"
+    "  --detect-model FILE its ONNX model (default: data/models/seabed_objects.onnx)\n";
 
 std::string Summary(const BuildStats& s) {
   std::map<std::string, int> reasons;
@@ -131,7 +134,7 @@ std::string CommandLine(int argc, char** argv, int first) {
 }  // namespace
 
 int RunBuild(int argc, char** argv, int first) {
-  Args args(argc, argv, first, {"append", "overwrite", "resume", "quiet", "refine-nav", "help"});
+  Args args(argc, argv, first, {"append", "overwrite", "resume", "quiet", "refine-nav", "detect", "help"});
   if (args.Flag("help")) {
     std::printf("%s%s", kHelp, kNavigationNoiseHelp);
     return 0;
@@ -143,6 +146,7 @@ int RunBuild(int argc, char** argv, int first) {
   const bool refine = args.Flag("refine-nav") || in.config.navigation.refine;
   const RefineOptions refine_options = ReadRefineOptions(args, in.config.navigation, in.config.threads);
   const std::optional<std::string> report = args.Get("report");
+  const auto detect_model = LiveDetectArgs(args);  // checked before the map is opened
   args.RejectUnknown();
 
   CheckMemoryFits(in);  // before the map is created
@@ -194,7 +198,14 @@ int RunBuild(int argc, char** argv, int first) {
   start.resume = resume;
   start.frames_total = static_cast<int>(in.frames.frames.size());
   start.command = CommandLine(argc, argv, first);
-  MosaicBuilder builder(in.config, in.camera, in.frame, plan, store.get(), both ? BuildHooks{} : enhance, start);
+  BuildHooks hooks = both ? BuildHooks{} : enhance;
+  std::unique_ptr<LiveDetector> detector;  // searches the main layer's finished tiles
+  if (detect_model) {
+    detector = StartLiveDetector(detect_model, plan, in.config.map.tile_size, in.frame.origin(), store.get(),
+                                 in.config.detect, in.config_source);
+    hooks.tile_consumers.push_back(detector.get());
+  }
+  MosaicBuilder builder(in.config, in.camera, in.frame, plan, store.get(), hooks, start);
   std::unique_ptr<TileStore> enhanced_store;
   std::unique_ptr<MosaicBuilder> enhanced;
   if (both) {
@@ -223,6 +234,7 @@ int RunBuild(int argc, char** argv, int first) {
   std::printf("%s%s\n", Summary(s).c_str(),
               skipped.empty() ? "" : ("; " + std::to_string(skipped.size()) + " already in the map, skipped").c_str());
   if (enhanced) std::printf("enhanced layer: %s\n", Summary(enhanced->stats()).c_str());
+  if (detector) FinishLiveDetector(*detector, *store);
   if (report) WriteReport(*report, s, plan, refine_report, skipped.size());
   if (s.frames_used == 0) {
     std::fprintf(stderr, "seamap build: error: no frame could be used\n");

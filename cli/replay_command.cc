@@ -16,6 +16,7 @@
 #include "cli/build_output.h"
 #include "cli/build_setup.h"
 #include "cli/commands.h"
+#include "cli/detect_setup.h"
 #include "cli/georef_overlays.h"
 #include "cli/server_setup.h"
 #include "cli/shutdown_signal.h"
@@ -50,6 +51,8 @@ const char* kHelp =
     "  --nav-mode vo|ekf   run the navigation filter online as frames arrive and paint with its pose\n"
     "                      (vo: visual odometry + depth, navigation positions only for the first fix;\n"
     "                      ekf: also the navigation's positions, gated); the mission keeps both tracks\n"
+    "  --detect            search tiles for objects as they are finished (--detect-model FILE: its\n"
+    "                      ONNX model, default data/models/seabed_objects.onnx)\n"
     "  --quiet             no progress line\n";
 
 // Degrees with every digit that matters (std::to_string keeps six decimals: 5 cm).
@@ -127,7 +130,7 @@ void WaitForFirstFrame(const std::string& nav, const std::string& images, const 
 }  // namespace
 
 int RunReplay(int argc, char** argv, int first) {
-  Args args(argc, argv, first, {"append", "overwrite", "quiet", "exit-when-done", "help"});
+  Args args(argc, argv, first, {"append", "overwrite", "quiet", "exit-when-done", "detect", "help"});
   if (args.Flag("help")) {
     std::printf("%s%s%s", kHelp, kGeorefOverlayHelp, kServerOptionsHelp);
     return 0;
@@ -175,6 +178,7 @@ int RunReplay(int argc, char** argv, int first) {
     }
   }
   const GeorefOverlays overlays = ReadGeorefOverlays(args);  // before the map is touched
+  const auto detect_model = LiveDetectArgs(args);            // checked before the map is opened
   args.RejectUnknown();
 
   std::unique_ptr<FrameFeed> feed;
@@ -250,6 +254,12 @@ int RunReplay(int argc, char** argv, int first) {
     events.Publish("track", server::TrackPointJson(point).dump());
   };
   if (both) in.config.buffer.memory_cap_mb = std::max(16, in.config.buffer.memory_cap_mb / 2);
+  std::unique_ptr<LiveDetector> detector;  // searches the main layer's finished tiles
+  if (detect_model) {
+    detector = StartLiveDetector(detect_model, plan, in.config.map.tile_size, in.frame.origin(), store.get(),
+                                 in.config.detect, in.config_source);
+    hooks.tile_consumers.push_back(detector.get());
+  }
   MosaicBuilder builder(in.config, in.camera, in.frame, plan, &observed, hooks);
   std::unique_ptr<TileStore> enhanced_store;
   std::unique_ptr<MosaicBuilder> enhanced;
@@ -309,6 +319,10 @@ int RunReplay(int argc, char** argv, int first) {
     }
     if (enhanced) enhanced->Finish();
     builder.Finish();
+    if (detector) {
+      FinishLiveDetector(*detector, *store);
+      detections.Load(*store);  // the API serves them
+    }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "\nseamap replay: failed: %s\n", e.what());
     exit_code = 1;

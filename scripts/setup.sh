@@ -12,6 +12,7 @@ packages=(
   zlib1g-dev     # gzip of the live event stream (server/gzip_stream)
   gdal-bin   # tests open our MBTiles with gdalinfo
   libgdal-dev   # Cloud-Optimised GeoTIFF export (core/export)
+  python3-onnx   # tests/fixtures/make_yolo_fixtures.py (the recogniser's tiny test models)
 )
 command -v npm >/dev/null 2>&1 || packages+=(nodejs npm)  # the console's Leaflet and the browser test
 if [[ "${SEAMAP_BENCH:-0}" == 1 ]]; then

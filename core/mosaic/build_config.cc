@@ -204,6 +204,8 @@ void ApplyBuildConfig(const json& s, const std::string& source, BuildConfig* c) 
       c->layers = String(v, source, key);
     else if (key == "server")
       c->server = v;  // the server's to read (server/server_options.h)
+    else if (key == "detect")
+      c->detect = v;  // build/replay --detect's (cli/detect_setup.h)
     else if (key == "comment" || key.rfind("_", 0) == 0) {
       // comments
     } else

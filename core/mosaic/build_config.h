@@ -89,6 +89,8 @@ struct BuildConfig {
   std::string layers = "raw";
   // The "server" object, kept as written for the commands that serve (cli/server_setup).
   std::optional<nlohmann::json> server;
+  // The "detect" object ({"zooms": [25, 23]}), read by build/replay --detect (cli/detect_setup).
+  std::optional<nlohmann::json> detect;
   void Check(const std::string& source) const;
 };
 

@@ -1,0 +1,82 @@
+#include "core/detect/detection_run.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/detect/detection_record.h"
+#include "core/tiles/tile_codec.h"
+#include "core/util/error.h"
+
+namespace seamap {
+
+std::vector<int> ChooseZooms(const std::optional<std::vector<int>>& requested, const std::string& option, int min_zoom,
+                             int base_zoom, double lat, int tile_size, const YoloModelInfo& model) {
+  if (requested) {
+    for (int z : *requested)
+      if (z < min_zoom || z > base_zoom)
+        throw InputError(option, 0, "",
+                         "zoom " + std::to_string(z) + " is not in the map, which has zooms " +
+                             std::to_string(min_zoom) + ".." + std::to_string(base_zoom));
+    std::vector<int> zooms = *requested;
+    std::sort(zooms.rbegin(), zooms.rend());
+    zooms.erase(std::unique(zooms.begin(), zooms.end()), zooms.end());
+    return zooms;
+  }
+  double largest = 0;
+  for (double s : model.class_sizes_m) largest = std::max(largest, s);
+  if (largest <= 0) largest = 4.0;
+  return DefaultZooms(base_zoom, min_zoom, largest, lat, tile_size, model.input.width);
+}
+
+TileReader StoreReader(const TileStore& store) {
+  return [&store](const TileId& id) -> std::optional<cv::Mat> {
+    const auto bytes = store.GetTile(id);
+    if (!bytes) return std::nullopt;
+    return DecodeTile(*bytes);
+  };
+}
+
+std::vector<WindowKey> MapWindows(const TileStore& store, const std::vector<int>& zooms, int tile_size) {
+  std::vector<TileId> tiles;
+  for (const TileId& t : store.TileIds())
+    if (std::find(zooms.begin(), zooms.end(), t.z) != zooms.end()) tiles.push_back(t);
+  return WindowsHoldingAny(tiles, WindowTiles(tile_size));
+}
+
+WindowSearcher::WindowSearcher(const DetectSettings& settings)
+    : settings_(settings), detector_(settings.model, settings.tile_size, settings.min_score) {}
+
+void WindowSearcher::Search(const WindowKey& w, const TileReader& read) {
+  WindowSearch s = detector_.Search(w, read);
+  if (s.skipped) {
+    ++stats_.skipped;
+    results_.Replace(w, {});
+    return;
+  }
+  ++stats_.searched;
+  stats_.window_ms.push_back(s.ms);
+  results_.Replace(w, std::move(s.found));
+}
+
+std::vector<RecognisedObject> WindowSearcher::Objects(const std::vector<FrameRecord>& frames) const {
+  return MergeSearched(settings_, results_.All(), frames);
+}
+
+std::vector<RecognisedObject> MergeSearched(const DetectSettings& settings, std::vector<RawDetection> raw,
+                                            const std::vector<FrameRecord>& frames) {
+  const LocalFrame frame(settings.origin);
+  std::vector<RecognisedObject> objects =
+      MergeDetections(std::move(raw), settings.model->class_names, settings.tile_size, frame);
+  for (RecognisedObject& o : objects) o.model = settings.model->name;
+  AttachFrames(objects, frames);
+  return objects;
+}
+
+double Percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  const size_t i = static_cast<size_t>(std::lround(p * (v.size() - 1)));
+  return v[std::min(i, v.size() - 1)];
+}
+
+}  // namespace seamap

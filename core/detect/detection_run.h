@@ -1,0 +1,66 @@
+#pragma once
+// Running the recogniser over a map: which zooms, which windows, the
+// search of each window and the merge of everything found. Used by
+// `seamap detect` on a finished map and by LiveDetector during a build.
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "core/detect/recognised_object.h"
+#include "core/detect/tile_detector.h"
+#include "core/tiles/tile_store.h"
+
+namespace seamap {
+
+struct DetectSettings {
+  std::shared_ptr<const YoloModelInfo> model;
+  std::vector<int> zooms;  // searched levels
+  float min_score = 0.4f;
+  int tile_size = 256;
+  LatLon origin;  // of the mission's local frame (position_m)
+};
+
+// The zooms to search: `requested` (--zooms), each of which the map must
+// have (InputError naming `option` and listing the map's zooms), else
+// DefaultZooms for the model's largest class (4 m when unknown).
+std::vector<int> ChooseZooms(const std::optional<std::vector<int>>& requested, const std::string& option, int min_zoom,
+                             int base_zoom, double lat, int tile_size, const YoloModelInfo& model);
+
+// Decoded tiles straight from a store (thread-safe like the store).
+TileReader StoreReader(const TileStore& store);
+
+// Every window holding a stored tile of one of `zooms`, in a fixed order.
+std::vector<WindowKey> MapWindows(const TileStore& store, const std::vector<int>& zooms, int tile_size);
+
+struct DetectStats {
+  std::vector<double> window_ms;  // searched windows
+  int searched = 0, skipped = 0;  // skipped: under 2 % painted
+};
+
+// One net searching windows one after another (not thread-safe).
+class WindowSearcher {
+ public:
+  explicit WindowSearcher(const DetectSettings& settings);
+  void Search(const WindowKey& w, const TileReader& read);
+  // The merged objects, with the frames that saw them.
+  std::vector<RecognisedObject> Objects(const std::vector<FrameRecord>& frames) const;
+  // The latest boxes of every window searched (to merge several searchers' with MergeSearched).
+  std::vector<RawDetection> Raw() const { return results_.All(); }
+  const DetectStats& stats() const { return stats_; }
+  bool Searched(const WindowKey& w) const { return results_.Has(w); }
+
+ private:
+  DetectSettings settings_;
+  TileDetector detector_;
+  WindowResults results_;
+  DetectStats stats_;
+};
+
+// Merges boxes (of one or several searchers) into objects with the frames that saw them.
+std::vector<RecognisedObject> MergeSearched(const DetectSettings& settings, std::vector<RawDetection> raw,
+                                            const std::vector<FrameRecord>& frames);
+
+// Median and 90th percentile of `v` (0 when empty).
+double Percentile(std::vector<double> v, double p);
+
+}  // namespace seamap

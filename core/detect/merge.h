@@ -1,0 +1,35 @@
+#pragma once
+// Merges the boxes found in overlapping windows and on several levels into
+// one object each (spec sect. 8): same-class boxes that overlap in metres are
+// one cluster; its representative is an uncut box of the finest level with
+// the highest score; a cluster covering another class's keeps the higher
+// score and names the other as alt_class. Any input order gives the same result.
+#include <string>
+#include <vector>
+
+#include "core/detect/box_geo.h"
+#include "core/detect/recognised_object.h"
+#include "core/detect/window_grid.h"
+
+namespace seamap {
+
+// A box as one window's search found it (after NMS), in global pixels.
+struct RawDetection {
+  WindowKey window;
+  int index = 0;  // position in the window's output
+  int class_id = 0;
+  float score = 0;
+  PixelBox box;
+  bool truncated = false;  // touches an inner window edge
+};
+
+struct MergeOptions {
+  double same_class_iou = 0.4;
+  double same_class_ios = 0.7;  // intersection over the smaller box
+  double cross_class_iou = 0.7;
+};
+
+std::vector<RecognisedObject> MergeDetections(std::vector<RawDetection> raw, const std::vector<std::string>& names,
+                                              int tile_size, const LocalFrame& frame, const MergeOptions& options = {});
+
+}  // namespace seamap

@@ -174,7 +174,12 @@ std::string ModemCsvHeader() {
 }
 
 std::string ModemCsvLine(const ModemRecord& r, const std::vector<std::string>& classes) {
-  const std::string cls = r.class_id < classes.size() ? classes[r.class_id] : "";
+  std::string cls = r.class_id < classes.size() ? classes[r.class_id] : "";
+  if (cls.find_first_of(",\"\n") != std::string::npos) {  // a CSV field in quotes, quotes doubled
+    std::string quoted = "\"";
+    for (char c : cls) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+    cls = quoted + "\"";
+  }
   char time[32] = "", heading[32] = "";
   if (r.time_ds != kModemUnknownTime) std::snprintf(time, sizeof time, "%.1f", r.time_ds / 10.0);
   if (r.heading_valid()) std::snprintf(heading, sizeof heading, "%.2f", r.heading * 360.0 / 256.0);

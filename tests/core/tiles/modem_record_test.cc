@@ -183,6 +183,8 @@ TEST(ModemRecord, PackIsInSeqOrderWithClassIdsFromTheTable) {
   EXPECT_EQ(got, (std::vector<std::pair<int, int>>{{4, 2}, {6, 255}, {9, 0}}));
   EXPECT_EQ(ModemCsvLine(DecodeModemRecord(bytes.data(), kModemRecordBytes), {"tyre", "crate", "anchor"}),
             "1,2,anchor,4660,4,-33.8567844,151.2152967,100.3,0.88,1.15,confirmed,recogniser,");
+  EXPECT_EQ(ModemCsvLine(DecodeModemRecord(bytes.data(), kModemRecordBytes), {"a", "b", "rope, \"blue\""}),
+            "1,2,\"rope, \"\"blue\"\"\",4660,4,-33.8567844,151.2152967,100.3,0.88,1.15,confirmed,recogniser,");
 }
 
 }  // namespace

@@ -110,9 +110,12 @@ std::unique_ptr<LiveDetector> StartLiveDetector(std::shared_ptr<const YoloModelI
   return std::make_unique<LiveDetector>(s, store);
 }
 
-void FinishLiveDetector(LiveDetector& detector, TileStore& store) {
+void FinishLiveDetector(LiveDetector& detector, TileStore& store, const LiveDetector::Found& publish) {
   const std::vector<RecognisedObject> objects = detector.Finish(store.Frames());
-  StoreRecognised(store, objects);
+  if (publish)
+    publish(objects);
+  else
+    StoreRecognised(store, objects, detector.model().name, detector.model().class_names);
   store.Flush();
   std::printf("detect: backlog peak %d windows, drained in %.2f s after the build\n", detector.backlog_peak(),
               detector.drain_seconds());

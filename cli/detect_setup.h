@@ -42,6 +42,8 @@ std::unique_ptr<LiveDetector> StartLiveDetector(std::shared_ptr<const YoloModelI
 
 // After the builder's Finish: drains the detector, stores its objects in
 // the mission (replacing the recogniser's earlier ones), prints the summary.
-void FinishLiveDetector(LiveDetector& detector, TileStore& store);
+// `publish`: where the final objects go instead of straight into the store
+// (replay: through the server's registry, so the console hears of them).
+void FinishLiveDetector(LiveDetector& detector, TileStore& store, const LiveDetector::Found& publish = nullptr);
 
 }  // namespace seamap::cli

@@ -21,6 +21,7 @@
 #include "cli/server_setup.h"
 #include "cli/shutdown_signal.h"
 #include "cli/trajectory_setup.h"
+#include "core/detect/detection_record.h"
 #include "core/mosaic/mosaic_builder.h"
 #include "core/nav/frame_feed.h"
 #include "core/tiles/observed_store.h"
@@ -255,10 +256,23 @@ int RunReplay(int argc, char** argv, int first) {
   };
   if (both) in.config.buffer.memory_cap_mb = std::max(16, in.config.buffer.memory_cap_mb / 2);
   std::unique_ptr<LiveDetector> detector;  // searches the main layer's finished tiles
+  LiveDetector::Found publish_found;
   if (detect_model) {
     detector = StartLiveDetector(detect_model, plan, in.config.map.tile_size, in.frame.origin(), store.get(),
                                  in.config.detect, in.config_source);
     hooks.tile_consumers.push_back(detector.get());
+    // Live: what is found so far goes through the registry every second (SSE
+    // `detection` events: the console shows objects as they are found).
+    publish_found = [&detections, model = detector->model()](const std::vector<RecognisedObject>& objects) {
+      std::vector<Detection> batch;
+      for (const RecognisedObject& o : objects) batch.push_back(ToDetection(o));
+      server::PublishOptions options;
+      options.model_classes = model.class_names;
+      options.replace_model = model.name;
+      detections.Publish(std::move(batch), options);
+    };
+    detector->OnFound(
+        publish_found, [&store] { return store->Frames(); }, std::chrono::seconds(1));
   }
   MosaicBuilder builder(in.config, in.camera, in.frame, plan, &observed, hooks);
   std::unique_ptr<TileStore> enhanced_store;
@@ -319,10 +333,7 @@ int RunReplay(int argc, char** argv, int first) {
     }
     if (enhanced) enhanced->Finish();
     builder.Finish();
-    if (detector) {
-      FinishLiveDetector(*detector, *store);
-      detections.Load(*store);  // the API serves them
-    }
+    if (detector) FinishLiveDetector(*detector, *store, publish_found);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "\nseamap replay: failed: %s\n", e.what());
     exit_code = 1;

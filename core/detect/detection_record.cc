@@ -4,6 +4,8 @@
 #include <cmath>
 #include <ctime>
 
+#include "core/tiles/mission_classes.h"
+
 namespace seamap {
 namespace {
 
@@ -46,8 +48,18 @@ Detection ToDetection(const RecognisedObject& o) {
   d.score = o.score;
   d.position = o.centre;
   d.source = "recogniser";
+  d.model = o.model;
+  d.level = o.zoom;
+  d.levels = o.levels;
+  d.box.assign(o.box.begin(), o.box.end());
+  d.position_m = std::array<double, 2>{o.position_m.east, o.position_m.north};
+  d.size_m = o.size_m;
+  d.frames = o.frames;
   if (!o.frames.empty()) d.frame_id = o.frames[0];
   d.time_s = o.time_s;
+  d.status = "unconfirmed";
+  d.truncated = o.truncated;
+  d.alt_class = o.alt_class;
   return d;
 }
 
@@ -65,6 +77,11 @@ std::string UtcNow() {
   return buf;
 }
 
+// "model.onnx#hash" -> "model.onnx": another version of the same model replaces its detections.
+std::string ModelFile(const std::string& model) {
+  return model.substr(0, model.find('#'));
+}
+
 double MetresApart(LatLon a, LatLon b) {
   const double k = std::cos(a.lat * M_PI / 180), m_per_deg = 111320.0;
   return std::hypot((a.lat - b.lat) * m_per_deg, (a.lon - b.lon) * m_per_deg * k);
@@ -72,13 +89,18 @@ double MetresApart(LatLon a, LatLon b) {
 
 }  // namespace
 
-std::vector<Detection> StoreRecognised(TileStore& store, const std::vector<RecognisedObject>& objects) {
+std::vector<Detection> StoreRecognised(TileStore& store, const std::vector<RecognisedObject>& objects,
+                                       const std::string& model, const std::vector<std::string>& class_names) {
+  const std::string objects_model = model;
+  std::vector<std::string> table = MissionClassTable(store);
+  if (ExtendClassTable(&table, class_names)) StoreClassTable(&store, table);
+  StoreMissionT0(&store);
   int64_t last_id = 0, last_seq = 0;
   std::vector<Detection> old;
   for (const Detection& d : store.Detections()) {
     last_id = std::max(last_id, d.id);
     last_seq = std::max(last_seq, d.seq);
-    if (d.source == "recogniser") old.push_back(d);
+    if (d.source == "recogniser" && ModelFile(d.model) == ModelFile(objects_model)) old.push_back(d);
   }
   std::vector<bool> used(old.size(), false);
   const std::string now = UtcNow();
@@ -94,9 +116,11 @@ std::vector<Detection> StoreRecognised(TileStore& store, const std::vector<Recog
     }
     if (match >= 0) {
       used[match] = true;
+      // The operator's review stays, and a rejected object is not recreated: it is kept as rejected.
       d.id = old[match].id;
       d.created = old[match].created;
       d.note = old[match].note;
+      if (!old[match].status.empty()) d.status = old[match].status;
     } else {
       d.id = ++last_id;
       d.created = now;
@@ -106,8 +130,9 @@ std::vector<Detection> StoreRecognised(TileStore& store, const std::vector<Recog
     store.PutDetection(d);
     stored.push_back(d);
   }
+  // Gone from this search: dropped, unless the operator reviewed it (kept as they left it).
   for (size_t i = 0; i < old.size(); ++i)
-    if (!used[i]) store.DeleteDetection(old[i].id);
+    if (!used[i] && old[i].status != "confirmed" && old[i].status != "rejected") store.DeleteDetection(old[i].id);
   return stored;
 }
 

@@ -36,6 +36,14 @@ void LiveDetector::OnTileWritten(const TileId& id, const cv::Mat&, uint64_t, boo
   wake_.notify_one();
 }
 
+void LiveDetector::OnFound(Found found, std::function<std::vector<FrameRecord>()> frames,
+                           std::chrono::milliseconds every) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  found_ = std::move(found);
+  frames_ = std::move(frames);
+  every_ = every;
+}
+
 bool LiveDetector::Due(const WindowKey& w) const {
   if (finishing_) return true;
   const int n = WindowTiles(settings_.tile_size);
@@ -66,6 +74,21 @@ void LiveDetector::Work() {
       break;
     }
     lock.lock();
+    const auto now = std::chrono::steady_clock::now();
+    if (found_ && !finishing_ && now - last_found_ >= every_) {
+      last_found_ = now;
+      const Found found = found_;
+      const auto frames = frames_;
+      lock.unlock();
+      try {
+        found(searcher_.Objects(frames()));
+      } catch (...) {
+        lock.lock();
+        error_ = std::current_exception();
+        break;
+      }
+      lock.lock();
+    }
   }
 }
 

@@ -10,6 +10,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <exception>
+#include <functional>
 #include <map>
 #include <mutex>
 #include <set>
@@ -24,9 +25,16 @@ class LiveDetector : public TileConsumer {
  public:
   // store: where the builder writes the tiles searched (it must outlive this).
   LiveDetector(const DetectSettings& settings, const TileStore* store);
+  const YoloModelInfo& model() const { return *settings_.model; }
   ~LiveDetector() override;
 
   void OnTileWritten(const TileId& id, const cv::Mat& tile, uint64_t version, bool final) override;
+
+  // A live view (replay): `found` is called on the worker, at most every
+  // `every` while windows are being searched, with every object found so far
+  // merged as Finish would merge them (frames from `frames`).
+  using Found = std::function<void(const std::vector<RecognisedObject>&)>;
+  void OnFound(Found found, std::function<std::vector<FrameRecord>()> frames, std::chrono::milliseconds every);
 
   // Call after the builder's Finish: searches what is still due and every
   // window of the map never searched (tiles of an earlier build: --append,
@@ -50,6 +58,10 @@ class LiveDetector : public TileConsumer {
   std::set<TileId> live_;                                             // tiles whose latest version is not final
   bool finishing_ = false, stop_ = false;
   std::exception_ptr error_;
+  Found found_;
+  std::function<std::vector<FrameRecord>()> frames_;
+  std::chrono::milliseconds every_{0};
+  std::chrono::steady_clock::time_point last_found_{};
   double drain_s_ = 0;
   int backlog_peak_ = 0;
   std::thread worker_;

@@ -3,19 +3,24 @@
 // before any tile is read, and recall of the shipped model on a simulated
 // survey with objects.
 #include <gtest/gtest.h>
+#include <httplib.h>
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <thread>
 
 #include <nlohmann/json.hpp>
 
 #include "core/geo/local_frame.h"
 #include "core/tiles/tile_store.h"
 #include "tests/integration/survey_fixture.h"
+#include "tests/testing/child_process.h"
 
 namespace seamap {
 namespace {
@@ -102,6 +107,47 @@ TEST(Detect, ReplayDetectEqualsDetectOnTheFinishedMap) {
     EXPECT_EQ(offline[i].class_name, live[i].class_name);
     EXPECT_LT(MetresApart(offline[i].position, live[i].position), 0.001);
   }
+}
+
+// replay --detect: objects reach the console as they are found, as SSE
+// `detection` events while the map still grows, not only at the end.
+TEST(Detect, ReplayDetectAnnouncesObjectsWhileTheMapGrows) {
+  testing::TempDir dir;
+  const std::string map = (dir / "m.mbtiles").string();
+  testing::ChildProcess replay(
+      {testing::SeamapBinary(), "replay", Survey().dir, "--out", map, "--speed", "1", "--host", "127.0.0.1", "--port",
+       "0", "--quiet", "--web", std::string(SEAMAP_SOURCE_DIR) + "/web", "--detect", "--detect-model", kV8},
+      (dir / "replay.err").string());
+  const auto line = replay.WaitForLine("serving http://", std::chrono::seconds(60));
+  ASSERT_TRUE(line) << replay.output();
+  const int port = testing::PortFromServingLine(*line);
+  int before_complete = 0;
+  std::atomic<bool> complete{false};
+  std::thread listener([&] {
+    httplib::Client events("127.0.0.1", port);
+    events.set_read_timeout(60, 0);
+    std::string buffer;
+    events.Get("/api/events?types=detection,progress", [&](const char* data, size_t n) {
+      buffer.append(data, n);
+      for (size_t end; (end = buffer.find("\n\n")) != std::string::npos; buffer.erase(0, end + 2)) {
+        const std::string block = buffer.substr(0, end);
+        if (block.find("event: detection") != std::string::npos && !complete) ++before_complete;
+        if (block.find("event: progress") != std::string::npos &&
+            block.find("\"state\":\"complete\"") != std::string::npos)
+          complete = true;
+      }
+      return !complete;
+    });
+  });
+  listener.join();
+  EXPECT_TRUE(complete) << "the replay never said complete";
+  EXPECT_GT(before_complete, 0) << "no detection event while the map was growing";
+  httplib::Client api("127.0.0.1", port);
+  auto res = api.Get("/api/detections?source=recogniser");
+  ASSERT_TRUE(res);
+  const auto served = nlohmann::json::parse(res->body)["features"];
+  EXPECT_EQ(served.size(), Recognised(map).size());
+  EXPECT_GE(served.size(), 4u);
 }
 
 // Exit 2 and the message names `what`.

@@ -363,9 +363,13 @@ std::vector<SeabedObject> PlaceSeabedObjects(int count, const std::vector<cv::Re
   if (frame_bounds_m.empty()) throw InputError("", 0, "--objects", "there are no frames to place objects under");
   cv::Rect2d area = frame_bounds_m[0];
   for (const cv::Rect2d& r : frame_bounds_m) area |= r;
+  // A frame's ground bounds hold its whole footprint, which tilt and lens distortion bend
+  // inwards: only their inner 84 % counts as seen.
   auto covered = [&](double e, double n) {
-    for (const cv::Rect2d& r : frame_bounds_m)
-      if (e >= r.x && e <= r.x + r.width && n >= r.y && n <= r.y + r.height) return true;
+    for (const cv::Rect2d& r : frame_bounds_m) {
+      const double me = 0.08 * r.width, mn = 0.08 * r.height;
+      if (e >= r.x + me && e <= r.x + r.width - me && n >= r.y + mn && n <= r.y + r.height - mn) return true;
+    }
     return false;
   };
   cv::RNG rng(seed * 0x9E3779B97F4A7C15ull + 0x0b1ec75ull);

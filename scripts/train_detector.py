@@ -374,6 +374,20 @@ def random_crop(img, boxes, crop, rng):
     return img[y0:y0 + crop, x0:x0 + crop], np.array(out, np.float32).reshape(-1, 5)
 
 
+def recalibrate_bn(net, samples, crop, batch, rng, batches=60):
+    """BatchNorm statistics for the averaged weights: a cumulative mean over training crops."""
+    for m in net.modules():
+        if isinstance(m, nn.BatchNorm2d):
+            m.reset_running_stats()
+            m.momentum = None
+    net.train()
+    with torch.no_grad():
+        for _ in range(batches):
+            imgs = [augment(*random_crop(*samples[rng.integers(len(samples))], crop, rng), rng)[0] for _ in range(batch)]
+            net(to_tensor(imgs))
+    net.eval()
+
+
 def to_tensor(imgs):
     return torch.from_numpy(np.stack(imgs).transpose(0, 3, 1, 2).astype(np.float32) / 255.0)
 
@@ -639,8 +653,10 @@ def main():
     t_train = time.time() - t0
     # BatchNorm statistics for the averaged weights: a few passes over training crops.
     net = ema.module
-    net.train()
-    with torch.no_grad():
+    recalibrate_bn(net, samples, a.crop, a.batch, rng)
+    net.eval()
+    torch.save(net.state_dict(), os.path.join(a.work, "ema.pt"))
+    if False:
         for _ in range(20):
             imgs = [augment(*random_crop(*samples[rng.integers(len(samples))], a.crop, rng), rng)[0]
                     for _ in range(a.batch)]

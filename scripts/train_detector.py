@@ -3,16 +3,9 @@
 
 Run with Debian's own Python (python3-torch, python3-torchvision, python3-onnx, python3-opencv):
   scripts/train_detector.py --seamap build/seamap --work /tmp/seamap_train [--minutes 30]
-
-1. Simulates surveys with objects (`seamap simulate --objects`), training seeds 1000+, validation 2000+,
-   gray and colour, some `--degrade`, builds each into an MBTiles map (`seamap build`).
-2. Composes detection windows from the tiles exactly as the detector does (docs/DETECTION_MODEL.md):
-   3 x 3 tiles of one zoom, starting at even tile indices, transparent pixels blended with grey 114,
-   gray replicated, resized (INTER_AREA) to S x S, RGB / 255. Labels: truth/objects.json footprints
-   projected to Web-Mercator pixels of that zoom.
-3. Trains a small anchor-free YOLO-style network on random crops, exports ONNX (opset 12, decoding
-   inside the model per level in 4-D, output [1, 4+C, N] as YOLOv8), checks it with cv2.dnn, and
-   validates on held-out seeds with the 10 cm rule.
+Simulates surveys with objects (training seeds 1000+, validation 2000+), builds them into MBTiles, composes the
+detector's windows from the tiles, trains on random crops, exports ONNX (opset 12, YOLOv8 layout decoded in
+4-D), checks it with cv2.dnn and validates with the 10 cm rule. See docs/DETECTION_MODEL.md.
 """
 import argparse
 import hashlib
@@ -268,11 +261,6 @@ class Detector(nn.Module):
         return torch.cat(outs, 2) if self.export else outs
 
 
-def cell_centres(h, w, s):
-    gy, gx = torch.meshgrid(torch.arange(h, dtype=torch.float32), torch.arange(w, dtype=torch.float32), indexing="ij")
-    return (gx + 0.5) * s, (gy + 0.5) * s
-
-
 SIZE_RANGES = ((0, 48), (32, 96), (64, 1e9))  # box longest side (input px) per level
 
 
@@ -281,7 +269,7 @@ def loss_fn(outs, targets):
     cls_losses, box_losses, npos = 0.0, 0.0, 0
     for (dist, logits), s, (lo, hi) in zip(outs, STRIDES, SIZE_RANGES):
         b, nc, h, w = logits.shape
-        gx, gy = cell_centres(h, w, s)
+        gy, gx = torch.meshgrid((torch.arange(h) + 0.5) * s, (torch.arange(w) + 0.5) * s, indexing="ij")
         cls_t = torch.zeros_like(logits)
         for i, t in enumerate(targets):
             if len(t) == 0:
@@ -651,17 +639,8 @@ def main():
         if step % 500 == 0:
             torch.save(ema.module.state_dict(), os.path.join(a.work, "ema.pt"))
     t_train = time.time() - t0
-    # BatchNorm statistics for the averaged weights: a few passes over training crops.
     net = ema.module
     recalibrate_bn(net, samples, a.crop, a.batch, rng)
-    net.eval()
-    torch.save(net.state_dict(), os.path.join(a.work, "ema.pt"))
-    if False:
-        for _ in range(20):
-            imgs = [augment(*random_crop(*samples[rng.integers(len(samples))], a.crop, rng), rng)[0]
-                    for _ in range(a.batch)]
-            net(to_tensor(imgs))
-    net.eval()
     torch.save(net.state_dict(), os.path.join(a.work, "ema.pt"))
 
     os.makedirs(a.out, exist_ok=True)

@@ -37,6 +37,8 @@ camera and images:
   --bit-depth 8|16        (default 8; 16 needs png)
   --texture FILE          seabed image instead of the procedural one
   --texture-res M         metres per texture pixel (default 0.55 x the GSD at --altitude-min)
+  --objects N             paint N objects (tyre, crate, pipe, anchor, rock) on the seabed, >= 1 m apart;
+                          truth in truth/objects.csv and truth/objects.json (default 0)
 degradations (off by default):
   --vignetting S --color-cast S --haze S (0-1)   --noise SIGMA (8-bit units)
   --degrade               all of them, moderate (0.6, 0.6, 0.4, 2); explicit values win
@@ -83,6 +85,8 @@ SimulationOptions ParseOptions(Args& args) {
   if (args.Get("line-spacing") && !(o.line_spacing_m > 0))
     throw InputError("", 0, "--line-spacing", "expected a positive spacing in metres");
   o.path_file = args.GetOr("path", "");
+  o.objects = args.GetInt("objects", 0);
+  if (o.objects < 0) throw InputError("", 0, "--objects", "expected a number of objects >= 0");
 
   const int width = args.GetInt("width", 696), height = args.GetInt("height", 520);
   if (width <= 0) throw InputError("", 0, "--width", "expected a positive number of pixels");

@@ -18,6 +18,9 @@ command -v npm >/dev/null 2>&1 || packages+=(nodejs npm)  # the console's Leafle
 if [[ "${SEAMAP_BENCH:-0}" == 1 ]]; then
   packages+=(valgrind nginx-light wrk)  # profiling; the serving benchmark's reference server and load
 fi
+if [[ "${SEAMAP_TRAIN:-0}" == 1 ]]; then  # scripts/train_detector.py only (Debian's /usr/bin/python3)
+  packages+=(python3-torch python3-torchvision python3-onnx python3-opencv)
+fi
 
 missing=()
 for p in "${packages[@]}"; do

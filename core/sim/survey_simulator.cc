@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "core/sim/seabed_objects.h"
 #include "core/sim/seabed_texture.h"
 #include "core/util/error.h"
 
@@ -31,6 +32,7 @@ void Validate(const SimulationOptions& o) {
   Require(!o.out_dir.empty(), "--out", "is required: the folder to write the survey to");
   const TrajectoryOptions& t = o.trajectory;
   Require(t.frames > 0, "--frames", "expected a positive number of frames");
+  Require(o.objects >= 0, "--objects", "expected a number of objects >= 0");
   Require(t.fps > 0, "--fps", "expected a positive frame rate");
   Require(t.speed_mps > 0, "--speed", "expected a positive speed in m/s");
   Require(t.altitude_min_m > 0, "--altitude-min", "expected a positive altitude in metres");
@@ -111,6 +113,7 @@ nlohmann::json SurveyJson(const SimulationOptions& o, const SimulationSummary& s
   return {
       {"origin", {o.origin.lat, o.origin.lon}},
       {"seed", o.seed},
+      {"objects", o.objects},
       {"frames", s.frames},
       {"camera",
        {{"width", c.width},
@@ -184,6 +187,7 @@ SimulationSummary SimulateSurvey(const SimulationOptions& o, const std::function
   // Texture covering every footprint.
   const FrameRenderer renderer(cam, o.degradations);
   cv::Rect2d area;
+  std::vector<cv::Rect2d> frame_bounds;
   bool first_bounds = true;
   for (const TimedPose& tp : truth) {
     cv::Rect2d b;
@@ -192,6 +196,7 @@ SimulationSummary SimulateSurvey(const SimulationOptions& o, const std::function
                        "a frame's view does not reach the seabed; reduce "
                        "--pitch-amp/--roll-amp");
     area = first_bounds ? b : (area | b);
+    frame_bounds.push_back(b);
     first_bounds = false;
   }
   summary.area_m2 = area.area();
@@ -222,6 +227,9 @@ SimulationSummary SimulateSurvey(const SimulationOptions& o, const std::function
   const double centre_e = area.x + area.width / 2, centre_n = area.y + area.height / 2;
   texture.east_min = centre_e - texture.image.cols * texture.res_m / 2;
   texture.north_max = centre_n + texture.image.rows * texture.res_m / 2;
+  // Objects go into the texture before anything is rendered from it.
+  const std::vector<SeabedObject> objects = PlaceSeabedObjects(o.objects, frame_bounds, o.seed);
+  PaintSeabedObjects(objects, &texture);
   summary.texture_size = texture.image.size();
   summary.texture_res_m = texture.res_m;
 
@@ -231,6 +239,7 @@ SimulationSummary SimulateSurvey(const SimulationOptions& o, const std::function
   SaveCameraJson(cam, (out / "camera.json").string());
   WriteNav((out / "nav.csv").string(), nav, o.image_format);
   WriteNav((out / "nav_truth.csv").string(), truth, o.image_format);
+  if (o.objects > 0) SaveObjectsTruth(objects, LocalFrame(o.origin), (out / "truth").string());
 
   // The large truth PNG is encoded while the frames render.
   std::exception_ptr truth_error;

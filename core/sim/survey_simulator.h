@@ -7,6 +7,7 @@
 //     image,time_s,x_m,y_m,altitude_m,depth_m,heading_deg,pitch_deg,roll_deg
 //   camera.json                  SaveCameraJson
 //   truth/texture.png, truth/texture.json   the seabed and its georeference
+//   truth/objects.csv, truth/objects.json   objects on the seabed (with `objects` > 0)
 //   survey.json                  origin, every parameter used, frame count, seed
 #include <cstdint>
 #include <functional>
@@ -36,6 +37,7 @@ struct SimulationOptions {
   std::string texture_file;  // empty: procedural seabed
   double texture_res_m = 0;  // 0: 0.55 x the frame GSD at the lowest altitude
   std::string path_file;     // empty: lawnmower
+  int objects = 0;           // objects painted on the seabed (seabed_objects.h)
   double line_length_m = 10;
   double line_spacing_m = 0;  // 0: 0.7 x the footprint width at the lowest altitude
   TrajectoryOptions trajectory;

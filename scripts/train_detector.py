@@ -1,0 +1,699 @@
+#!/usr/bin/python3
+"""Trains the seabed object detector that SeaMap ships (data/models/seabed_objects.onnx).
+
+Run with Debian's own Python (python3-torch, python3-torchvision, python3-onnx, python3-opencv):
+  scripts/train_detector.py --seamap build/seamap --work /tmp/seamap_train [--minutes 30]
+Simulates surveys with objects (training seeds 1000+, validation 2000+), builds them into MBTiles, composes the
+detector's windows from the tiles, trains on random crops, exports ONNX (opset 12, YOLOv8 layout decoded in
+4-D), checks it with cv2.dnn and validates with the 10 cm rule. See docs/DETECTION_MODEL.md.
+"""
+import argparse
+import hashlib
+import json
+import math
+import os
+import random
+import sqlite3
+import subprocess
+import sys
+import time
+
+import cv2
+import numpy as np
+import torch
+import torch.nn as nn
+import torch.nn.functional as F
+import torchvision
+
+CLASSES = ["tyre", "crate", "pipe", "anchor", "rock"]
+CLASS_SIZES_M = {"tyre": [0.5, 1.0], "crate": [0.4, 1.2], "pipe": [1.5, 3.0], "anchor": [0.5, 1.5], "rock": [0.2, 0.8]}
+TILE = 256
+N_TILES = 3  # window of 3 x 3 tiles, starting at multiples of 2
+STRIDES = (8, 16, 32)
+GREY = 114
+
+
+# ---------------------------------------------------------------- data
+
+def run(cmd):
+    print("+", " ".join(cmd), flush=True)
+    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
+
+
+def make_survey(seamap, work, seed, color, degrade, frames, objects, tile_format):
+    d = os.path.join(work, f"survey_{seed}")
+    mb = os.path.join(d, "map.mbtiles")
+    if os.path.exists(mb) and os.path.exists(os.path.join(d, "truth", "objects.json")):
+        return d
+    cmd = [seamap, "simulate", "--out", d, "--force", "--quiet", "--seed", str(seed), "--frames", str(frames),
+           "--objects", str(objects)]
+    if color:
+        cmd.append("--color")
+    if degrade:
+        cmd.append("--degrade")
+    run(cmd)
+    origin = json.load(open(os.path.join(d, "survey.json")))["origin"]
+    run([seamap, "build", "--images", os.path.join(d, "photo"), "--nav", os.path.join(d, "nav.csv"), "--camera",
+         os.path.join(d, "camera.json"), "--origin", f"{origin[0]},{origin[1]}", "--out", mb, "--overwrite",
+         "--quiet", "--tile-format", tile_format])
+    return d
+
+
+def read_tiles(mbtiles):
+    """{(z, x, y): BGRA uint8 256x256} with XYZ rows (the table stores TMS rows)."""
+    con = sqlite3.connect(f"file:{mbtiles}?mode=ro", uri=True)
+    tiles = {}
+    for z, x, row, data in con.execute("SELECT zoom_level, tile_column, tile_row, tile_data FROM tiles"):
+        img = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_UNCHANGED)
+        if img is None:
+            continue
+        y = (1 << z) - 1 - row
+        if img.ndim == 2:
+            img = cv2.cvtColor(img, cv2.COLOR_GRAY2BGRA)
+        elif img.shape[2] == 2:  # gray + alpha
+            g, a = img[:, :, 0], img[:, :, 1]
+            img = np.dstack([g, g, g, a])
+        elif img.shape[2] == 3:
+            img = cv2.cvtColor(img, cv2.COLOR_BGR2BGRA)
+        tiles[(z, x, y)] = img
+    con.close()
+    return tiles
+
+
+def compose_window(tiles, z, wx, wy, size):
+    """The detector's window: n x n tiles, alpha-blended on grey, resized to size, RGB uint8."""
+    n = N_TILES
+    canvas = np.full((n * TILE, n * TILE, 3), GREY, np.float32)
+    painted = 0
+    for j in range(n):
+        for i in range(n):
+            t = tiles.get((z, wx + i, wy + j))
+            if t is None:
+                continue
+            a = t[:, :, 3:4].astype(np.float32) / 255
+            painted += int((t[:, :, 3] > 0).sum())
+            region = canvas[j * TILE:(j + 1) * TILE, i * TILE:(i + 1) * TILE]
+            region[:] = t[:, :, :3].astype(np.float32) * a + region * (1 - a)
+    canvas = np.clip(np.round(canvas), 0, 255).astype(np.uint8)
+    img = cv2.resize(canvas, (size, size), interpolation=cv2.INTER_AREA)
+    return cv2.cvtColor(img, cv2.COLOR_BGR2RGB), painted / float((n * TILE) ** 2)
+
+
+def lonlat_to_pixel(lon, lat, z):
+    world = TILE * (1 << z)
+    x = (lon + 180.0) / 360.0 * world
+    y = (1 - math.asinh(math.tan(math.radians(lat))) / math.pi) / 2 * world
+    return x, y
+
+
+def pixel_to_lonlat(x, y, z):
+    world = TILE * (1 << z)
+    lon = 360.0 * x / world - 180.0
+    lat = math.degrees(math.atan(math.sinh(math.pi * (1 - 2 * y / world))))
+    return lon, lat
+
+
+def detection_zooms(tiles, lat, largest_m):
+    """Base, base-2, ... until the largest object fits the one-tile overlap (spec sect. 3)."""
+    zs = sorted({k[0] for k in tiles})
+    base, zmin = zs[-1], zs[0]
+    out = []
+    z = base
+    while z >= zmin:
+        out.append(z)
+        g = 156543.03392 * math.cos(math.radians(lat)) / (1 << z)
+        if largest_m / g <= TILE:
+            break
+        z -= 2
+    return out
+
+
+def survey_windows(survey_dir, size):
+    """Every window with painted pixels at the detection zooms: list of (image, boxes, meta)."""
+    truth = json.load(open(os.path.join(survey_dir, "truth", "objects.json")))
+    tiles = read_tiles(os.path.join(survey_dir, "map.mbtiles"))
+    lat0 = truth["origin"][0]
+    largest = max(v[1] for v in CLASS_SIZES_M.values()) * 1.15
+    out = []
+    r = size / float(N_TILES * TILE)
+    for z in detection_zooms(tiles, lat0, largest):
+        xs = [k[1] for k in tiles if k[0] == z]
+        ys = [k[2] for k in tiles if k[0] == z]
+        boxes_px = []
+        for o in truth["objects"]:
+            pts = [lonlat_to_pixel(lon, lat, z) for lon, lat in o["footprint_lonlat"]]
+            px = [p[0] for p in pts]
+            py = [p[1] for p in pts]
+            boxes_px.append((o["class_id"], min(px), min(py), max(px), max(py)))
+        for wx in range(min(xs) // 2 * 2 - 2, max(xs) + 1, 2):
+            for wy in range(min(ys) // 2 * 2 - 2, max(ys) + 1, 2):
+                img, painted = compose_window(tiles, z, wx, wy, size)
+                if painted < 0.02:
+                    continue
+                x0, y0 = wx * TILE, wy * TILE
+                boxes = []
+                for c, bx0, by0, bx1, by1 in boxes_px:
+                    cx0, cy0 = max(bx0, x0), max(by0, y0)
+                    cx1, cy1 = min(bx1, x0 + N_TILES * TILE), min(by1, y0 + N_TILES * TILE)
+                    if cx1 <= cx0 or cy1 <= cy0:
+                        continue
+                    visible = (cx1 - cx0) * (cy1 - cy0) / ((bx1 - bx0) * (by1 - by0))
+                    if visible < 0.4:
+                        continue
+                    boxes.append([c, (cx0 - x0) * r, (cy0 - y0) * r, (cx1 - x0) * r, (cy1 - y0) * r])
+                out.append((img, np.array(boxes, np.float32).reshape(-1, 5), (z, wx, wy)))
+    return out, truth
+
+
+# ---------------------------------------------------------------- network
+
+class ConvBN(nn.Sequential):
+    def __init__(self, cin, cout, k=3, s=1):
+        super().__init__(nn.Conv2d(cin, cout, k, s, k // 2, bias=False), nn.BatchNorm2d(cout), nn.SiLU())
+
+
+class Block(nn.Module):
+    """CSP-style: half the channels through two 3x3 convs with a residual, concatenated, fused."""
+
+    def __init__(self, c):
+        super().__init__()
+        h = c // 2
+        self.a = ConvBN(c, h, 1)
+        self.b = ConvBN(c, h, 1)
+        self.m = nn.Sequential(ConvBN(h, h, 3), ConvBN(h, h, 3))
+        self.out = ConvBN(2 * h, c, 1)
+
+    def forward(self, x):
+        a = self.a(x)
+        return self.out(torch.cat([a + self.m(a), self.b(x)], 1))
+
+
+class SPPF(nn.Module):
+    def __init__(self, c):
+        super().__init__()
+        self.cv1 = ConvBN(c, c // 2, 1)
+        self.cv2 = ConvBN(c * 2, c, 1)
+        self.pool = nn.MaxPool2d(5, 1, 2)
+
+    def forward(self, x):
+        x = self.cv1(x)
+        y1 = self.pool(x)
+        y2 = self.pool(y1)
+        return self.cv2(torch.cat([x, y1, y2, self.pool(y2)], 1))
+
+
+class Detector(nn.Module):
+    def __init__(self, nc, w=(12, 24, 32, 48, 64)):
+        super().__init__()
+        self.nc = nc
+        self.stem = nn.Sequential(ConvBN(3, w[0], 3, 2), ConvBN(w[0], w[1], 3, 2))
+        self.p3 = nn.Sequential(ConvBN(w[1], w[2], 3, 2), Block(w[2]))
+        self.p4 = nn.Sequential(ConvBN(w[2], w[3], 3, 2), Block(w[3]))
+        self.p5 = nn.Sequential(ConvBN(w[3], w[4], 3, 2), Block(w[4]), SPPF(w[4]))
+        self.lat5 = ConvBN(w[4], w[3], 1)
+        self.td4 = Block(w[3])
+        self.lat4 = ConvBN(w[3], w[2], 1)
+        self.td3 = Block(w[2])
+        self.down3 = ConvBN(w[2], w[2], 3, 2)
+        self.pan4 = ConvBN(w[2] + w[3], w[3], 1)
+        self.down4 = ConvBN(w[3], w[3], 3, 2)
+        self.pan5 = ConvBN(w[3] + w[4], w[4], 1)
+        self.heads = nn.ModuleList()
+        for c in (w[2], w[3], w[4]):
+            self.heads.append(nn.ModuleDict({
+                "box": nn.Sequential(ConvBN(c, c, 3), nn.Conv2d(c, 4, 1)),
+                "cls": nn.Sequential(ConvBN(c, c, 3), nn.Conv2d(c, nc, 1)),
+            }))
+        for h in self.heads:  # start with a low score everywhere (focal loss prior)
+            nn.init.constant_(h["cls"][-1].bias, -4.6)
+        self.export = False
+
+    def features(self, x):
+        c2 = self.stem(x)
+        c3 = self.p3(c2)
+        c4 = self.p4(c3)
+        c5 = self.p5(c4)
+        t4 = self.td4(c4 + F.interpolate(self.lat5(c5), scale_factor=2.0, mode="nearest"))
+        t3 = self.td3(c3 + F.interpolate(self.lat4(t4), scale_factor=2.0, mode="nearest"))
+        n4 = self.pan4(torch.cat([self.down3(t3), t4], 1))
+        n5 = self.pan5(torch.cat([self.down4(n4), c5], 1))
+        return [t3, n4, n5]
+
+    def forward(self, x):
+        outs = []
+        for f, h, s in zip(self.features(x), self.heads, STRIDES):
+            dist = F.softplus(h["box"](f)) * s  # l, t, r, b in input pixels
+            logits = h["cls"](f)
+            if not self.export:
+                outs.append((dist, logits))
+                continue
+            # Decoded per level on 4-D tensors with a constant grid of the same shape (OpenCV 4.6).
+            _, _, hh, ww = f.shape
+            gx, gy = np.meshgrid((np.arange(ww, dtype=np.float32) + 0.5) * s, (np.arange(hh, dtype=np.float32) + 0.5) * s)
+            grid = torch.from_numpy(np.stack([gx, gy])[None].copy())  # [1, 2, H, W] cell centres, a constant
+            lt, rb = dist[:, 0:2], dist[:, 2:4]
+            x1y1 = grid - lt
+            x2y2 = grid + rb
+            cxcy = (x1y1 + x2y2) * 0.5
+            wh = x2y2 - x1y1
+            y = torch.cat([cxcy, wh, torch.sigmoid(logits)], 1)  # [1, 4+C, H, W]
+            outs.append(y.reshape(1, 4 + self.nc, hh * ww))
+        return torch.cat(outs, 2) if self.export else outs
+
+
+SIZE_RANGES = ((0, 48), (32, 96), (64, 1e9))  # box longest side (input px) per level
+
+
+def loss_fn(outs, targets):
+    """targets: list (batch) of [K, 5] (class, x1, y1, x2, y2). Centre-sampled FCOS-style assignment."""
+    cls_losses, box_losses, npos = 0.0, 0.0, 0
+    for (dist, logits), s, (lo, hi) in zip(outs, STRIDES, SIZE_RANGES):
+        b, nc, h, w = logits.shape
+        gy, gx = torch.meshgrid((torch.arange(h) + 0.5) * s, (torch.arange(w) + 0.5) * s, indexing="ij")
+        cls_t = torch.zeros_like(logits)
+        for i, t in enumerate(targets):
+            if len(t) == 0:
+                continue
+            t = torch.as_tensor(t)
+            side = torch.maximum(t[:, 3] - t[:, 1], t[:, 4] - t[:, 2])
+            keep = (side >= lo) & (side < hi)
+            t = t[keep]
+            if len(t) == 0:
+                continue
+            cx, cy = (t[:, 1] + t[:, 3]) / 2, (t[:, 2] + t[:, 4]) / 2
+            area = (t[:, 3] - t[:, 1]) * (t[:, 4] - t[:, 2])
+            X, Y = gx[None], gy[None]
+            inside = (X > t[:, 1, None, None]) & (X < t[:, 3, None, None]) & (Y > t[:, 2, None, None]) & (
+                Y < t[:, 4, None, None])
+            r = 2.5 * s
+            near = ((X - cx[:, None, None]).abs() < r) & ((Y - cy[:, None, None]).abs() < r)
+            pos = inside & near
+            if not pos.any():
+                continue
+            a = torch.where(pos, area[:, None, None], torch.full_like(pos, 1e12, dtype=torch.float32))
+            best = a.argmin(0)
+            has = pos.any(0)
+            yy, xx = torch.nonzero(has, as_tuple=True)
+            k = best[yy, xx]
+            cls_t[i, t[k, 0].long(), yy, xx] = 1.0
+            px, py = gx[yy, xx], gy[yy, xx]
+            d = dist[i, :, yy, xx].t()
+            pred = torch.stack([px - d[:, 0], py - d[:, 1], px + d[:, 2], py + d[:, 3]], 1)
+            box = t[k, 1:5]
+            box_losses = box_losses + torchvision.ops.generalized_box_iou_loss(pred, box, reduction="sum") + \
+                0.5 * (F.l1_loss(pred, box, reduction="none").sum(1) / s).sum()
+            npos += len(k)
+        cls_losses = cls_losses + torchvision.ops.sigmoid_focal_loss(logits, cls_t, alpha=0.25, gamma=2.0,
+                                                                     reduction="sum")
+    n = max(npos, 1)
+    return (cls_losses + 2.0 * box_losses) / n, npos
+
+
+# ---------------------------------------------------------------- augmentation and batches
+
+def augment(img, boxes, rng):
+    """Flips, 90-degree turns, photometric changes, blur, noise (labels follow the geometry)."""
+    h, w = img.shape[:2]
+    b = boxes.copy()
+    if rng.random() < 0.5:
+        img = img[:, ::-1]
+        b[:, [1, 3]] = w - b[:, [3, 1]]
+    if rng.random() < 0.5:
+        img = img[::-1]
+        b[:, [2, 4]] = h - b[:, [4, 2]]
+    if rng.random() < 0.5:  # transpose (with the flips: all eight 90-degree symmetries)
+        img = img.transpose(1, 0, 2)
+        b = b[:, [0, 2, 1, 4, 3]]
+    img = np.ascontiguousarray(img).astype(np.float32)
+    if rng.random() < 0.8:
+        img = img * rng.uniform(0.6, 1.4) + rng.uniform(-30, 30)
+        if rng.random() < 0.5:  # blue-green cast (RGB)
+            img = img * np.array([rng.uniform(0.6, 1.0), rng.uniform(0.9, 1.1), rng.uniform(0.9, 1.2)], np.float32)
+        if rng.random() < 0.3:  # haze towards an airlight
+            t = rng.uniform(0.6, 1.0)
+            img = img * t + (1 - t) * np.array([60, 120, 140], np.float32)
+    if rng.random() < 0.2:
+        img = cv2.GaussianBlur(img, (0, 0), rng.uniform(0.5, 1.5))
+    if rng.random() < 0.3:
+        img = img + rng.normal(0, rng.uniform(2, 8), img.shape).astype(np.float32)
+    if rng.random() < 0.2:  # gray map
+        g = img.mean(2, keepdims=True)
+        img = np.repeat(g, 3, 2)
+    return np.clip(img, 0, 255), b
+
+
+def random_crop(img, boxes, crop, rng):
+    S = img.shape[0]
+    if len(boxes) and rng.random() < 0.75:  # around an object
+        k = rng.integers(len(boxes))
+        cx, cy = (boxes[k, 1] + boxes[k, 3]) / 2, (boxes[k, 2] + boxes[k, 4]) / 2
+        x0 = int(np.clip(cx - crop / 2 + rng.uniform(-crop / 3, crop / 3), 0, S - crop))
+        y0 = int(np.clip(cy - crop / 2 + rng.uniform(-crop / 3, crop / 3), 0, S - crop))
+    else:
+        x0, y0 = int(rng.integers(0, S - crop + 1)), int(rng.integers(0, S - crop + 1))
+    out = []
+    for c, bx0, by0, bx1, by1 in boxes:
+        full = (bx1 - bx0) * (by1 - by0)
+        cx0, cy0 = max(bx0, x0), max(by0, y0)
+        cx1, cy1 = min(bx1, x0 + crop), min(by1, y0 + crop)
+        if cx1 <= cx0 or cy1 <= cy0 or (cx1 - cx0) * (cy1 - cy0) < 0.4 * full:
+            continue
+        out.append([c, cx0 - x0, cy0 - y0, cx1 - x0, cy1 - y0])
+    return img[y0:y0 + crop, x0:x0 + crop], np.array(out, np.float32).reshape(-1, 5)
+
+
+def recalibrate_bn(net, samples, crop, batch, rng, batches=60):
+    """BatchNorm statistics for the averaged weights: a cumulative mean over training crops."""
+    for m in net.modules():
+        if isinstance(m, nn.BatchNorm2d):
+            m.reset_running_stats()
+            m.momentum = None
+    net.train()
+    with torch.no_grad():
+        for _ in range(batches):
+            imgs = [augment(*random_crop(*samples[rng.integers(len(samples))], crop, rng), rng)[0] for _ in range(batch)]
+            net(to_tensor(imgs))
+    net.eval()
+
+
+def to_tensor(imgs):
+    return torch.from_numpy(np.stack(imgs).transpose(0, 3, 1, 2).astype(np.float32) / 255.0)
+
+
+# ---------------------------------------------------------------- evaluation
+
+def nms_window(pred, min_score, iou=0.5):
+    """pred [4+C, N] numpy (cx, cy, w, h, scores) -> list (class, score, x1, y1, x2, y2)."""
+    scores = pred[4:].max(0)
+    cls = pred[4:].argmax(0)
+    keep = scores >= min_score
+    if not keep.any():
+        return []
+    b = pred[:4, keep].T
+    boxes = np.stack([b[:, 0] - b[:, 2] / 2, b[:, 1] - b[:, 3] / 2, b[:, 0] + b[:, 2] / 2, b[:, 1] + b[:, 3] / 2], 1)
+    sc, cl = scores[keep], cls[keep]
+    idx = torchvision.ops.batched_nms(torch.from_numpy(boxes), torch.from_numpy(sc), torch.from_numpy(cl), iou)
+    return [(int(cl[i]), float(sc[i]), *boxes[i].tolist()) for i in idx.numpy()]
+
+
+def metres(lon, lat, lon0, lat0):
+    """East/north metres from (lon0, lat0): local ellipsoidal scale, exact enough over a few hundred metres."""
+    a, e2 = 6378137.0, 6.69437999014e-3
+    p = math.radians(lat0)
+    s = 1 - e2 * math.sin(p) ** 2
+    n_radius = a / math.sqrt(s)
+    m_radius = a * (1 - e2) / s ** 1.5
+    return math.radians(lon - lon0) * n_radius * math.cos(p), math.radians(lat - lat0) * m_radius
+
+
+def detect_survey(windows, truth, run_net, size, min_score):
+    """Raw detections of every window -> merged list (class, score, east, north, zoom)."""
+    lon0, lat0 = truth["origin"][1], truth["origin"][0]
+    r = size / float(N_TILES * TILE)
+    raw = []
+    for img, _, (z, wx, wy) in windows:
+        for c, sc, x1, y1, x2, y2 in nms_window(run_net(img), min_score):
+            X0, Y0 = wx * TILE + x1 / r, wy * TILE + y1 / r
+            X1, Y1 = wx * TILE + x2 / r, wy * TILE + y2 / r
+            trunc = x1 < 2 or y1 < 2 or x2 > size - 2 or y2 > size - 2  # touches a window edge
+            (lonA, latA), (lonB, latB) = pixel_to_lonlat(X0, Y0, z), pixel_to_lonlat(X1, Y1, z)
+            e0, n1 = metres(lonA, latA, lon0, lat0)
+            e1, n0 = metres(lonB, latB, lon0, lat0)
+            raw.append(dict(c=c, s=sc, box=(e0, n0, e1, n1), z=z, trunc=trunc))
+    # Merge (spec sect. 8, simplified): same class, IoU >= 0.4 or intersection over the smaller >= 0.7.
+    raw.sort(key=lambda d: (d["trunc"], -d["z"], -d["s"]))
+    kept = []
+    for d in raw:
+        dup = False
+        for k in kept:
+            if k["c"] != d["c"]:
+                continue
+            a, b = d["box"], k["box"]
+            iw = min(a[2], b[2]) - max(a[0], b[0])
+            ih = min(a[3], b[3]) - max(a[1], b[1])
+            if iw <= 0 or ih <= 0:
+                continue
+            inter = iw * ih
+            aa = (a[2] - a[0]) * (a[3] - a[1])
+            ab = (b[2] - b[0]) * (b[3] - b[1])
+            if inter / (aa + ab - inter) >= 0.4 or inter / min(aa, ab) >= 0.7:
+                dup = True
+                k["s"] = max(k["s"], d["s"])
+                break
+        if not dup:
+            kept.append(d)
+    return [(d["c"], d["s"], (d["box"][0] + d["box"][2]) / 2, (d["box"][1] + d["box"][3]) / 2, d["z"]) for d in kept]
+
+
+def match(dets, truth, radius=0.10):
+    lon0, lat0 = truth["origin"][1], truth["origin"][0]
+    gts = []
+    for o in truth["objects"]:
+        e, n = metres(o["lon"], o["lat"], lon0, lat0)
+        gts.append((o["class_id"], e, n))
+    pairs = []
+    for i, (c, _, e, n, _) in enumerate(dets):
+        for j, (gc, ge, gn) in enumerate(gts):
+            d = math.hypot(e - ge, n - gn)
+            if gc == c and d <= radius:
+                pairs.append((d, i, j))
+    pairs.sort()
+    used_d, used_g, errs = set(), set(), {}
+    for d, i, j in pairs:
+        if i in used_d or j in used_g:
+            continue
+        used_d.add(i)
+        used_g.add(j)
+        errs.setdefault(gts[j][0], []).append(d)
+    per = {}
+    for c in range(len(CLASSES)):
+        nt = sum(1 for g in gts if g[0] == c)
+        nd = sum(1 for d in dets if d[0] == c)
+        m = len(errs.get(c, []))
+        per[c] = (nt, nd, m, errs.get(c, []))
+    return per
+
+
+def evaluate(val_sets, run_net, size, min_score):
+    tot = {c: [0, 0, 0, []] for c in range(len(CLASSES))}
+    for windows, truth in val_sets:
+        per = match(detect_survey(windows, truth, run_net, size, min_score), truth)
+        for c, (nt, nd, m, e) in per.items():
+            tot[c][0] += nt
+            tot[c][1] += nd
+            tot[c][2] += m
+            tot[c][3] += e
+    rows = []
+    for c, (nt, nd, m, e) in tot.items():
+        rows.append(dict(cls=CLASSES[c], truths=nt, detections=nd, matches=m, recall=m / max(nt, 1),
+                         precision=m / max(nd, 1), median_err_m=float(np.median(e)) if e else float("nan")))
+    nt = sum(r["truths"] for r in rows)
+    nd = sum(r["detections"] for r in rows)
+    m = sum(r["matches"] for r in rows)
+    allerr = sum((tot[c][3] for c in tot), [])
+    rows.append(dict(cls="all", truths=nt, detections=nd, matches=m, recall=m / max(nt, 1), precision=m / max(nd, 1),
+                     median_err_m=float(np.median(allerr)) if allerr else float("nan")))
+    return rows
+
+
+# ---------------------------------------------------------------- export
+
+def export_onnx(model, path, size, meta):
+    import onnx
+    from onnx import numpy_helper
+    model.eval()
+    model.export = True
+    dummy = torch.zeros(1, 3, size, size)
+    torch.onnx.export(model, dummy, path, opset_version=12, input_names=["images"], output_names=["output0"],
+                      do_constant_folding=True)
+    model.export = False
+    m = onnx.load(path)
+    # torch 1.13 turns identical initialisers into Identity nodes, which OpenCV 4.6 rejects: copy them.
+    inits = {i.name: i for i in m.graph.initializer}
+    for node in list(m.graph.node):
+        if node.op_type == "Identity" and node.input[0] in inits:
+            t = numpy_helper.from_array(numpy_helper.to_array(inits[node.input[0]]), node.output[0])
+            m.graph.initializer.append(t)
+            m.graph.node.remove(node)
+    del m.metadata_props[:]
+    for k, v in meta.items():
+        p = m.metadata_props.add()
+        p.key, p.value = k, v
+    onnx.checker.check_model(m)
+    onnx.save(m, path)
+
+
+def write_card(report, out_dir):
+    """data/models/README.md from the run's report."""
+    v = report["validation"]
+    rows = "\n".join(f"| {r['cls']} | {r['truths']} | {r['detections']} | {r['matches']} | {r['recall']:.2f} | "
+                     f"{r['precision']:.2f} | {r['median_err_m'] * 100:.1f} |" for r in v)
+    sizes = ", ".join(f"{k} {a}-{b} m" for k, (a, b) in CLASS_SIZES_M.items())
+    text = f"""# seabed_objects.onnx
+
+Object detector for SeaMap tile windows (docs/DETECTION_MODEL.md), trained by `scripts/train_detector.py`
+on simulated surveys only (`seamap simulate --objects`).
+
+- Classes (ids in order, also `seabed_objects.names`): {", ".join(CLASSES)}; sizes {sizes}.
+- Input: 1 x 3 x {report['imgsz']} x {report['imgsz']} RGB / 255, a window of 3 x 3 tiles of 256 px (INTER_AREA),
+  grey 114 under transparent pixels; layer raw.
+- Output: **YOLOv8 layout** `[1, {4 + len(CLASSES)}, N]`: cx, cy, w, h in input pixels, then class sigmoids
+  (score = max); decoded inside the model. ONNX opset 12, fixed input, runs on OpenCV 4.6 `cv::dnn`
+  (max difference to torch {report['cv_max_diff']:.1e}).
+- {report['params']} parameters, {report['onnx_mb']} MB.
+- Data: training seeds {report['train_seeds'][0]}-{report['train_seeds'][-1]} ({len(report['train_seeds'])} surveys
+  of {report.get('frames', 600)} frames, {report.get('objects', 12)} objects each; gray and colour, every third
+  `--degrade`, every fourth with JPEG tiles), {report['train_windows']} windows at zooms base and base-2;
+  {report['data_minutes']} min to simulate and build.
+- Training: {report['steps']} steps of {report['batch']} random {report['crop']} px crops in
+  {report['train_minutes']} min on 2 shared CPU cores (torch 1.13, 2 threads).
+
+Validation on held-out seeds {", ".join(str(s) for s in report['val_seeds'])} (windows of both levels, min score
+{report['min_score']}, NMS 0.5 per window, duplicates merged across windows and levels, then same-class matches
+within 10 cm, greedy one-to-one; error = distance of box centre to truth box centre):
+
+| class | truths | detections | matches | recall | precision | median error (cm) |
+| --- | --- | --- | --- | --- | --- | --- |
+{rows}
+"""
+    with open(os.path.join(out_dir, "README.md"), "w") as f:
+        f.write(text)
+
+
+# ---------------------------------------------------------------- main
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--seamap", default="build/seamap")
+    ap.add_argument("--work", default="/tmp/seamap_train")
+    ap.add_argument("--out", default="data/models")
+    ap.add_argument("--train-surveys", type=int, default=6)
+    ap.add_argument("--val-surveys", type=int, default=2)
+    ap.add_argument("--frames", type=int, default=600)
+    ap.add_argument("--objects", type=int, default=12)
+    ap.add_argument("--imgsz", type=int, default=320)
+    ap.add_argument("--crop", type=int, default=192)
+    ap.add_argument("--batch", type=int, default=8)
+    ap.add_argument("--minutes", type=float, default=30, help="training wall time")
+    ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--min-score", type=float, default=0.4)
+    ap.add_argument("--resume", help="start from this state_dict")
+    a = ap.parse_args()
+
+    random.seed(0)
+    np.random.seed(0)
+    torch.manual_seed(0)
+    torch.set_num_threads(a.threads)
+    cv2.setNumThreads(1)
+    os.makedirs(a.work, exist_ok=True)
+    t_start = time.time()
+
+    def plan(seed, k):
+        return dict(seed=seed, color=k % 2 == 1, degrade=k % 3 == 2, tile_format="jpg" if k % 4 == 3 else "png")
+
+    train_plan = [plan(1000 + k, k) for k in range(a.train_surveys)]
+    val_plan = [plan(2000 + k, k) for k in range(a.val_surveys)]
+    train, val = [], []
+    for p in train_plan + val_plan:
+        d = make_survey(a.seamap, a.work, p["seed"], p["color"], p["degrade"], a.frames, a.objects, p["tile_format"])
+        windows, truth = survey_windows(d, a.imgsz)
+        (train if p["seed"] < 2000 else val).append((windows, truth))
+        print(f"seed {p['seed']}: {len(windows)} windows, {len(truth['objects'])} objects", flush=True)
+    t_data = time.time() - t_start
+    samples = [(img, boxes) for windows, _ in train for img, boxes, _ in windows]
+    data_hash = hashlib.sha256(b"".join(img.tobytes()[:4096] for img, _ in samples)).hexdigest()[:16]
+    print(f"data: {len(samples)} training windows in {t_data:.0f} s", flush=True)
+
+    model = Detector(len(CLASSES))
+    if a.resume:
+        model.load_state_dict(torch.load(a.resume))
+    params = sum(p.numel() for p in model.parameters())
+    print(f"model: {params} parameters", flush=True)
+    opt = torch.optim.AdamW(model.parameters(), lr=2e-3, weight_decay=5e-4)
+    ema = torch.optim.swa_utils.AveragedModel(model, avg_fn=lambda e, m, n: 0.995 * e + 0.005 * m)
+    rng = np.random.default_rng(0)
+    t0 = time.time()
+    budget = a.minutes * 60
+    step = 0
+    while time.time() - t0 < budget:
+        frac = (time.time() - t0) / budget
+        for g in opt.param_groups:
+            g["lr"] = 2e-3 * (0.05 + 0.95 * 0.5 * (1 + math.cos(math.pi * frac))) * min(1.0, (step + 1) / 100)
+        imgs, targets = [], []
+        for _ in range(a.batch):
+            img, boxes = samples[rng.integers(len(samples))]
+            img, boxes = random_crop(img, boxes, a.crop, rng)
+            img, boxes = augment(img, boxes, rng)
+            imgs.append(img)
+            targets.append(boxes)
+        model.train()
+        loss, npos = loss_fn(model(to_tensor(imgs)), targets)
+        opt.zero_grad()
+        loss.backward()
+        torch.nn.utils.clip_grad_norm_(model.parameters(), 10.0)
+        opt.step()
+        ema.update_parameters(model)
+        step += 1
+        if step % 25 == 0:
+            print(f"step {step} {time.time() - t0:.0f} s loss {loss.item():.3f} pos {npos}", flush=True)
+        if step % 500 == 0:
+            torch.save(ema.module.state_dict(), os.path.join(a.work, "ema.pt"))
+    t_train = time.time() - t0
+    net = ema.module
+    recalibrate_bn(net, samples, a.crop, a.batch, rng)
+    torch.save(net.state_dict(), os.path.join(a.work, "ema.pt"))
+
+    os.makedirs(a.out, exist_ok=True)
+    onnx_path = os.path.join(a.out, "seabed_objects.onnx")
+    meta = {
+        "names": "{" + ", ".join(f"{i}: '{n}'" for i, n in enumerate(CLASSES)) + "}",
+        "stride": str(max(STRIDES)),
+        "imgsz": f"[{a.imgsz}, {a.imgsz}]",
+        "task": "detect",
+        "seamap.class_sizes_m": json.dumps(CLASS_SIZES_M),
+        "seamap.layer": "raw",
+        "seamap.layout": "yolov8",
+        "seamap.train_seeds": ",".join(str(p["seed"]) for p in train_plan),
+        "seamap.data_hash": data_hash,
+    }
+    export_onnx(net, onnx_path, a.imgsz, meta)
+    with open(os.path.join(a.out, "seabed_objects.names"), "w") as f:
+        f.write("\n".join(CLASSES) + "\n")
+    size_mb = os.path.getsize(onnx_path) / 1e6
+    assert size_mb <= 4, f"model is {size_mb:.1f} MB, over 4 MB"
+
+    # The same OpenCV 4.6 as the C++ detector: loads, runs, matches torch.
+    cvnet = cv2.dnn.readNetFromONNX(onnx_path)
+    cvnet.setPreferableBackend(cv2.dnn.DNN_BACKEND_OPENCV)
+    cvnet.setPreferableTarget(cv2.dnn.DNN_TARGET_CPU)
+    net.export = True
+    worst = 0.0
+    check = [w[0] for w in val[0][0][:10]] if val else [samples[0][0]]
+    for img in check:
+        blob = cv2.dnn.blobFromImage(cv2.cvtColor(img, cv2.COLOR_RGB2BGR), 1 / 255.0, swapRB=True, crop=False)
+        cvnet.setInput(blob)
+        out_cv = cvnet.forward()
+        with torch.no_grad():
+            out_t = net(torch.from_numpy(blob)).numpy()
+        worst = max(worst, float(np.abs(out_cv - out_t).max()))
+    print(f"cv2.dnn vs torch: max difference {worst:.2e}, output {out_cv.shape}", flush=True)
+    assert worst < 1e-3, "cv2.dnn does not match torch"
+
+    def run_net(img):
+        blob = cv2.dnn.blobFromImage(cv2.cvtColor(img, cv2.COLOR_RGB2BGR), 1 / 255.0, swapRB=True, crop=False)
+        cvnet.setInput(blob)
+        return cvnet.forward()[0]
+
+    rows = evaluate(val, run_net, a.imgsz, a.min_score)
+    report = dict(params=params, onnx_mb=round(size_mb, 2), imgsz=a.imgsz, crop=a.crop, batch=a.batch, steps=step,
+                  train_minutes=round(t_train / 60, 1), data_minutes=round(t_data / 60, 1),
+                  train_seeds=[p["seed"] for p in train_plan], val_seeds=[p["seed"] for p in val_plan],
+                  train_windows=len(samples), cv_max_diff=worst, min_score=a.min_score, validation=rows)
+    report.update(frames=a.frames, objects=a.objects)
+    json.dump(report, open(os.path.join(a.work, "report.json"), "w"), indent=1)
+    write_card(report, a.out)
+    print(json.dumps(report, indent=1))
+
+
+if __name__ == "__main__":
+    sys.exit(main())

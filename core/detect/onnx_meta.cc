@@ -312,15 +312,21 @@ std::vector<double> ParseClassSizes(const std::string& text, const std::vector<s
   std::vector<double> sizes(names.size(), 0.0);
   const auto bad = [&]() {
     return InputError(source, 0, "seamap.class_sizes_m",
-                      "expected {\"class\": metres, ...} or a list of metres in class order");
+                      "expected {\"class\": metres or [min, max], ...} or a list of them in class order");
   };
   try {
+    // A class's size: metres, or its [smallest, largest] range (the largest decides the levels).
+    const auto size = [&](const nlohmann::json& v) {
+      if (v.is_array() && v.size() == 2) return std::max(v[0].get<double>(), v[1].get<double>());
+      if (v.is_number()) return v.get<double>();
+      throw bad();
+    };
     const auto j = nlohmann::json::parse(text);
     if (j.is_array()) {
-      for (size_t i = 0; i < j.size() && i < sizes.size(); ++i) sizes[i] = j[i].get<double>();
+      for (size_t i = 0; i < j.size() && i < sizes.size(); ++i) sizes[i] = size(j[i]);
     } else if (j.is_object()) {
       for (size_t i = 0; i < names.size(); ++i)
-        if (j.contains(names[i])) sizes[i] = j[names[i]].get<double>();
+        if (j.contains(names[i])) sizes[i] = size(j[names[i]]);
     } else {
       throw bad();
     }

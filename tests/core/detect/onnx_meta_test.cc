@@ -24,6 +24,10 @@ TEST(OnnxMeta, ReadsInputDimsAndMetadataOfTheFixtures) {
   EXPECT_EQ(ParseClassSizes(v8.metadata.at("seamap.class_sizes_m"), {"tyre", "crate"}, "m"),
             (std::vector<double>{1.0, 1.2}));
   EXPECT_EQ(v8.metadata.at("seamap.layer"), "raw");
+  // A [smallest, largest] range per class (the shipped model's form): the largest counts.
+  EXPECT_EQ(ParseClassSizes(R"({"tyre": [0.5, 1.0], "crate": [0.4, 1.2]})", {"tyre", "crate"}, "m"),
+            (std::vector<double>{1.0, 1.2}));
+  EXPECT_THROW(ParseClassSizes(R"({"tyre": [0.5, 1.0, 2.0]})", {"tyre"}, "m"), InputError);
 }
 
 TEST(OnnxMeta, TextFileIsNotAnOnnxModel) {

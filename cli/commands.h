@@ -22,7 +22,7 @@ int RunSimulateStereo(int argc, char** argv, int first);  // cli/stereo_simulate
 int RunStereoModel(int argc, char** argv, int first);     // cli/stereo_model_command.cc
 int RunStereoLocate(int argc, char** argv, int first);    // cli/stereo_locate_command.cc
 
-int RunDetect(int argc, char** argv, int first);  // cli/detect_command.cc
+int RunDetect(int argc, char** argv, int first);          // cli/detect_command.cc
 int RunDetectionsPack(int argc, char** argv, int first);  // cli/detections_pack_command.cc
 
 }  // namespace seamap::cli

@@ -20,6 +20,6 @@ total=$(grep -oE 'tests failed out of [0-9]+' "$build/ctest.log" | grep -oE '[0-
 failed=$(grep -oE '[0-9]+ tests failed' "$build/ctest.log" | grep -oE '^[0-9]+' || echo 0)
 echo
 echo "summary: $((total - failed)) passed, $failed failed"
-reran=$(grep -E '\*\*\*(Failed|Timeout)' "$build/ctest.log" | sed -E 's/.*Test +#[0-9]+: ([^ ]+).*/\1/' | sort -u | tr '\n' ' ')
+reran=$(grep -E '\*\*\*(Failed|Timeout)' "$build/ctest.log" | sed -E 's/.*Test +#[0-9]+: ([^ ]+).*/\1/' | sort -u | tr '\n' ' ' || true)
 [ -z "$reran" ] || echo "failed at least once (run again): $reran"
 exit "$status"

@@ -2,12 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <ctime>
 #include <sstream>
 
 #include "core/tiles/mission_classes.h"
 #include "core/tiles/modem_record.h"
 #include "core/tiles/record_json.h"
+#include "core/util/utc_time.h"
 #include "server/api_error.h"
 
 namespace seamap::server {
@@ -15,15 +15,6 @@ namespace {
 
 constexpr size_t kMaxClassLength = 64;
 constexpr size_t kMaxNoteLength = 4000;
-
-std::string UtcNow() {
-  std::time_t now = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&now, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return buf;
-}
 
 double ParseNumber(const std::string& text, const std::string& name) {
   try {
@@ -269,7 +260,7 @@ nlohmann::json DetectionRegistry::Create(const nlohmann::json& feature) {
   ApplyProperties(feature.contains("properties") ? feature["properties"] : nlohmann::json::object(), &d);
   if (d.class_name.empty()) throw ApiError(400, "properties.class: required (what the object is)");
   d.source = "operator";
-  d.created = d.updated = UtcNow();
+  d.created = d.updated = UtcNowIso8601();
   std::lock_guard<std::mutex> lock(mutex_);
   d.id = ++last_id_;  // never reuses the id of a mark deleted in this session
   d.seq = ++last_seq_;
@@ -300,7 +291,7 @@ nlohmann::json DetectionRegistry::Update(int64_t id, const nlohmann::json& patch
     kept.note = d.note;
     d = kept;
   }
-  d.updated = UtcNow();
+  d.updated = UtcNowIso8601();
   d.seq = ++last_seq_;
   Store(d);
   store_->Flush();
@@ -324,7 +315,7 @@ void DetectionRegistry::Delete(int64_t id) {
 PublishResult DetectionRegistry::Publish(std::vector<Detection> batch, const PublishOptions& options) {
   CheckWritable();
   PublishResult result;
-  const std::string now = UtcNow();
+  const std::string now = UtcNowIso8601();
   std::lock_guard<std::mutex> lock(mutex_);
   if (ExtendClassTable(&classes_, options.model_classes)) StoreClassTable(store_, classes_);
   std::set<int64_t> seen;

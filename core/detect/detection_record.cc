@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <ctime>
 
 #include "core/tiles/mission_classes.h"
+#include "core/util/utc_time.h"
 
 namespace seamap {
 namespace {
@@ -68,15 +68,6 @@ Detection ToDetection(const RecognisedObject& o) {
 namespace seamap {
 namespace {
 
-std::string UtcNow() {
-  std::time_t now = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&now, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return buf;
-}
-
 // "model.onnx#hash" -> "model.onnx": another version of the same model replaces its detections.
 std::string ModelFile(const std::string& model) {
   return model.substr(0, model.find('#'));
@@ -103,7 +94,7 @@ std::vector<Detection> StoreRecognised(TileStore& store, const std::vector<Recog
     if (d.source == "recogniser" && ModelFile(d.model) == ModelFile(objects_model)) old.push_back(d);
   }
   std::vector<bool> used(old.size(), false);
-  const std::string now = UtcNow();
+  const std::string now = UtcNowIso8601();
   std::vector<Detection> stored;
   for (const RecognisedObject& o : objects) {
     Detection d = ToDetection(o);

@@ -76,8 +76,8 @@ TEST(StoreRecognised, ASecondSearchKeepsTheOperatorsReviewAndOtherModels) {
   store.PutDetection(crate);
 
   // Searched again (a newer model file): the tyre and the crate are found again, the pipe and the rock are not.
-  StoreRecognised(store, {Object("tyre", 43.1, 131.9), Object("crate", 43.1001, 131.9)},
-                  "seabed.onnx#1111111111111111", {});
+  StoreRecognised(store, {Object("tyre", 43.1, 131.9), Object("crate", 43.1001, 131.9)}, "seabed.onnx#1111111111111111",
+                  {});
   all = store.Detections();
   ASSERT_TRUE(Find(all, "tyre"));
   EXPECT_EQ(Find(all, "tyre")->id, tyre.id);

@@ -63,6 +63,13 @@ try {
   page.setDefaultTimeout(10000);
   const errors = [];
   page.on('pageerror', e => errors.push(e.message));
+  // Under a failed check: the popups, the toast and each marker's classes.
+  checks.diagnose = () => page.evaluate(() => [
+    `toast "${document.querySelector('#toast')?.textContent}"`,
+    ...[...document.querySelectorAll('.leaflet-popup')].map(p =>
+      `popup opacity ${getComputedStyle(p).opacity}: ${p.textContent.replace(/\s+/g, ' ').slice(0, 100)}`),
+    ...[...document.querySelectorAll('.leaflet-marker-icon')].map(m => `marker ${m.className}`),
+  ].join('\n'));
   await checks.run('the console opens and takes the token', async () => {
     await page.goto(base);
     await page.waitForSelector('body[data-ready="true"]');

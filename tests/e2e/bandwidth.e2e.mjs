@@ -16,7 +16,7 @@
 import fs from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
-import {Checks, freePort, killAll, linkProxy, run, sleep, startProcess, stopProcess, waitFor, waitForOutput, testEnvironment} from './harness.mjs';
+import {Checks, freePort, killAll, linkProxy, run, sleep, startProcess, stopProcess, waitFor, waitForOutput, testEnvironment, launchChromium} from './harness.mjs';
 
 const {sourceDir, seamap, artifacts} = testEnvironment('seamap-bw-artifacts-');
 const budgetMbps = Number(process.env.SEAMAP_BW_BUDGET_MBPS || 0.3);
@@ -65,7 +65,6 @@ function wireMeter(cdp) {
 async function main() {
   if (!fs.existsSync(seamap)) throw new Error(`no seamap binary at ${seamap}`);
   fs.mkdirSync(artifacts, {recursive: true});
-  const {chromium} = await import('playwright-core');
   work = fs.mkdtempSync(path.join(os.tmpdir(), 'seamap-bw-'));
   const survey = path.join(work, 'survey');
   await run(seamap, ['simulate', '--out', survey, '--frames', String(FRAMES), '--quiet']);
@@ -77,10 +76,7 @@ async function main() {
   proxy = await linkProxy(port);   // the browser's way to the server, which the test can cut
   const base = `http://127.0.0.1:${proxy.port}/`;
 
-  browser = await chromium.launch({
-    executablePath: process.env.SEAMAP_CHROMIUM || '/usr/bin/chromium',
-    args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-background-networking'],
-  });
+  browser = await launchChromium();
   const page = await browser.newPage({viewport: {width: 1280, height: 800}});
   const pageErrors = [];
   page.on('pageerror', error => pageErrors.push(error.message));

@@ -18,7 +18,7 @@ import os from 'node:os';
 import path from 'node:path';
 import {checkConsoleTools} from './console_tools.mjs';
 import {checkCorrectedTracks} from './corrected_tracks.mjs';
-import {Checks, freePort, killAll, run, sleep, startProcess, stopProcess, waitFor, waitForOutput, testEnvironment} from './harness.mjs';
+import {Checks, freePort, killAll, run, sleep, startProcess, stopProcess, waitFor, waitForOutput, testEnvironment, launchChromium} from './harness.mjs';
 
 const {sourceDir, seamap, artifacts} = testEnvironment();
 const correctedTool = process.env.SEAMAP_CORRECTED_MISSION || path.join(path.dirname(seamap), 'corrected_mission');
@@ -127,15 +127,11 @@ async function main() {
     throw new Error('web/vendor/leaflet is missing: run scripts/setup_web.sh');
   }
   fs.mkdirSync(artifacts, {recursive: true});
-  const {chromium} = await import('playwright-core');
 
   const {base, token} = await startServer();
   checks.ok('server is listening', base);
 
-  browser = await chromium.launch({
-    executablePath: process.env.SEAMAP_CHROMIUM || '/usr/bin/chromium',
-    args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-background-networking'],
-  });
+  browser = await launchChromium();
   const page = await browser.newPage({viewport: {width: 1280, height: 800}});
   page.setDefaultTimeout(10000);
   const pageErrors = [];

@@ -12,7 +12,7 @@
 import fs from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
-import {Checks, killAll, run, startProcess, stopProcess, testEnvironment, waitFor, waitForOutput} from './harness.mjs';
+import {Checks, killAll, run, startProcess, stopProcess, testEnvironment, waitFor, waitForOutput, launchChromium} from './harness.mjs';
 
 const {sourceDir, seamap, artifacts} = testEnvironment();
 const seeder = process.env.SEAMAP_SEED_DETECTIONS || path.join(path.dirname(seamap), 'seed_detections');
@@ -54,11 +54,7 @@ try {
     properties: {class: 'tyre', note: 'seen by the diver'}});
   const markId = String(mark.id);
 
-  const {chromium} = await import('playwright-core');
-  browser = await chromium.launch({
-    executablePath: process.env.SEAMAP_CHROMIUM || '/usr/bin/chromium',
-    args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-background-networking'],
-  });
+  browser = await launchChromium();
   const page = await browser.newPage({viewport: {width: 1200, height: 760}});
   page.setDefaultTimeout(10000);
   const errors = [];

@@ -5,7 +5,7 @@
 import fs from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
-import {Checks, killAll, run, startProcess, stopProcess, waitFor, waitForOutput, testEnvironment} from './harness.mjs';
+import {Checks, killAll, run, startProcess, stopProcess, waitFor, waitForOutput, testEnvironment, launchChromium} from './harness.mjs';
 
 const {sourceDir, seamap, artifacts} = testEnvironment();
 const checks = new Checks();
@@ -38,11 +38,7 @@ try {
   const keyframes = (await api('api/keyframes')).features;
   const good = keyframes.filter(f => f.properties.good).length;
 
-  const {chromium} = await import('playwright-core');
-  browser = await chromium.launch({
-    executablePath: process.env.SEAMAP_CHROMIUM || '/usr/bin/chromium',
-    args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-background-networking'],
-  });
+  browser = await launchChromium();
   const page = await browser.newPage({viewport: {width: 1100, height: 700}});
   page.setDefaultTimeout(10000);
   const errors = [];

@@ -177,3 +177,12 @@ export async function linkProxy(targetPort) {
     },
   };
 }
+
+// Debian's Chromium, headless, as every browser test runs it (SEAMAP_CHROMIUM: another binary).
+export async function launchChromium() {
+  const {chromium} = await import('playwright-core');
+  return chromium.launch({
+    executablePath: process.env.SEAMAP_CHROMIUM || '/usr/bin/chromium',
+    args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-background-networking'],
+  });
+}

@@ -6,7 +6,7 @@ import fs from 'node:fs';
 import http from 'node:http';
 import os from 'node:os';
 import path from 'node:path';
-import {Checks, killAll, run, testEnvironment} from './harness.mjs';
+import {Checks, killAll, run, testEnvironment, launchChromium} from './harness.mjs';
 
 const {sourceDir, seamap, artifacts} = testEnvironment();
 const checks = new Checks();
@@ -81,11 +81,7 @@ try {
   site = await staticServer(root);
   checks.ok('mission exported and served by a plain static server', `port ${site.port}`);
 
-  const {chromium} = await import('playwright-core');
-  browser = await chromium.launch({
-    executablePath: process.env.SEAMAP_CHROMIUM || '/usr/bin/chromium',
-    args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-background-networking'],
-  });
+  browser = await launchChromium();
   const page = await browser.newPage({viewport: {width: 1024, height: 700}});
   page.setDefaultTimeout(15000);
   const errors = [];

@@ -5,7 +5,7 @@
 import fs from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
-import {Checks, killAll, run, sleep, startProcess, stopProcess, waitFor, waitForOutput, testEnvironment} from './harness.mjs';
+import {Checks, killAll, run, sleep, startProcess, stopProcess, waitFor, waitForOutput, testEnvironment, launchChromium} from './harness.mjs';
 
 const {sourceDir, seamap, artifacts} = testEnvironment();
 const checks = new Checks();
@@ -40,11 +40,7 @@ try {
   await waitForOutput(server, /serving http:\/\/127\.0\.0\.1:\d+\//, 20000);
   const base = /serving (http:\/\/127\.0\.0\.1:\d+\/)/.exec(server.output)[1];
 
-  const {chromium} = await import('playwright-core');
-  browser = await chromium.launch({
-    executablePath: process.env.SEAMAP_CHROMIUM || '/usr/bin/chromium',
-    args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-background-networking'],
-  });
+  browser = await launchChromium();
   const page = await browser.newPage({viewport: {width: 1100, height: 700}});
   page.setDefaultTimeout(10000);
   const errors = [];

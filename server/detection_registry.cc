@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "core/tiles/detection_match.h"
 #include "core/tiles/mission_classes.h"
 #include "core/tiles/modem_record.h"
 #include "core/tiles/record_json.h"
@@ -100,27 +101,6 @@ bool Passes(const DetectionFilter& f, const Detection& d) {
   if (!f.statuses.empty() && !f.statuses.count(d.status)) return false;
   if (!f.sources.empty() && !f.sources.count(d.source)) return false;
   return true;
-}
-
-// Ground distance between two nearby points (equirectangular: exact enough
-// at the centimetre-to-metre scale of matching).
-double DistanceM(const LatLon& a, const LatLon& b) {
-  constexpr double kMetresPerDegree = 6378137.0 * M_PI / 180;
-  const double north = (a.lat - b.lat) * kMetresPerDegree;
-  const double east = (a.lon - b.lon) * kMetresPerDegree * std::cos((a.lat + b.lat) / 2 * M_PI / 180);
-  return std::hypot(north, east);
-}
-
-double SmallerSizeM(const Detection& d) {
-  return d.size_m ? std::min((*d.size_m)[0], (*d.size_m)[1]) : 0;
-}
-
-// The same object again (spec 8.7): class and model agree, centres close.
-bool SameObject(const Detection& published, const Detection& found) {
-  if (published.source == "operator" || published.class_name != found.class_name || published.model != found.model)
-    return false;
-  const double radius = std::max(0.10, std::min(SmallerSizeM(published), SmallerSizeM(found)) / 4);
-  return DistanceM(published.position, found.position) <= radius;
 }
 
 // A recogniser's detection allows `status` and `note` to change; any other
@@ -318,17 +298,32 @@ PublishResult DetectionRegistry::Publish(std::vector<Detection> batch, const Pub
   const std::string now = UtcNowIso8601();
   std::lock_guard<std::mutex> lock(mutex_);
   if (ExtendClassTable(&classes_, options.model_classes)) StoreClassTable(store_, classes_);
+  // Which earlier detection each one continues: by id when it has one (an
+  // operator's mark is not ours to change), else the same object nearby.
+  std::vector<std::map<int64_t, Detection>::iterator> continues(batch.size(), detections_.end());
   std::set<int64_t> seen;
-  for (Detection& d : batch) {
+  std::vector<size_t> by_place;
+  for (size_t i = 0; i < batch.size(); ++i) {
+    Detection& d = batch[i];
     if (d.source != "stereo") d.source = "recogniser";
     auto it = d.id > 0 ? detections_.find(d.id) : detections_.end();
-    if (it != detections_.end() && it->second.source == "operator") it = detections_.end();  // not ours to change
-    if (it == detections_.end() && d.id <= 0)
-      for (auto j = detections_.begin(); j != detections_.end(); ++j)
-        if (!seen.count(j->first) && SameObject(j->second, d)) {
-          it = j;
-          break;
-        }
+    if (it != detections_.end() && it->second.source != "operator") {
+      continues[i] = it;
+      seen.insert(d.id);
+    } else if (d.id <= 0) {
+      by_place.push_back(i);
+    }
+  }
+  std::vector<Detection> earlier, found;
+  for (const auto& [id, e] : detections_)
+    if (!seen.count(id)) earlier.push_back(e);
+  for (size_t i : by_place) found.push_back(batch[i]);
+  const std::vector<int> match = MatchEarlier(earlier, found);
+  for (size_t k = 0; k < by_place.size(); ++k)
+    if (match[k] >= 0) continues[by_place[k]] = detections_.find(earlier[match[k]].id);
+  for (size_t i = 0; i < batch.size(); ++i) {
+    Detection& d = batch[i];
+    auto it = continues[i];
     if (it != detections_.end()) {
       const Detection& old = it->second;
       d.id = old.id;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/tiles/detection_match.h"
 #include "core/tiles/mission_classes.h"
 #include "core/util/utc_time.h"
 
@@ -66,23 +67,9 @@ Detection ToDetection(const RecognisedObject& o) {
 }  // namespace seamap
 
 namespace seamap {
-namespace {
-
-// "model.onnx#hash" -> "model.onnx": another version of the same model replaces its detections.
-std::string ModelFile(const std::string& model) {
-  return model.substr(0, model.find('#'));
-}
-
-double MetresApart(LatLon a, LatLon b) {
-  const double k = std::cos(a.lat * M_PI / 180), m_per_deg = 111320.0;
-  return std::hypot((a.lat - b.lat) * m_per_deg, (a.lon - b.lon) * m_per_deg * k);
-}
-
-}  // namespace
 
 std::vector<Detection> StoreRecognised(TileStore& store, const std::vector<RecognisedObject>& objects,
                                        const std::string& model, const std::vector<std::string>& class_names) {
-  const std::string objects_model = model;
   std::vector<std::string> table = MissionClassTable(store);
   if (ExtendClassTable(&table, class_names)) StoreClassTable(&store, table);
   StoreMissionT0(&store);
@@ -91,20 +78,17 @@ std::vector<Detection> StoreRecognised(TileStore& store, const std::vector<Recog
   for (const Detection& d : store.Detections()) {
     last_id = std::max(last_id, d.id);
     last_seq = std::max(last_seq, d.seq);
-    if (d.source == "recogniser" && ModelFile(d.model) == ModelFile(objects_model)) old.push_back(d);
+    if (d.source == "recogniser" && ModelFile(d.model) == ModelFile(model)) old.push_back(d);
   }
+  std::vector<Detection> found;
+  for (const RecognisedObject& o : objects) found.push_back(ToDetection(o));
+  const std::vector<int> continues = MatchEarlier(old, found);
   std::vector<bool> used(old.size(), false);
   const std::string now = UtcNowIso8601();
   std::vector<Detection> stored;
-  for (const RecognisedObject& o : objects) {
-    Detection d = ToDetection(o);
-    const double radius = std::max(0.1, std::min(o.size_m[0], o.size_m[1]) / 4);
-    int match = -1;
-    double best = radius;
-    for (size_t i = 0; i < old.size(); ++i) {
-      const double dist = MetresApart(old[i].position, d.position);
-      if (!used[i] && old[i].class_name == d.class_name && dist <= best) best = dist, match = static_cast<int>(i);
-    }
+  for (size_t k = 0; k < found.size(); ++k) {
+    Detection& d = found[k];
+    const int match = continues[k];
     if (match >= 0) {
       used[match] = true;
       // The operator's review stays, and a rejected object is not recreated: it is kept as rejected.

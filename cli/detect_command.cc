@@ -29,7 +29,8 @@ const char* kHelp =
     "  --classes FILE    class names, one per line (default: the model's metadata)\n"
     "  --zooms LIST      levels to search, e.g. 22,20,18 (default: base, base-2, ...\n"
     "                    until the model's largest class fits)\n"
-    "  --min-score S     drop boxes scoring below S (default 0.4)\n"
+    "  --min-score S     drop boxes scoring below S (default: the model's\n"
+    "                    seamap.min_score metadata, else 0.4)\n"
     "  --layer NAME      raw | enhanced: the tiles searched (default raw)\n"
     "  --out FILE        also write the detections as GeoJSON\n"
     "  --threads N       windows searched at once, one network each (default 1)\n"
@@ -56,7 +57,7 @@ int RunDetect(int argc, char** argv, int first) {
   const std::optional<std::string> zooms_arg = args.Get("zooms");
   const std::optional<std::vector<int>> requested =
       zooms_arg ? std::optional<std::vector<int>>(ParseZooms(*zooms_arg, "--zooms")) : std::nullopt;
-  const float min_score = MinScoreArg(args);
+  const std::optional<float> min_score = MinScoreArg(args);
   const std::string layer = args.GetOr("layer", "raw");
   const std::optional<std::string> out = args.Get("out");
   const bool quiet = args.Flag("quiet");
@@ -95,7 +96,7 @@ int RunDetect(int argc, char** argv, int first) {
 
   DetectSettings settings;
   settings.model = model;
-  settings.min_score = min_score;
+  settings.min_score = min_score.value_or(model->min_score);
   settings.tile_size = meta.count("seamap_tile_size") ? MetaInt(meta, "seamap_tile_size", path) : 256;
   const int min_zoom = MetaInt(meta, "minzoom", path), base_zoom = MetaInt(meta, "maxzoom", path);
   double lat = 0, lon = 0;

@@ -36,8 +36,9 @@ std::vector<int> ParseZooms(const std::string& text, const std::string& option) 
   return zooms;
 }
 
-float MinScoreArg(Args& args) {
-  const double s = args.GetDouble("min-score", 0.4);
+std::optional<float> MinScoreArg(Args& args) {
+  if (!args.Get("min-score")) return std::nullopt;
+  const double s = args.GetDouble("min-score", 0);
   if (!(s >= 0 && s <= 1)) throw InputError("--min-score", 0, "", "expected a score between 0 and 1");
   return static_cast<float>(s);
 }
@@ -99,6 +100,7 @@ std::unique_ptr<LiveDetector> StartLiveDetector(std::shared_ptr<const YoloModelI
   }
   DetectSettings s;
   s.model = model;
+  s.min_score = model->min_score;
   s.tile_size = tile_size;
   s.origin = origin;
   s.zooms = ChooseZooms(zooms, config_source + " detect.zooms", plan.min_zoom, plan.base_zoom, plan.latitude, tile_size,

@@ -18,8 +18,9 @@ std::string DefaultModelPath();
 // "22,20,18" -> zooms; InputError naming `option` when malformed.
 std::vector<int> ParseZooms(const std::string& text, const std::string& option);
 
-// --min-score in [0, 1]; InputError naming it otherwise.
-float MinScoreArg(Args& args);
+// --min-score in [0, 1] (nullopt: not given, the model's own applies);
+// InputError naming it otherwise.
+std::optional<float> MinScoreArg(Args& args);
 
 // Counts per class and ms per window (median, p90) on stdout.
 void PrintDetectSummary(const std::vector<RecognisedObject>& objects, const DetectStats& stats,

@@ -170,15 +170,7 @@ if [[ "${SEAMAP_BENCH_STEREO:-1}" == 1 ]]; then
 fi
 [[ "${SEAMAP_BENCH_HOSTILE:-1}" == 1 ]] && "$root/scripts/bench_hostile.sh" "$seamap" "$out/hostile"
 [[ "${SEAMAP_BENCH_GEOREF:-1}" == 1 ]] && "$root/scripts/bench_georef.sh" "$seamap" "$out/georef" "$([[ "$quick" == 1 ]] && echo 3 || echo 10)"
-# The recogniser (docs/DETECT.md): the shipped model on 30 objects training never saw, built with --detect.
-if [[ "${SEAMAP_BENCH_DETECT:-1}" == 1 && -f "$root/data/models/seabed_objects.onnx" ]]; then
-  "$seamap" simulate --out "$out/objects" --objects 30 --seed 1 --force >/dev/null 2>&1
-  "$seamap" build --quiet --images "$out/objects/photo" --nav "$out/objects/nav.csv" --camera "$out/objects/camera.json" \
-    --origin "$(python3 -c 'import json,sys; print(",".join(map(str, json.load(open(sys.argv[1]))["origin"])))' "$out/objects/survey.json")" \
-    --out "$out/objects.mbtiles" --overwrite --detect | sed -n 's/^detect: /detect (build, 1 thread): /p'
-  "$seamap" detect --quiet "$out/objects.mbtiles" --out "$out/objects.geojson" >/dev/null
-  python3 "$root/scripts/eval_detections.py" "$out/objects.geojson" "$out/objects/truth/objects.csv" | sed 's/^/detect: /'
-fi
+[[ "${SEAMAP_BENCH_DETECT:-1}" == 1 ]] && "$root/scripts/bench_detect.sh" "$seamap" "$out/detect"
 if [[ "${SEAMAP_BENCH_SERVE:-1}" == 1 ]]; then
   "$root/scripts/bench_serve.sh" "$seamap" "$out/gray.mbtiles" "$out/gray" "$out/serve"
 fi

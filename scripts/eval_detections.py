@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Scores a recogniser's detections against a simulated survey's truth (standard library only).
 
-    scripts/eval_detections.py DETECTIONS.geojson SURVEY/truth/objects.csv [--radius 0.10]
+    scripts/eval_detections.py DETECTIONS.geojson SURVEY/truth/objects.csv [MORE.geojson MORE/objects.csv ...]
+                               [--radius 0.10]
 
 Matching (docs/DETECT.md): all same-class pairs (detection, truth) within the
 radius, nearest first, assigned greedily one to one. Positions are the
@@ -9,6 +10,7 @@ mission's east/north metres (GeoJSON property position_m, truth x_m, y_m: the
 same origin when the map was built with the survey's). Prints one line per
 class and overall: truths, detections, matches, recall, precision, median and
 p90 position error; then class-agnostic recall and the class confusions.
+Several surveys: each matched on its own, the counts pooled.
 """
 import argparse
 import csv
@@ -41,21 +43,32 @@ def match(dets, truths, radius, same_class=True):
     return out
 
 
-def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("detections")
-    ap.add_argument("truth")
-    ap.add_argument("--radius", type=float, default=0.10)
-    a = ap.parse_args()
-    with open(a.detections) as f:
+def load(detections_path, truth_path):
+    with open(detections_path) as f:
         features = json.load(f)["features"]
     dets = [{"class": f["properties"]["class"], "x": f["properties"]["position_m"][0],
              "y": f["properties"]["position_m"][1]} for f in features]
-    with open(a.truth, newline="") as f:
+    with open(truth_path, newline="") as f:
         truths = [{"class": r["class"], "x": float(r["x_m"]), "y": float(r["y_m"])} for r in csv.DictReader(f)]
     if not truths:
-        sys.exit(f"{a.truth}: no objects")
-    matches = match(dets, truths, a.radius)
+        sys.exit(f"{truth_path}: no objects")
+    return dets, truths
+
+
+def main():
+    ap = argparse.ArgumentParser(description="pairs of DETECTIONS.geojson TRUTH.csv, one pair per survey (pooled)")
+    ap.add_argument("pairs", nargs="+", metavar="DETECTIONS TRUTH")
+    ap.add_argument("--radius", type=float, default=0.10)
+    a = ap.parse_args()
+    if len(a.pairs) % 2:
+        sys.exit("expected pairs: DETECTIONS.geojson TRUTH.csv [DETECTIONS.geojson TRUTH.csv ...]")
+    dets, truths, matches, agnostic = [], [], [], []
+    for k in range(0, len(a.pairs), 2):  # each survey on its own (its own origin), then pooled
+        d, t = load(a.pairs[k], a.pairs[k + 1])
+        matches += [(dist, i + len(dets), j + len(truths)) for dist, i, j in match(d, t, a.radius)]
+        agnostic += [(dist, i + len(dets), j + len(truths)) for dist, i, j in match(d, t, a.radius, False)]
+        dets += d
+        truths += t
     classes = sorted({t["class"] for t in truths} | {d["class"] for d in dets})
     print("class      truths  dets  matched  recall  precision  median_cm  p90_cm")
     for cls in classes + ["all"]:
@@ -66,7 +79,6 @@ def main():
         prec = len(m) / nd if nd else float("nan")
         print(f"{cls:<10} {nt:6d} {nd:5d} {len(m):8d} {rec:7.2f} {prec:10.2f} {100 * percentile(m, 0.5):10.1f} "
               f"{100 * percentile(m, 0.9):7.1f}")
-    agnostic = match(dets, truths, a.radius, same_class=False)
     print(f"class-agnostic recall {len(agnostic) / len(truths):.2f}")
     confused = {}
     for dist, i, k in agnostic:

@@ -3,6 +3,11 @@
 
 Run with Debian's own Python (python3-torch, python3-torchvision, python3-onnx, python3-opencv):
   scripts/train_detector.py --seamap build/seamap --work /tmp/seamap_train [--minutes 30]
+or train elsewhere (a GPU machine with torch, torchvision and cv2 but no SeaMap build) from a pack of windows:
+  scripts/train_detector.py --pack windows.npz                    # here: simulate, build, compose, pack
+  python3 train_detector.py --from-pack windows.npz --device cuda --workers 14 --batch 64 --crop 256 \
+      --lr 3e-3 --minutes 7 --no-export --work OUT                # there: writes OUT/ema.npz
+  scripts/train_detector.py --from-pack windows.npz --minutes 0 --resume OUT/ema.npz   # here: export, check
 Simulates surveys with objects (training seeds 1000+, validation 2000+), builds them into MBTiles, composes the
 detector's windows from the tiles, trains on random crops, exports ONNX (opset 12, YOLOv8 layout decoded in
 4-D), checks it with cv2.dnn and validates with the 10 cm rule. See docs/DETECTION_MODEL.md.
@@ -45,13 +50,15 @@ def make_survey(seamap, work, seed, color, degrade, frames, objects, tile_format
     mb = os.path.join(d, "map.mbtiles")
     if os.path.exists(mb) and os.path.exists(os.path.join(d, "truth", "objects.json")):
         return d
-    cmd = [seamap, "simulate", "--out", d, "--force", "--quiet", "--seed", str(seed), "--frames", str(frames),
-           "--objects", str(objects)]
+    cmd = [seamap, "simulate", "--out", d, "--force", "--quiet", "--seed", str(seed), "--frames", str(frames)]
     if color:
         cmd.append("--color")
     if degrade:
         cmd.append("--degrade")
-    run(cmd)
+    try:
+        run(cmd + ["--objects", str(objects)])
+    except subprocess.CalledProcessError:  # that many do not fit 1 m apart on this seed's path
+        run(cmd + ["--objects", str(objects * 3 // 4)])
     origin = json.load(open(os.path.join(d, "survey.json")))["origin"]
     run([seamap, "build", "--images", os.path.join(d, "photo"), "--nav", os.path.join(d, "nav.csv"), "--camera",
          os.path.join(d, "camera.json"), "--origin", f"{origin[0]},{origin[1]}", "--out", mb, "--overwrite",
@@ -265,21 +272,23 @@ SIZE_RANGES = ((0, 48), (32, 96), (64, 1e9))  # box longest side (input px) per 
 
 
 def loss_fn(outs, targets):
-    """targets: list (batch) of [K, 5] (class, x1, y1, x2, y2). Centre-sampled FCOS-style assignment."""
+    """targets: list (batch) of [K, 5] (class, x1, y1, x2, y2). Centre-sampled FCOS-style assignment: a cell is
+    positive for the smallest box of its level's size range that holds it and whose centre is within 2.5 strides.
+    All images of the batch at once (one box list with image indices), so a step is a few dozen kernels."""
+    dev = outs[0][0].device
+    image = torch.cat([torch.full((len(t),), i, dtype=torch.long) for i, t in enumerate(targets)]).to(dev)
+    boxes = torch.as_tensor(np.concatenate([np.asarray(t, np.float32).reshape(-1, 5) for t in targets]), device=dev)
     cls_losses, box_losses, npos = 0.0, 0.0, 0
     for (dist, logits), s, (lo, hi) in zip(outs, STRIDES, SIZE_RANGES):
         b, nc, h, w = logits.shape
-        gy, gx = torch.meshgrid((torch.arange(h) + 0.5) * s, (torch.arange(w) + 0.5) * s, indexing="ij")
+        gy, gx = torch.meshgrid((torch.arange(h, device=dev) + 0.5) * s, (torch.arange(w, device=dev) + 0.5) * s,
+                                indexing="ij")
         cls_t = torch.zeros_like(logits)
-        for i, t in enumerate(targets):
-            if len(t) == 0:
-                continue
-            t = torch.as_tensor(t)
-            side = torch.maximum(t[:, 3] - t[:, 1], t[:, 4] - t[:, 2])
-            keep = (side >= lo) & (side < hi)
-            t = t[keep]
-            if len(t) == 0:
-                continue
+        side = torch.maximum(boxes[:, 3] - boxes[:, 1], boxes[:, 4] - boxes[:, 2])
+        keep = (side >= lo) & (side < hi)
+        t, ti = boxes[keep], image[keep]
+        k = len(t)
+        if k:
             cx, cy = (t[:, 1] + t[:, 3]) / 2, (t[:, 2] + t[:, 4]) / 2
             area = (t[:, 3] - t[:, 1]) * (t[:, 4] - t[:, 2])
             X, Y = gx[None], gy[None]
@@ -287,22 +296,21 @@ def loss_fn(outs, targets):
                 Y < t[:, 4, None, None])
             r = 2.5 * s
             near = ((X - cx[:, None, None]).abs() < r) & ((Y - cy[:, None, None]).abs() < r)
-            pos = inside & near
-            if not pos.any():
-                continue
-            a = torch.where(pos, area[:, None, None], torch.full_like(pos, 1e12, dtype=torch.float32))
-            best = a.argmin(0)
-            has = pos.any(0)
-            yy, xx = torch.nonzero(has, as_tuple=True)
-            k = best[yy, xx]
-            cls_t[i, t[k, 0].long(), yy, xx] = 1.0
-            px, py = gx[yy, xx], gy[yy, xx]
-            d = dist[i, :, yy, xx].t()
-            pred = torch.stack([px - d[:, 0], py - d[:, 1], px + d[:, 2], py + d[:, 3]], 1)
-            box = t[k, 1:5]
-            box_losses = box_losses + torchvision.ops.generalized_box_iou_loss(pred, box, reduction="sum") + \
-                0.5 * (F.l1_loss(pred, box, reduction="none").sum(1) / s).sum()
-            npos += len(k)
+            cost = torch.full((b, k, h, w), 1e12, device=dev)  # area of each candidate box, per image
+            cost[ti, torch.arange(k, device=dev)] = torch.where(inside & near, area[:, None, None],
+                                                                torch.full((k, h, w), 1e12, device=dev))
+            smallest, best = cost.min(1)
+            ii, yy, xx = torch.nonzero(smallest < 1e11, as_tuple=True)
+            if len(ii):
+                kk = best[ii, yy, xx]
+                cls_t[ii, t[kk, 0].long(), yy, xx] = 1.0
+                px, py = gx[yy, xx], gy[yy, xx]
+                d = dist.permute(0, 2, 3, 1)[ii, yy, xx]  # [n, 4]
+                pred = torch.stack([px - d[:, 0], py - d[:, 1], px + d[:, 2], py + d[:, 3]], 1)
+                box = t[kk, 1:5]
+                box_losses = box_losses + torchvision.ops.generalized_box_iou_loss(pred, box, reduction="sum") + \
+                    0.5 * (F.l1_loss(pred, box, reduction="none").sum(1) / s).sum()
+                npos += len(ii)
         cls_losses = cls_losses + torchvision.ops.sigmoid_focal_loss(logits, cls_t, alpha=0.25, gamma=2.0,
                                                                      reduction="sum")
     n = max(npos, 1)
@@ -362,17 +370,16 @@ def random_crop(img, boxes, crop, rng):
     return img[y0:y0 + crop, x0:x0 + crop], np.array(out, np.float32).reshape(-1, 5)
 
 
-def recalibrate_bn(net, samples, crop, batch, rng, batches=60):
-    """BatchNorm statistics for the averaged weights: a cumulative mean over training crops."""
+def recalibrate_bn(net, batches, dev, n=60):
+    """BatchNorm statistics for the averaged weights: a cumulative mean over n training batches."""
     for m in net.modules():
         if isinstance(m, nn.BatchNorm2d):
             m.reset_running_stats()
             m.momentum = None
     net.train()
     with torch.no_grad():
-        for _ in range(batches):
-            imgs = [augment(*random_crop(*samples[rng.integers(len(samples))], crop, rng), rng)[0] for _ in range(batch)]
-            net(to_tensor(imgs))
+        for _ in range(n):
+            net(next(batches)[0].to(dev))
     net.eval()
 
 
@@ -560,6 +567,74 @@ within 10 cm, greedy one-to-one; error = distance of box centre to truth box cen
         f.write(text)
 
 
+# ---------------------------------------------------------------- data packs (to train on another machine)
+
+def write_pack(path, train, val, quality):
+    """Windows as JPEG (one channel where the window is gray), boxes, metadata and truth: a file small
+    enough to copy to a machine with a GPU that has torch but no SeaMap build."""
+    blobs, boxes, meta, survey, truths = [], [], [], [], []
+    for k, (windows, truth) in enumerate(train + val):
+        truths.append(json.dumps(truth))
+        for img, b, m in windows:
+            gray = bool((img[:, :, 0] == img[:, :, 1]).all() and (img[:, :, 1] == img[:, :, 2]).all())
+            ok, jpg = cv2.imencode(".jpg", img[:, :, 0] if gray else cv2.cvtColor(img, cv2.COLOR_RGB2BGR),
+                                   [cv2.IMWRITE_JPEG_QUALITY, quality])
+            assert ok
+            blobs.append(np.frombuffer(jpg.tobytes(), np.uint8))
+            boxes.append(b)
+            meta.append(m)
+            survey.append(k)
+    np.savez(path, jpg=np.concatenate(blobs), jpg_len=np.array([len(b) for b in blobs], np.int64),
+             boxes=np.concatenate(boxes).reshape(-1, 5), box_len=np.array([len(b) for b in boxes], np.int64),
+             meta=np.array(meta, np.int64), survey=np.array(survey, np.int64), n_train=len(train),
+             truths=np.array(truths))
+    print(f"pack: {path}, {len(blobs)} windows, {os.path.getsize(path) / 1e6:.1f} MB", flush=True)
+
+
+def read_pack(path):
+    z = np.load(path)
+    jpg, jl, bx, bl = z["jpg"], z["jpg_len"], z["boxes"], z["box_len"]
+    truths = [json.loads(t) for t in z["truths"]]
+    sets = [([], t) for t in truths]
+    jo, bo = np.concatenate([[0], np.cumsum(jl)]), np.concatenate([[0], np.cumsum(bl)])
+    for i in range(len(jl)):
+        img = cv2.imdecode(jpg[jo[i]:jo[i + 1]], cv2.IMREAD_COLOR)  # gray comes back as three equal channels
+        sets[z["survey"][i]][0].append((cv2.cvtColor(img, cv2.COLOR_BGR2RGB), bx[bo[i]:bo[i + 1]].copy(),
+                                       tuple(int(v) for v in z["meta"][i])))
+    n = int(z["n_train"])
+    return sets[:n], sets[n:]
+
+
+def save_state(net, path):
+    """The weights as plain arrays: readable by any torch version (trained on one, exported on another)."""
+    np.savez(path, **{k: v.detach().cpu().numpy() for k, v in net.state_dict().items()})
+
+
+def load_state(path):
+    if path.endswith(".npz"):
+        return {k: torch.from_numpy(v) for k, v in np.load(path).items()}
+    return torch.load(path, map_location="cpu")
+
+
+class Crops(torch.utils.data.IterableDataset):
+    """Endless batches of augmented random crops, made by the DataLoader's worker processes."""
+
+    def __init__(self, samples, crop, batch, seed):
+        self.samples, self.crop, self.batch, self.seed = samples, crop, batch, seed
+
+    def __iter__(self):
+        info = torch.utils.data.get_worker_info()
+        rng = np.random.default_rng([self.seed, info.id if info else 0])
+        while True:
+            imgs, targets = [], []
+            for _ in range(self.batch):
+                img, boxes = self.samples[rng.integers(len(self.samples))]
+                img, boxes = augment(*random_crop(img, boxes, self.crop, rng), rng)
+                imgs.append(img)
+                targets.append(boxes)
+            yield to_tensor(imgs), targets
+
+
 # ---------------------------------------------------------------- main
 
 def main():
@@ -567,17 +642,25 @@ def main():
     ap.add_argument("--seamap", default="build/seamap")
     ap.add_argument("--work", default="/tmp/seamap_train")
     ap.add_argument("--out", default="data/models")
-    ap.add_argument("--train-surveys", type=int, default=6)
+    ap.add_argument("--train-surveys", type=int, default=36)
     ap.add_argument("--val-surveys", type=int, default=2)
     ap.add_argument("--frames", type=int, default=600)
-    ap.add_argument("--objects", type=int, default=12)
+    ap.add_argument("--objects", type=int, default=20, help="objects per survey after the first 12 (3/4 if they do not fit)")
     ap.add_argument("--imgsz", type=int, default=320)
     ap.add_argument("--crop", type=int, default=192)
     ap.add_argument("--batch", type=int, default=8)
-    ap.add_argument("--minutes", type=float, default=30, help="training wall time")
+    ap.add_argument("--lr", type=float, default=2e-3)
+    ap.add_argument("--minutes", type=float, default=30, help="training wall time; 0: export --resume as it is")
     ap.add_argument("--threads", type=int, default=2)
-    ap.add_argument("--min-score", type=float, default=0.4)
+    ap.add_argument("--workers", type=int, default=0, help="processes making the augmented crops")
+    ap.add_argument("--device", default="cpu", help="cpu or cuda")
+    ap.add_argument("--min-score", type=float, default=0.6,
+                    help="validation score, and the model's default (metadata seamap.min_score)")
     ap.add_argument("--resume", help="start from this state_dict")
+    ap.add_argument("--pack", help="write the windows to this .npz and stop")
+    ap.add_argument("--pack-quality", type=int, default=92, help="JPEG quality of the packed windows")
+    ap.add_argument("--from-pack", help="train on the windows of this .npz instead of simulating")
+    ap.add_argument("--no-export", action="store_true", help="save the state dict and validate with torch only")
     a = ap.parse_args()
 
     random.seed(0)
@@ -588,60 +671,90 @@ def main():
     os.makedirs(a.work, exist_ok=True)
     t_start = time.time()
 
-    def plan(seed, k):
-        return dict(seed=seed, color=k % 2 == 1, degrade=k % 3 == 2, tile_format="jpg" if k % 4 == 3 else "png")
+    def plan(seed, k):  # the shipped model's data: 12 objects on the first 12 surveys of each set, then --objects
+        return dict(seed=seed, color=k % 2 == 1, degrade=k % 3 == 2, tile_format="jpg" if k % 4 == 3 else "png",
+                    objects=12 if k < 12 else a.objects)
 
     train_plan = [plan(1000 + k, k) for k in range(a.train_surveys)]
     val_plan = [plan(2000 + k, k) for k in range(a.val_surveys)]
-    train, val = [], []
-    for p in train_plan + val_plan:
-        d = make_survey(a.seamap, a.work, p["seed"], p["color"], p["degrade"], a.frames, a.objects, p["tile_format"])
-        windows, truth = survey_windows(d, a.imgsz)
-        (train if p["seed"] < 2000 else val).append((windows, truth))
-        print(f"seed {p['seed']}: {len(windows)} windows, {len(truth['objects'])} objects", flush=True)
+    if a.from_pack:
+        train, val = read_pack(a.from_pack)
+        train_plan = [dict(seed=t["seed"]) for _, t in train]
+        val_plan = [dict(seed=t["seed"]) for _, t in val]
+    else:
+        train, val = [], []
+        for p in train_plan + val_plan:
+            d = make_survey(a.seamap, a.work, p["seed"], p["color"], p["degrade"], a.frames, p["objects"],
+                            p["tile_format"])
+            windows, truth = survey_windows(d, a.imgsz)
+            truth["seed"] = p["seed"]
+            (train if p["seed"] < 2000 else val).append((windows, truth))
+            print(f"seed {p['seed']}: {len(windows)} windows, {len(truth['objects'])} objects", flush=True)
+    if a.pack:
+        write_pack(a.pack, train, val, a.pack_quality)
+        return 0
     t_data = time.time() - t_start
     samples = [(img, boxes) for windows, _ in train for img, boxes, _ in windows]
     data_hash = hashlib.sha256(b"".join(img.tobytes()[:4096] for img, _ in samples)).hexdigest()[:16]
     print(f"data: {len(samples)} training windows in {t_data:.0f} s", flush=True)
 
+    dev = torch.device(a.device)
+    torch.backends.cudnn.benchmark = True
     model = Detector(len(CLASSES))
     if a.resume:
-        model.load_state_dict(torch.load(a.resume))
+        model.load_state_dict(load_state(a.resume))
+    model.to(dev)
     params = sum(p.numel() for p in model.parameters())
     print(f"model: {params} parameters", flush=True)
-    opt = torch.optim.AdamW(model.parameters(), lr=2e-3, weight_decay=5e-4)
+    opt = torch.optim.AdamW(model.parameters(), lr=a.lr, weight_decay=5e-4)
     ema = torch.optim.swa_utils.AveragedModel(model, avg_fn=lambda e, m, n: 0.995 * e + 0.005 * m)
-    rng = np.random.default_rng(0)
+    loader = dict(num_workers=a.workers, persistent_workers=True, prefetch_factor=4) if a.workers else {}
+    batches = iter(torch.utils.data.DataLoader(Crops(samples, a.crop, a.batch, 0), batch_size=None, **loader))
     t0 = time.time()
     budget = a.minutes * 60
     step = 0
     while time.time() - t0 < budget:
         frac = (time.time() - t0) / budget
         for g in opt.param_groups:
-            g["lr"] = 2e-3 * (0.05 + 0.95 * 0.5 * (1 + math.cos(math.pi * frac))) * min(1.0, (step + 1) / 100)
-        imgs, targets = [], []
-        for _ in range(a.batch):
-            img, boxes = samples[rng.integers(len(samples))]
-            img, boxes = random_crop(img, boxes, a.crop, rng)
-            img, boxes = augment(img, boxes, rng)
-            imgs.append(img)
-            targets.append(boxes)
+            g["lr"] = a.lr * (0.05 + 0.95 * 0.5 * (1 + math.cos(math.pi * frac))) * min(1.0, (step + 1) / 100)
+        imgs, targets = next(batches)
         model.train()
-        loss, npos = loss_fn(model(to_tensor(imgs)), targets)
+        loss, npos = loss_fn(model(imgs.to(dev, non_blocking=True)), targets)
         opt.zero_grad()
         loss.backward()
         torch.nn.utils.clip_grad_norm_(model.parameters(), 10.0)
         opt.step()
         ema.update_parameters(model)
         step += 1
-        if step % 25 == 0:
+        if step % 100 == 0:
             print(f"step {step} {time.time() - t0:.0f} s loss {loss.item():.3f} pos {npos}", flush=True)
-        if step % 500 == 0:
-            torch.save(ema.module.state_dict(), os.path.join(a.work, "ema.pt"))
+        if step % 1000 == 0:
+            save_state(ema.module, os.path.join(a.work, "ema.npz"))
     t_train = time.time() - t0
-    net = ema.module
-    recalibrate_bn(net, samples, a.crop, a.batch, rng)
-    torch.save(net.state_dict(), os.path.join(a.work, "ema.pt"))
+    if step:
+        net = ema.module
+        recalibrate_bn(net, batches, dev, n=max(60, 480 // a.batch))
+    else:
+        net = model.eval()
+    net = net.cpu()
+    save_state(net, os.path.join(a.work, "ema.npz"))
+    summary = dict(params=params, imgsz=a.imgsz, crop=a.crop, batch=a.batch, steps=step,
+                   train_minutes=round(t_train / 60, 1), data_minutes=round(t_data / 60, 1),
+                   train_seeds=[p["seed"] for p in train_plan], val_seeds=[p["seed"] for p in val_plan],
+                   train_windows=len(samples), min_score=a.min_score, frames=a.frames, objects=a.objects)
+
+    if a.no_export:  # validate with torch (the machine may have no OpenCV 4.6 to compare with)
+        net.export = True
+
+        def run_torch(img):
+            with torch.no_grad():
+                return net(to_tensor([img.astype(np.float32)]))[0].numpy()
+
+        rows = evaluate(val, run_torch, a.imgsz, a.min_score)
+        summary.update(validation=rows)
+        json.dump(summary, open(os.path.join(a.work, "report.json"), "w"), indent=1)
+        print(json.dumps(rows, indent=1))
+        return 0
 
     os.makedirs(a.out, exist_ok=True)
     onnx_path = os.path.join(a.out, "seabed_objects.onnx")
@@ -653,6 +766,7 @@ def main():
         "seamap.class_sizes_m": json.dumps(CLASS_SIZES_M),
         "seamap.layer": "raw",
         "seamap.layout": "yolov8",
+        "seamap.min_score": str(a.min_score),
         "seamap.train_seeds": ",".join(str(p["seed"]) for p in train_plan),
         "seamap.data_hash": data_hash,
     }
@@ -685,11 +799,7 @@ def main():
         return cvnet.forward()[0]
 
     rows = evaluate(val, run_net, a.imgsz, a.min_score)
-    report = dict(params=params, onnx_mb=round(size_mb, 2), imgsz=a.imgsz, crop=a.crop, batch=a.batch, steps=step,
-                  train_minutes=round(t_train / 60, 1), data_minutes=round(t_data / 60, 1),
-                  train_seeds=[p["seed"] for p in train_plan], val_seeds=[p["seed"] for p in val_plan],
-                  train_windows=len(samples), cv_max_diff=worst, min_score=a.min_score, validation=rows)
-    report.update(frames=a.frames, objects=a.objects)
+    report = dict(summary, onnx_mb=round(size_mb, 2), cv_max_diff=worst, validation=rows)
     json.dump(report, open(os.path.join(a.work, "report.json"), "w"), indent=1)
     write_card(report, a.out)
     print(json.dumps(report, indent=1))

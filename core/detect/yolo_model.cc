@@ -66,6 +66,15 @@ std::shared_ptr<const YoloModelInfo> YoloModel::Inspect(const std::string& path,
   if (onnx.metadata.count("seamap.class_sizes_m"))
     info->class_sizes_m = ParseClassSizes(onnx.metadata.at("seamap.class_sizes_m"), info->class_names, path);
   if (onnx.metadata.count("seamap.layer")) info->layer = onnx.metadata.at("seamap.layer");
+  if (onnx.metadata.count("seamap.min_score")) {
+    const std::string& text = onnx.metadata.at("seamap.min_score");
+    char* end = nullptr;
+    const double s = std::strtod(text.c_str(), &end);
+    if (end == text.c_str() || *end != '\0' || !(s > 0 && s < 1))
+      throw InputError(path, 0, "seamap.min_score",
+                       "expected a score between 0 and 1 in the metadata, got '" + text + "'");
+    info->min_score = static_cast<float>(s);
+  }
   // Input size: graph input dims, else metadata imgsz, else 640.
   const auto& d = onnx.input_dims;
   if (d.size() == 4 && d[2] > 0 && d[3] > 0) {

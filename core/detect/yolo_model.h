@@ -20,6 +20,7 @@ struct YoloModelInfo {
   std::string names_source;           // "--classes FILE" or "PATH metadata 'names'"
   std::vector<double> class_sizes_m;  // per class, 0 = unknown (metadata seamap.class_sizes_m)
   std::string layer;                  // metadata seamap.layer ("" = not said)
+  float min_score = 0.4f;             // metadata seamap.min_score: the score it was validated at, else 0.4
   cv::Size input{640, 640};
   YoloLayout layout = YoloLayout::kV8;
   std::vector<int> output_shape;

@@ -43,6 +43,11 @@ TEST(YoloModel, V8FixtureIsRecognisedWithItsMetadata) {
   EXPECT_EQ(info->layout, YoloLayout::kV8);
   EXPECT_EQ(info->class_sizes_m, (std::vector<double>{1.0, 1.2}));
   EXPECT_EQ(info->layer, "raw");
+  EXPECT_FLOAT_EQ(info->min_score, 0.5f);  // seamap.min_score; without it 0.4 (the v5 fixture)
+  EXPECT_FLOAT_EQ(YoloModel::Inspect(kFixtures + "yolo_v5_fixture.onnx", "")->min_score, 0.4f);
+  const std::string bad = ErrorOf(kFixtures + "yolo_bad_min_score_fixture.onnx");
+  EXPECT_NE(bad.find("yolo_bad_min_score_fixture.onnx"), std::string::npos) << bad;
+  EXPECT_NE(bad.find("seamap.min_score"), std::string::npos) << bad;
   YoloModel model(info);
   const auto boxes = model.Detect(cv::Mat(64, 64, CV_8UC3, cv::Scalar(0)), 0.4f);
   ASSERT_EQ(boxes.size(), 2u);

@@ -17,6 +17,7 @@
 #include "core/util/error.h"
 #include "server/catalog_server.h"
 #include "server/http_server.h"
+#include "server/mission_follow.h"
 
 namespace seamap::cli {
 namespace fs = std::filesystem;
@@ -69,9 +70,13 @@ int ServeCatalogue(const std::string& folder, const server::ServerOptions& optio
   std::printf("serving %s (catalogue of %s: %zu missions, %zu available)\n", ServerUrl(options, http.port()).c_str(),
               folder.c_str(), missions.size(), available);
   std::fflush(stdout);
-  {
+  {  // missions still being built are followed every two seconds
     std::unique_lock<std::mutex> lock(mutex);
-    stopped.wait(lock, [&] { return stop; });
+    while (!stopped.wait_for(lock, std::chrono::seconds(2), [&] { return stop; })) {
+      lock.unlock();
+      http.Follow();
+      lock.lock();
+    }
   }
   std::fprintf(stderr, "seamap serve: stopping\n");
   http.Stop();
@@ -167,19 +172,11 @@ int RunServe(int argc, char** argv, int first) {
       try {
         const MapBuildState now = ReadBuildState(path, recorded_state, records);
         if (now.state == "building" || state_seen == "building") {
-          const int track_before = mission.TrackSize();
-          mission.Load(records);
           if (now.state != state_seen) publish_state(now);
-          server::Progress p = mission.progress();
-          p.state =
-              now.state == "building" || now.state == "complete" || now.state == "interrupted" ? now.state : "stopped";
-          p.state_detail = now.Explanation();
-          mission.SetProgress(p);
-          for (const TrackPoint& t : mission.TrackFrom(track_before))
-            events.Publish("track", server::TrackPointJson(t).dump());
-          auto status = mission.StatusJson();
-          if (!status["last_pose"].is_null()) events.Publish("pose", status["last_pose"].dump());
-          events.Publish("progress", status.dump());
+          server::FollowRecords(
+              mission, events, records,
+              now.state == "building" || now.state == "complete" || now.state == "interrupted" ? now.state : "stopped",
+              now.Explanation());
         }
         state_seen = now.state;
       } catch (const std::exception& e) {

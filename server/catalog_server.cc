@@ -4,6 +4,7 @@
 #include <sys/socket.h>
 
 #include <filesystem>
+#include <fstream>
 #include <optional>
 
 #include <nlohmann/json.hpp>
@@ -11,37 +12,15 @@
 #include "core/tiles/folder_store.h"
 #include "core/util/error.h"
 #include "server/api_error.h"
+#include "server/http_util.h"
+#include "server/mission_follow.h"
 #include "server/tile_answer.h"
 #include "server/web_root.h"
 
 namespace seamap::server {
 namespace {
 
-// httplib listens with a backlog of 5; under load, connections then wait for
-// SYN retries (a second each). Listening again on the bound socket raises it.
-class BacklogServer : public httplib::Server {
- public:
-  void RaiseBacklog() { ::listen(svr_sock_, SOMAXCONN); }
-};
-
-void SendJson(httplib::Response& res, const nlohmann::json& j, int status = 200) {
-  res.status = status;
-  res.set_header("Access-Control-Allow-Origin", "*");
-  res.set_content(j.dump(), "application/json");
-}
-
-template <typename F>
-httplib::Server::Handler Guard(F f) {
-  return [f](const httplib::Request& req, httplib::Response& res) {
-    try {
-      f(req, res);
-    } catch (const ApiError& e) {
-      SendJson(res, {{"error", e.what()}}, e.status());
-    } catch (const std::exception& e) {
-      SendJson(res, {{"error", e.what()}}, 500);
-    }
-  };
-}
+constexpr char kMissionPrefix[] = R"(/missions/([a-z0-9_-]+))";
 
 nlohmann::json EntryJson(const CatalogEntry& e) {
   nlohmann::json j = {{"id", e.id},
@@ -70,7 +49,9 @@ nlohmann::json EntryJson(const CatalogEntry& e) {
 
 CatalogServer::CatalogServer(ServerOptions options, std::string folder)
     : options_(std::move(options)), catalog_(std::move(folder)), http_(std::make_unique<BacklogServer>()) {
-  http_->new_task_queue = [n = options_.threads] { return new httplib::ThreadPool(static_cast<size_t>(n)); };
+  // Each open event stream holds a thread: the pool has room for them beside the requests.
+  const size_t threads = static_cast<size_t>(std::max(2, options_.threads) + std::max(1, options_.max_streams));
+  http_->new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
   http_->set_keep_alive_max_count(10000);  // httplib's default (5) reconnects every 5 tiles
   http_->set_keep_alive_timeout(5);
   http_->set_tcp_nodelay(true);
@@ -113,6 +94,53 @@ std::pair<CatalogEntry, std::shared_ptr<TileSource>> CatalogServer::Mission(cons
   throw ApiError(404, "no mission '" + id + "' in " + catalog_.folder());
 }
 
+MissionServices CatalogServer::Services(const std::string& id) {
+  std::shared_ptr<TileSource> tiles = Mission(id).second;  // 404 for an unknown or unavailable id
+  std::lock_guard<std::mutex> lock(mutex_);
+  const CatalogEntry* entry = nullptr;
+  for (const CatalogEntry& e : listing_)
+    if (e.id == id) entry = &e;
+  if (!entry) throw ApiError(404, "no mission '" + id + "' in " + catalog_.folder());
+  std::unique_ptr<OpenMission>& open = open_[entry->path];
+  if (!open) {
+    auto m = std::make_unique<OpenMission>();
+    try {
+      m->records = OpenExistingMap(entry->path, /*writable=*/false);
+      m->mission.Load(*m->records);
+      m->detections = std::make_unique<DetectionRegistry>(nullptr, &m->events);  // a catalogue is read-only
+      m->detections->Load(*m->records);
+    } catch (const std::exception& e) {
+      throw ApiError(404, "mission '" + id + "' cannot be read: " + e.what());
+    }
+    // The dive's file name where the map has only the default name.
+    m->mission.SetName(entry->name == "seamap mission" ? std::filesystem::path(entry->path).stem().string()
+                                                       : entry->name);
+    m->mission.SetLayers(tiles->Layers(), tiles->Format());
+    m->mission.SetAccess(!options_.token.empty(), false);
+    Progress p = m->mission.progress();
+    p.state = m->state = entry->state;
+    m->mission.SetProgress(p);
+    open = std::move(m);
+  }
+  return {&open->mission, open->detections.get(), &open->events};
+}
+
+void CatalogServer::Follow() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  RefreshLocked();
+  for (const CatalogEntry& e : listing_) {
+    auto it = open_.find(e.path);
+    if (it == open_.end() || !e.available || (e.state != "building" && it->second->state != "building")) continue;
+    OpenMission& m = *it->second;
+    try {
+      FollowRecords(m.mission, m.events, *m.records, e.state, "");
+      m.state = e.state;
+    } catch (const std::exception& ex) {
+      std::fprintf(stderr, "warning: cannot follow %s: %s\n", e.path.c_str(), ex.what());
+    }
+  }
+}
+
 void CatalogServer::Routes() {
   httplib::Server& s = *http_;
   s.Get("/api/missions", Guard([this](const httplib::Request&, httplib::Response& res) {
@@ -147,13 +175,30 @@ void CatalogServer::Routes() {
           for (const auto& [name, value] : a.headers) res.set_header(name, value);
           if (a.body) res.set_content(a.body->data(), a.body->size(), a.content_type.c_str());
         }));
+  // Each mission's API and live events, and its operator console.
+  AddMissionApi(
+      s, kMissionPrefix, 1, [this](const httplib::Request& req) { return Services(req.matches[1]); }, options_,
+      &streams_);
+  s.Get(std::string(kMissionPrefix) + R"(/api/.*)", [](const httplib::Request& req, httplib::Response& res) {
+    SendJson(res, {{"error", "no such API endpoint: " + req.path + " (see server/README.md)"}}, 404);
+  });
   s.Get(R"(/api/.*)", [](const httplib::Request& req, httplib::Response& res) {
     SendJson(res, {{"error", "no such API in a catalogue: " + req.path + " (see /api/missions)"}}, 404);
   });
+  const std::string console = options_.web_dir.empty() ? "" : options_.web_dir + "/index.html";
+  s.Get(std::string(kMissionPrefix) + "/?", Guard([this, console](const httplib::Request& req, httplib::Response& res) {
+          Mission(req.matches[1]);  // 404 for an unknown or unavailable mission
+          if (req.path.back() != '/') return res.set_redirect(req.path + "/");
+          std::ifstream in(console, std::ios::binary);
+          if (console.empty() || !in) throw ApiError(404, "no console files (--web)");
+          res.set_header("Cache-Control", "no-cache");
+          res.set_content(std::string(std::istreambuf_iterator<char>(in), {}), "text/html");
+        }));
   // The console's first page in a catalogue is the mission picker.
   std::optional<WebRoot> web_root;
   if (!options_.web_dir.empty()) web_root.emplace(options_.web_dir);
   s.set_pre_routing_handler([web_root](const httplib::Request& req, httplib::Response& res) {
+    res.set_header("Access-Control-Allow-Origin", "*");  // a public, read-only catalogue
     // httplib's file handler follows links: one out of web/ is not there.
     if (web_root && (req.method == "GET" || req.method == "HEAD") && !web_root->MayServe(req.path)) {
       SendJson(res, {{"error", "not found"}}, 404);
@@ -188,6 +233,12 @@ void CatalogServer::Start() {
 }
 
 void CatalogServer::Stop() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (auto& [path, open] : open_) open->events.Close();
+  }
+  // Let open event streams send their last events before the sockets close.
+  for (int i = 0; i < 100 && streams_ > 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
   if (http_) http_->stop();
   if (thread_.joinable()) thread_.join();
 }

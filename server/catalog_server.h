@@ -1,10 +1,13 @@
 #pragma once
 // `seamap serve FOLDER`: a catalogue of the maps in a folder over HTTP.
 // GET /api/missions lists them (core/tiles/map_catalog); each available one
-// is served read-only under /missions/{id}/: tiles.json (TileJSON) and
-// tiles/[{layer}/]{z}/{x}/{y}.{ext}, each through its own TileSource; the
-// console's files are served from web_dir. Maps added to the folder appear
-// on the next listing; unavailable ones are listed with the reason.
+// is served read-only under /missions/{id}/: the operator console (/), its
+// TileJSON and tiles/[{layer}/]{z}/{x}/{y}.{ext} through its own TileSource,
+// and the mission's API and live events (api/..., server/mission_api.h).
+// Maps added to the folder appear on the next listing; unavailable ones are
+// listed with the reason. A mission another process is still building is
+// followed (Follow) and its browsers get live events.
+#include <atomic>
 #include <chrono>
 #include <map>
 #include <memory>
@@ -14,6 +17,11 @@
 #include <vector>
 
 #include "core/tiles/map_catalog.h"
+#include "core/tiles/tile_store.h"
+#include "server/detection_registry.h"
+#include "server/event_hub.h"
+#include "server/mission_api.h"
+#include "server/mission_state.h"
 #include "server/server_options.h"
 #include "server/tile_source.h"
 
@@ -37,8 +45,24 @@ class CatalogServer {
   // The current listing (rescanned at most once a second).
   std::vector<CatalogEntry> Missions();
 
+  // Reloads the opened missions that are being built (or just stopped
+  // being) and publishes their live events; call every couple of seconds.
+  void Follow();
+
  private:
+  // One mission's records and live events, opened at its first API request
+  // and kept while serving (open event streams read its hub).
+  struct OpenMission {
+    std::unique_ptr<TileStore> records;
+    MissionState mission;
+    EventHub events;
+    std::unique_ptr<DetectionRegistry> detections;
+    std::string state;  // as last published
+  };
+
   void Routes();
+  // The mission's API services; throws ApiError 404 like Mission().
+  MissionServices Services(const std::string& id);
   void RefreshLocked();  // rescans when the listing is over a second old; mutex_ held
   // The mission's tiles; throws ApiError 404 for an unknown or unavailable id.
   std::pair<CatalogEntry, std::shared_ptr<TileSource>> Mission(const std::string& id);
@@ -53,6 +77,8 @@ class CatalogServer {
   std::vector<CatalogEntry> listing_;
   std::chrono::steady_clock::time_point scanned_{};
   std::map<std::string, std::shared_ptr<TileSource>> sources_;  // by map path
+  std::map<std::string, std::unique_ptr<OpenMission>> open_;    // by map path
+  std::atomic<int> streams_{0};
 };
 
 }  // namespace seamap::server

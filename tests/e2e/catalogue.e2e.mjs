@@ -1,6 +1,9 @@
 // `seamap serve FOLDER` in headless Chromium: the mission picker lists every
 // map of the folder (a broken one with its reason), shows the chosen
-// mission's tiles from its own prefix, and picks up a dive copied in later.
+// mission's tiles from its own prefix, opens a mission in the full operator
+// console (its track, API and read-only marks under /missions/{id}/), picks up
+// a dive copied in later, and follows a mission another process is building
+// with live events.
 import fs from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
@@ -9,13 +12,14 @@ import {Checks, killAll, run, startProcess, stopProcess, waitFor, waitForOutput,
 const {sourceDir, seamap, artifacts} = testEnvironment();
 const checks = new Checks();
 const watchdog = setTimeout(() => {
-  console.log('not ok - test finished within 120 s');
+  console.log('not ok - test finished within 180 s');
   killAll();
   process.exit(1);
-}, 120000);
+}, 180000);
 
 let browser = null;
 let server = null;
+let replay = null;
 const work = fs.mkdtempSync(path.join(os.tmpdir(), 'seamap-catalogue-e2e-'));
 try {
   const survey = path.join(work, 'survey');
@@ -69,7 +73,64 @@ try {
     return `${loaded} tiles drawn`;
   });
 
+  await checks.run('a mission opens in the operator console under its own prefix', async () => {
+    const apiRequests = [];
+    const listen = r => { if (r.url().includes('/api/')) apiRequests.push(new URL(r.url()).pathname); };
+    page.on('request', listen);
+    const href = await page.$eval('#missions li[data-id="dive_a"] a.console', a => a.getAttribute('href'));
+    if (href !== '/missions/dive_a/') throw new Error(`console link ${href}`);
+    await page.goto(new URL(href, base).href);
+    await page.waitForSelector('body[data-ready="true"]');
+    const status = await (await fetch(new URL('missions/dive_a/api/status', base))).json();
+    const shown = await waitFor('track drawn', async () => {
+      const n = await page.$eval('#track-count', el => Number(el.dataset.count));
+      return n === status.track_points ? n : null;
+    });
+    await page.waitForFunction(() => document.querySelectorAll('img.leaflet-tile-loaded').length > 0);
+    page.off('request', listen);
+    const elsewhere = apiRequests.filter(p => !p.startsWith('/missions/dive_a/api/'));
+    if (elsewhere.length) throw new Error(`API asked outside the mission: ${elsewhere.join(', ')}`);
+    if (!apiRequests.includes('/missions/dive_a/api/events')) throw new Error(`no event stream: ${apiRequests.join(', ')}`);
+    if (await page.$eval('#progress', el => el.dataset.state) !== 'complete') throw new Error('state is not complete');
+    // A catalogue is read-only: a mark is refused, and the console says so instead of offering to write.
+    const post = await fetch(new URL('missions/dive_a/api/detections', base), {method: 'POST',
+      headers: {'Content-Type': 'application/json'},
+      body: JSON.stringify({type: 'Feature', geometry: {type: 'Point', coordinates: [131.9, 43.1]}, properties: {class: 'tyre'}})});
+    if (post.status < 400) throw new Error(`a write was accepted: ${post.status}`);
+    const other = await fetch(new URL('missions/nope/api/status', base));
+    if (other.status !== 404) throw new Error(`unknown mission: ${other.status}`);
+    await page.screenshot({path: path.join(artifacts, 'catalogue-console.png')});
+    return `${shown} track points, ${apiRequests.length} API requests under the prefix, write refused ${post.status}`;
+  });
+
+  await checks.run('a mission another process is building keeps its live events', async () => {
+    const live = path.join(work, 'live_survey');
+    await run(seamap, ['simulate', '--out', live, '--frames', '60', '--line-length', '3', '--seed', '4', '--quiet']);
+    replay = startProcess(seamap, ['replay', live, '--out', path.join(folder, 'live.mbtiles'), '--speed', '1',
+      '--port', '0', '--host', '127.0.0.1', '--exit-when-done', '--quiet', '--web', path.join(sourceDir, 'web')]);
+    await waitFor('live mission listed as building', async () => {
+      const missions = await (await fetch(new URL('api/missions', base))).json();
+      return missions.find(m => m.id === 'live' && m.state === 'building');
+    }, {timeoutMs: 10000});
+    await page.goto(new URL('missions/live/', base).href);
+    await page.waitForSelector('body[data-ready="true"]');
+    await page.waitForSelector('#progress[data-state="building"]', {timeout: 10000});
+    const count = () => page.$eval('#track-count', el => Number(el.dataset.count));
+    const first = await count();
+    const later = await waitFor('track points arriving as events', async () => {
+      const n = await count();
+      return n > first ? n : null;
+    }, {timeoutMs: 15000});
+    await page.waitForSelector('#progress[data-state="complete"]', {timeout: 30000});
+    const final = await count();
+    const status = await (await fetch(new URL('missions/live/api/status', base))).json();
+    if (final !== status.track_points || final < later) throw new Error(`console ${final}, server ${status.track_points}`);
+    return `${first} -> ${later} -> ${final} track points, then complete`;
+  });
+
   await checks.run('a dive copied into the folder appears in the picker', async () => {
+    await page.goto(base);
+    await page.waitForSelector('body[data-ready="true"]');
     fs.copyFileSync(map, path.join(folder, 'dive c.mbtiles'));
     await page.waitForSelector('#missions li[data-id="dive-c"]', {timeout: 10000});
     return 'dive-c';
@@ -84,6 +145,7 @@ try {
   if (server) console.log(`# server output:\n${server.output.slice(-2000).replace(/^/gm, '# ')}`);
 } finally {
   if (browser) await browser.close().catch(() => {});
+  if (replay) await stopProcess(replay);
   if (server) await stopProcess(server);
   killAll();
   fs.rmSync(work, {recursive: true, force: true});

@@ -1,6 +1,7 @@
 // `seamap serve FOLDER` on a real loopback port: the mission index, each
 // mission's TileJSON and tiles under its own prefix, 20 missions at once,
-// broken files listed with the reason, maps added while serving.
+// broken files listed with the reason, maps added while serving, and each
+// mission's own API (read-only) and console under /missions/{id}/.
 #include <gtest/gtest.h>
 #include <httplib.h>
 
@@ -107,6 +108,53 @@ TEST(Catalogue, ServesTwentyMissionsEachUnderItsOwnPrefix) {
   for (const auto& m : GetJson(api, "/api/missions"))
     if (m["id"] == "new-dive") found = GetJson(api, m["tilejson"].get<std::string>()).is_object();
   EXPECT_TRUE(found);
+}
+
+TEST(Catalogue, EachMissionHasItsOwnReadOnlyApiAndConsole) {
+  testing::TempDir dir;
+  const fs::path folder = dir / "missions";
+  fs::create_directories(folder);
+  fs::copy_file(CatalogueMap(), folder / "dive_a.mbtiles");
+  fs::copy_file(CatalogueMap(), folder / "dive_b.mbtiles");
+  ChildProcess serve({testing::SeamapBinary(), "serve", folder.string(), "--host", "127.0.0.1", "--port", "0"},
+                     (dir / "serve.err").string());
+  auto line = serve.WaitForLine("serving", std::chrono::seconds(20));
+  ASSERT_TRUE(line);
+  httplib::Client api("127.0.0.1", testing::PortFromServingLine(*line));
+
+  auto records = OpenExistingMap(CatalogueMap(), false);
+  const auto status = GetJson(api, "/missions/dive_b/api/status");
+  EXPECT_EQ(status["state"], "complete");
+  EXPECT_EQ(status["frames_done"], 12);
+  EXPECT_EQ(status["track_points"], records->Track().size());
+  EXPECT_EQ(status["writable"], false) << status.dump();  // a catalogue serves its missions read-only
+  const auto track = GetJson(api, "/missions/dive_b/api/track");
+  EXPECT_EQ(track["geometry"]["coordinates"].size(), records->Track().size());
+  const auto frame = GetJson(api, "/missions/dive_b/api/frames/3");
+  EXPECT_EQ(frame["id"], 3);
+  EXPECT_TRUE(GetJson(api, "/missions/dive_b/api/detections")["features"].is_array());
+  auto write = api.Post("/missions/dive_b/api/detections",
+                        R"({"type":"Feature","geometry":{"type":"Point","coordinates":[131.9,43.1]},)"
+                        R"("properties":{"class":"tyre"}})",
+                        "application/json");
+  ASSERT_TRUE(write);
+  EXPECT_GE(write->status, 400) << write->body;
+  EXPECT_TRUE(records->Detections().empty());  // nothing was written to the file
+  // Unknown missions and endpoints are JSON 404s naming what is missing.
+  EXPECT_NE(GetJson(api, "/missions/nope/api/status", 404)["error"].get<std::string>().find("no mission 'nope'"),
+            std::string::npos);
+  EXPECT_NE(GetJson(api, "/missions/dive_a/api/nothing", 404)["error"].get<std::string>().find("no such API"),
+            std::string::npos);
+  // The console of a mission, and the bare prefix sent there.
+  auto console = api.Get("/missions/dive_a/");
+  ASSERT_TRUE(console);
+  EXPECT_EQ(console->status, 200);
+  EXPECT_NE(console->body.find("/js/main.js"), std::string::npos);
+  auto bare = api.Get("/missions/dive_a");
+  ASSERT_TRUE(bare);
+  EXPECT_EQ(bare->status, 302);
+  EXPECT_EQ(bare->get_header_value("Location"), "/missions/dive_a/");
+  EXPECT_EQ(GetJson(api, "/missions/nope/", 404).is_object(), true);
 }
 
 }  // namespace

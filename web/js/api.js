@@ -3,6 +3,15 @@
 
 const TOKEN_KEY = 'seamap.token';
 
+// The mission's prefix: "" under `seamap serve MAP`, "/missions/{id}" for a
+// mission of a catalogue (`seamap serve FOLDER`), whose console is /missions/{id}/.
+export const missionBase = (location.pathname.match(/^\/missions\/[a-z0-9_-]+(?=\/)/) || [''])[0];
+
+// A server path of this mission ("/api/...", "/tiles.json") as the page asks for it.
+export function missionUrl(path) {
+  return path.startsWith('/') && !path.startsWith(`${missionBase}/`) ? missionBase + path : path;
+}
+
 export function getToken() {
   return localStorage.getItem(TOKEN_KEY) || '';
 }
@@ -17,7 +26,7 @@ export function setToken(token) {
 // first write. Throws ApiError when the server cannot say.
 export async function checkToken(token) {
   const headers = token ? {Authorization: `Bearer ${token}`} : {};
-  const response = await fetch('/api/auth', {headers, cache: 'no-store'});
+  const response = await fetch(missionUrl('/api/auth'), {headers, cache: 'no-store'});
   if (response.status === 204) return true;
   if (response.status === 401) return false;
   throw new ApiError(response.status, `token check: ${response.status} ${response.statusText}`);
@@ -40,7 +49,7 @@ async function check(response) {
 }
 
 export async function getJSON(path) {
-  const response = await check(await fetch(path, {headers: {Accept: 'application/json'}}));
+  const response = await check(await fetch(missionUrl(path), {headers: {Accept: 'application/json'}}));
   return response.json();
 }
 
@@ -50,7 +59,7 @@ export async function send(method, path, body) {
   const token = getToken();
   if (token) headers.Authorization = `Bearer ${token}`;
   if (body !== undefined) headers['Content-Type'] = 'application/json';
-  const response = await check(await fetch(path, {
+  const response = await check(await fetch(missionUrl(path), {
     method,
     headers,
     body: body === undefined ? undefined : JSON.stringify(body),

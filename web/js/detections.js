@@ -3,7 +3,7 @@
 // zooms to the object, confirming or rejecting a recogniser's detection, and
 // adding, editing, moving and deleting operator marks.
 
-import {getJSON, send} from './api.js';
+import {getJSON, missionUrl, send} from './api.js';
 import {$, el, toast} from './dom.js';
 import {formatLatLon, formatMetres, formatTime} from './geo.js';
 
@@ -260,9 +260,9 @@ export class Detections {
       this.openPhotos(ids, index);
     };
     return el('div', {class: `photo-strip${ids.length === 1 ? ' single' : ''}`},
-      ...ids.map((frameId, index) => el('a', {href: `/api/frames/${frameId}/image`, target: '_blank', rel: 'noopener',
+      ...ids.map((frameId, index) => el('a', {href: missionUrl(`/api/frames/${frameId}/image`), target: '_blank', rel: 'noopener',
         dataset: {frame: frameId}, title: `photo ${frameId}`, onclick: open(index)},
-      el('img', {class: 'thumb', src: `/api/frames/${frameId}/image?max=256`, alt: `frame ${frameId}`, loading: 'lazy'}))));
+      el('img', {class: 'thumb', src: missionUrl(`/api/frames/${frameId}/image?max=256`), alt: `frame ${frameId}`, loading: 'lazy'}))));
   }
 
   // A recogniser's detection: the operator confirms or rejects it (PATCH status).

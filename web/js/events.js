@@ -7,6 +7,7 @@
 // The browser reconnects by itself after a drop and sends Last-Event-ID; the
 // server's pings (heartbeat_s) tell a silent link from a dead one.
 
+import {missionUrl} from './api.js';
 import {link} from './link.js';
 
 const TYPES = ['tile', 'pose', 'track', 'detection', 'progress'];
@@ -15,7 +16,7 @@ const HEARTBEAT_S = 10;
 
 export class LiveEvents {
   constructor(url = '/api/events') {
-    this.url = url;
+    this.url = missionUrl(url);
     this.handlers = new Map(TYPES.map(type => [type, []]));
     this.reconnectHandlers = [];
     this.held = [];

@@ -1,7 +1,7 @@
 // The Leaflet map: photo tile layers from TileJSON (with a layer switch when
 // the mission has more than one), scale bar and the cursor readout.
 
-import {getJSON} from './api.js';
+import {getJSON, missionUrl} from './api.js';
 import {formatLatLon, formatMetres, localFrame} from './geo.js';
 import {link} from './link.js';
 import {LiveTileLayer} from './tile_layer.js';
@@ -78,7 +78,7 @@ export async function addPhotoLayers(map) {
       if (extra.tiles && extra.tiles[0] !== tilejson.tiles[0]) layers.set(name, tileLayerFrom(extra));
       else layers.set(name, main);
     } catch {
-      layers.set(name, tileLayerFrom({...tilejson, tiles: [`/tiles/${name}/{z}/{x}/{y}.${tilejson.format || 'png'}`]}));
+      layers.set(name, tileLayerFrom({...tilejson, tiles: [missionUrl(`/tiles/${name}/{z}/{x}/{y}.${tilejson.format || 'png'}`)]}));
     }
     if (layers.get(name) !== main) layers.get(name).eventLayer = name;
   }

@@ -2,7 +2,7 @@
 // whose footprint covers it, lists them with thumbnails and outlines their
 // footprints; a photo opens at full resolution in the viewer.
 
-import {getJSON} from './api.js';
+import {getJSON, missionUrl} from './api.js';
 import {$, el, toast} from './dom.js';
 import {formatTime} from './geo.js';
 
@@ -66,7 +66,7 @@ export class Photos {
   }
 
   item(frame) {
-    const thumb = frame.thumb_url || `/api/frames/${frame.id}/image?max=256`;
+    const thumb = missionUrl(frame.thumb_url || `/api/frames/${frame.id}/image?max=256`);
     return el('li', {dataset: {id: frame.id}, tabindex: '0',
       onclick: () => this.open(frame),
       onkeydown: event => { if (event.key === 'Enter') this.open(frame); },
@@ -127,7 +127,7 @@ export class Photos {
     img.dataset.state = 'loading';
     img.onload = () => { img.dataset.state = 'loaded'; };
     img.onerror = () => { img.dataset.state = 'error'; };
-    img.src = frame.image_url || `/api/frames/${frame.id}/image`;
+    img.src = missionUrl(frame.image_url || `/api/frames/${frame.id}/image`);
     img.alt = frame.image || `frame ${frame.id}`;
     $('#photo-caption').textContent = `${frame.image || 'frame ' + frame.id} · t ${formatTime(frame.time_s)} · ` +
       `depth ${Number(frame.depth_m ?? 0).toFixed(1)} m · altitude ${Number(frame.altitude_m ?? 0).toFixed(2)} m`;

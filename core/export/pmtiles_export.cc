@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/tiles/record_json.h"
 #include "core/util/error.h"
 
 namespace seamap {
@@ -34,6 +35,36 @@ std::vector<double> Numbers(const std::string& text) {
     }
   }
   return out;
+}
+
+// The dive beside its tiles, so a published archive shows what the console
+// shows: the track as a GeoJSON LineString (at most kMaxTrackPoints, evenly
+// kept, the last one always) and the objects as Points (rejected ones left out).
+constexpr size_t kMaxTrackPoints = 20000;
+
+nlohmann::json TrackGeoJson(const std::vector<TrackPoint>& track) {
+  nlohmann::json coordinates = nlohmann::json::array();
+  const size_t stride = (track.size() + kMaxTrackPoints - 1) / kMaxTrackPoints;
+  for (size_t i = 0; i < track.size(); i += std::max<size_t>(1, stride))
+    coordinates.push_back({track[i].position.lon, track[i].position.lat});
+  if (!track.empty() && (track.size() - 1) % std::max<size_t>(1, stride) != 0)
+    coordinates.push_back({track.back().position.lon, track.back().position.lat});
+  return {{"type", "Feature"},
+          {"geometry", {{"type", "LineString"}, {"coordinates", coordinates}}},
+          {"properties", {{"points", track.size()}}}};
+}
+
+nlohmann::json ObjectsGeoJson(const std::vector<Detection>& detections) {
+  nlohmann::json features = nlohmann::json::array();
+  for (const Detection& d : detections) {
+    if (d.status == "rejected") continue;
+    nlohmann::json properties = DetectionToJson(d);
+    for (const char* internal : {"lat", "lon", "seq", "frames", "box", "levels", "model"}) properties.erase(internal);
+    features.push_back({{"type", "Feature"},
+                        {"geometry", {{"type", "Point"}, {"coordinates", {d.position.lon, d.position.lat}}}},
+                        {"properties", properties}});
+  }
+  return {{"type", "FeatureCollection"}, {"features", features}};
 }
 
 }  // namespace
@@ -74,7 +105,9 @@ PmtilesSummary ExportPmtiles(const TileStore& from, const std::string& source, c
   meta["format"] = format;
   meta["minzoom"] = std::to_string(order.front().second.z);  // ids ascend by zoom first
   meta["maxzoom"] = std::to_string(max_zoom);
-  info.metadata_json = meta.dump();
+  meta["seamap_track"] = TrackGeoJson(from.Track());
+  meta["seamap_objects"] = ObjectsGeoJson(from.Detections());
+  info.metadata_json = meta.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 
   PmtilesWriter writer(path);
   const int64_t total = static_cast<int64_t>(order.size());

@@ -1,7 +1,8 @@
 // A mission published with no SeaMap server: `seamap export` writes a
 // .pmtiles archive, a plain static file server (byte ranges, nothing else)
-// serves it with web/pmtiles.html, and headless Chromium shows the map. Every
-// tile the page's PMTiles reader fetches must equal the map's own tile.
+// serves it with web/pmtiles.html, and headless Chromium shows the map with the
+// dive's track and objects. Every tile the page's PMTiles reader fetches must
+// equal the map's own tile.
 import fs from 'node:fs';
 import http from 'node:http';
 import os from 'node:os';
@@ -69,12 +70,15 @@ try {
   const root = path.join(work, 'site');
   await run(seamap, ['simulate', '--out', survey, '--frames', '12', '--line-length', '2', '--seed', '3', '--quiet']);
   await run(seamap, ['build', '--images', path.join(survey, 'photo'), '--nav', path.join(survey, 'nav.csv'),
-    '--camera', path.join(survey, 'camera.json'), '--origin', '43.1,131.9', '--quiet', '--out', map]);
+    '--camera', path.join(survey, 'camera.json'), '--origin', '43.1,131.9', '--quiet', '--out', map,
+    '--detect', '--detect-model', path.join(sourceDir, 'tests', 'fixtures', 'yolo_v8_fixture.onnx')]);
   await run(seamap, ['export', map, folder, '--quiet']);  // the map's tiles as files: the reference bytes
   fs.mkdirSync(root);
   await run(seamap, ['export', map, path.join(root, 'mission.pmtiles'), '--quiet']);
   fs.copyFileSync(path.join(sourceDir, 'web', 'pmtiles.html'), path.join(root, 'pmtiles.html'));
   fs.cpSync(path.join(sourceDir, 'web', 'vendor'), path.join(root, 'vendor'), {recursive: true});
+  fs.mkdirSync(path.join(root, 'js'));
+  fs.copyFileSync(path.join(sourceDir, 'web', 'js', 'class_colour.js'), path.join(root, 'js', 'class_colour.js'));
   if (!fs.existsSync(path.join(root, 'vendor', 'pmtiles', 'pmtiles.js'))) {
     throw new Error('web/vendor/pmtiles is missing: run scripts/setup_web.sh');
   }
@@ -103,6 +107,21 @@ try {
     return `${sizes.length} tiles drawn, title "${await page.textContent('#title')}"`;
   });
 
+  await checks.run('the dive\'s track and objects are drawn from the archive', async () => {
+    const drawn = await page.evaluate(() => {
+      const {track, objects, metadata} = window.seamapViewer;
+      return {line: track ? track.getLayers()[0].getLatLngs().length : 0, points: metadata.seamap_track?.properties.points,
+        objects: objects.getLayers().length, classes: objects.getLayers().map(l => l.feature.properties.class),
+        paths: document.querySelectorAll('path.track').length, circles: document.querySelectorAll('path.object').length};
+    });
+    if (!drawn.line || drawn.line !== drawn.points || drawn.paths !== 1) throw new Error(JSON.stringify(drawn));
+    if (!drawn.objects || drawn.circles !== drawn.objects) throw new Error(JSON.stringify(drawn));
+    await page.click('path.object');
+    const popup = await page.textContent('.leaflet-popup-content');
+    if (!popup.includes(drawn.classes[0]) || !popup.includes('score')) throw new Error(popup);
+    return `${drawn.line} track points, ${drawn.objects} objects (${[...new Set(drawn.classes)].join(', ')}); popup "${popup.slice(0, 60)}"`;
+  });
+
   await checks.run('every tile read over HTTP ranges equals the map\'s tile', async () => {
     const tiles = tilesOf(folder);
     if (tiles.length < 5) throw new Error(`only ${tiles.length} tiles exported`);
@@ -117,7 +136,7 @@ try {
     const wrong = tiles.filter((t, i) => got[i] !== fs.readFileSync(t.file).toString('base64'));
     if (wrong.length) throw new Error(`${wrong.length} of ${tiles.length} differ, e.g. ${wrong[0].z}/${wrong[0].x}/${wrong[0].y}`);
     if (site.stats.ranges < 2) throw new Error(`only ${site.stats.ranges} range requests`);
-    const other = site.stats.requests.filter(p => !/^\/(pmtiles\.html|mission\.pmtiles|vendor\/)/.test(p));
+    const other = site.stats.requests.filter(p => !/^\/(pmtiles\.html|mission\.pmtiles|vendor\/|js\/class_colour\.js$)/.test(p));
     if (other.length) throw new Error(`requests beyond the static files: ${other.join(' ')}`);
     return `${tiles.length} tiles, ${site.stats.ranges} range requests`;
   });

@@ -133,6 +133,13 @@ TEST(ExportArchive, PmtilesOfASurveyReadsBackByteEqualWithTheReferenceReader) {
   EXPECT_EQ(r.header["maxZoom"].get<int>(), deepest.z);
   EXPECT_EQ(r.header["minZoom"].get<int>(), std::stoi(meta.at("minzoom")));
   EXPECT_EQ(r.metadata["name"], meta.at("name"));
+  // The dive beside its tiles: the whole track, in order, for a viewer with no SeaMap server.
+  const auto track = store->Track();
+  const auto& line = r.metadata["seamap_track"]["geometry"]["coordinates"];
+  ASSERT_EQ(line.size(), track.size());
+  EXPECT_NEAR(line[0][0].get<double>(), track.front().position.lon, 1e-9);
+  EXPECT_NEAR(line.back()[1].get<double>(), track.back().position.lat, 1e-9);
+  EXPECT_TRUE(r.metadata["seamap_objects"]["features"].is_array());
   // Bounds: the map's, to the header's 1e-7 degrees.
   std::istringstream b(meta.at("bounds"));
   double w, s, e, n;
@@ -145,6 +152,40 @@ TEST(ExportArchive, PmtilesOfASurveyReadsBackByteEqualWithTheReferenceReader) {
   EXPECT_NE(Seamap("export " + SurveyMap() + " " + archive, &out), 0);
   EXPECT_NE(out.find("already exists; use --overwrite"), std::string::npos) << out;
   EXPECT_EQ(Seamap("export " + SurveyMap() + " " + archive + " --overwrite --quiet", &out), 0) << out;
+}
+
+// A published archive carries the mission's objects for the viewer: reviewed
+// and unreviewed ones with their class, score and status; rejected ones not.
+TEST(ExportArchive, PmtilesCarriesTheObjectsButNotTheRejectedOnes) {
+  testing::TempDir dir;
+  const std::string map = (dir / "objects.mbtiles").string();
+  fs::copy_file(SurveyMap(), map);
+  {
+    auto store = OpenExistingMap(map, true);
+    Detection kept;
+    kept.id = 1;
+    kept.class_name = "tyre";
+    kept.score = 0.9;
+    kept.position = {43.1, 131.9};
+    kept.source = "recogniser";
+    kept.status = "confirmed";
+    Detection rejected = kept;
+    rejected.id = 2;
+    rejected.class_name = "rock";
+    rejected.status = "rejected";
+    store->PutDetection(kept);
+    store->PutDetection(rejected);
+    store->Flush();
+  }
+  const std::string archive = (dir / "objects.pmtiles").string();
+  std::string out;
+  ASSERT_EQ(Seamap("export " + map + " " + archive + " --quiet", &out), 0) << out;
+  const JsRead r = ReadWithPmtilesJs(archive, {}, dir.path());
+  const auto& features = r.metadata["seamap_objects"]["features"];
+  ASSERT_EQ(features.size(), 1u) << r.metadata["seamap_objects"].dump();
+  EXPECT_EQ(features[0]["properties"]["class"], "tyre");
+  EXPECT_EQ(features[0]["properties"]["status"], "confirmed");
+  EXPECT_NEAR(features[0]["geometry"]["coordinates"][0].get<double>(), 131.9, 1e-12);
 }
 
 // 8000 scattered tiles of random sizes, a third of them repeats of a few

@@ -4,6 +4,7 @@
 // adding, editing, moving and deleting operator marks.
 
 import {getJSON, missionUrl, send} from './api.js';
+import {classColour} from './class_colour.js';
 import {$, el, toast} from './dom.js';
 import {formatLatLon, formatMetres, formatTime} from './geo.js';
 
@@ -11,12 +12,7 @@ const L = window.L;
 
 const escapeClass = name => String(name).toLowerCase().replace(/[^a-z0-9_-]/g, '_');
 
-// One colour per class, the same in every session (a hash of the name).
-export function classColour(name) {
-  let h = 0;
-  for (const c of String(name)) h = (h * 31 + c.codePointAt(0)) >>> 0;
-  return `hsl(${(h * 137.508) % 360}, 85%, 58%)`;
-}
+export {classColour};
 
 // A detector's score as a percentage; operator marks have none.
 const scoreText = p => (p.source === 'operator' || p.score === null || p.score === undefined

@@ -15,6 +15,7 @@
 #include "server/http_util.h"
 #include "server/mission_follow.h"
 #include "server/tile_answer.h"
+#include "server/tile_front_end.h"
 #include "server/web_root.h"
 
 namespace seamap::server {
@@ -52,6 +53,7 @@ CatalogServer::CatalogServer(ServerOptions options, std::string folder)
   // Each open event stream holds a thread: the pool has room for them beside the requests.
   const size_t threads = static_cast<size_t>(std::max(2, options_.threads) + std::max(1, options_.max_streams));
   http_->new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
+  http_->set_payload_max_length(kMaxRequestBody);
   http_->set_keep_alive_max_count(10000);  // httplib's default (5) reconnects every 5 tiles
   http_->set_keep_alive_timeout(5);
   http_->set_tcp_nodelay(true);
@@ -66,23 +68,37 @@ CatalogServer::~CatalogServer() {
   Stop();
 }
 
-void CatalogServer::RefreshLocked() {
-  const auto now = std::chrono::steady_clock::now();
-  if (scanned_ == std::chrono::steady_clock::time_point{} || now - scanned_ > std::chrono::seconds(1)) {
-    listing_ = catalog_.Scan();
-    scanned_ = now;
+void CatalogServer::Refresh() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const bool fresh = scanned_ != std::chrono::steady_clock::time_point{} &&
+                       std::chrono::steady_clock::now() - scanned_ <= std::chrono::seconds(1);
+    if (fresh || scanning_) return;  // one thread rescans; the others use the listing they have
+    scanning_ = true;
   }
+  std::vector<CatalogEntry> listing;
+  try {
+    listing = catalog_.Scan();  // outside mutex_: tile requests do not wait on the folder
+  } catch (...) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    scanning_ = false;
+    throw;
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  listing_ = std::move(listing);
+  scanned_ = std::chrono::steady_clock::now();
+  scanning_ = false;
 }
 
 std::vector<CatalogEntry> CatalogServer::Missions() {
+  Refresh();
   std::lock_guard<std::mutex> lock(mutex_);
-  RefreshLocked();
   return listing_;
 }
 
 std::pair<CatalogEntry, std::shared_ptr<TileSource>> CatalogServer::Mission(const std::string& id) {
+  Refresh();
   std::lock_guard<std::mutex> lock(mutex_);  // a tile request copies one entry, not the listing
-  RefreshLocked();
   for (const CatalogEntry& e : listing_) {
     if (e.id != id) continue;
     if (!e.available) throw ApiError(404, "mission '" + id + "' is unavailable: " + e.reason);
@@ -92,6 +108,17 @@ std::pair<CatalogEntry, std::shared_ptr<TileSource>> CatalogServer::Mission(cons
     return {e, source};
   }
   throw ApiError(404, "no mission '" + id + "' in " + catalog_.folder());
+}
+
+std::optional<TileAnswer> CatalogServer::AnswerMissionTile(const std::string& id, const std::string& path,
+                                                           const std::optional<std::string>& if_none_match) {
+  std::pair<CatalogEntry, std::shared_ptr<TileSource>> mission;
+  try {
+    mission = Mission(id);
+  } catch (const ApiError&) {
+    return std::nullopt;  // unknown or unavailable: httplib's route answers why
+  }
+  return AnswerTile(*mission.second, mission.first.state == "building", path, if_none_match);
 }
 
 MissionServices CatalogServer::Services(const std::string& id) {
@@ -126,8 +153,8 @@ MissionServices CatalogServer::Services(const std::string& id) {
 }
 
 void CatalogServer::Follow() {
+  Refresh();
   std::lock_guard<std::mutex> lock(mutex_);
-  RefreshLocked();
   for (const CatalogEntry& e : listing_) {
     auto it = open_.find(e.path);
     if (it == open_.end() || !e.available || (e.state != "building" && it->second->state != "building")) continue;
@@ -218,18 +245,24 @@ void CatalogServer::Routes() {
 
 void CatalogServer::Bind() {
   options_.Check();
-  port_ = options_.port == 0                                  ? http_->bind_to_any_port(options_.host)
-          : http_->bind_to_port(options_.host, options_.port) ? options_.port
-                                                              : -1;
-  if (port_ <= 0)
-    throw InputError("", 0, "--port",
-                     "cannot listen on " + options_.host + ":" + std::to_string(options_.port) + " (in use?)");
+  // httplib listens on loopback only; the front end owns the public port and answers tiles itself.
+  const int backend = http_->bind_to_any_port("127.0.0.1");
+  if (backend <= 0) throw InputError("", 0, "--port", "cannot open the server's loopback port");
   static_cast<BacklogServer*>(http_.get())->RaiseBacklog();
+  const int loops = static_cast<int>(std::max(1u, std::min(4u, std::thread::hardware_concurrency())));
+  front_ = std::make_unique<TileFrontEnd>(
+      [this](const std::string& id, const std::string& path, const std::optional<std::string>& if_none_match) {
+        return id.empty() ? std::nullopt : AnswerMissionTile(id, path, if_none_match);
+      },
+      backend, loops, kMaxRequestBody);
+  port_ = front_->Bind(options_.host, options_.port);
+  Refresh();  // the first listing before anyone asks (later rescans never make a request wait)
 }
 
 void CatalogServer::Start() {
   thread_ = std::thread([this] { http_->listen_after_bind(); });
   for (int i = 0; i < 2500 && !http_->is_running(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  front_->Start();
 }
 
 void CatalogServer::Stop() {
@@ -241,6 +274,9 @@ void CatalogServer::Stop() {
   for (int i = 0; i < 100 && streams_ > 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
   if (http_) http_->stop();
   if (thread_.joinable()) thread_.join();
+  for (int i = 0; front_ && i < 100 && front_->proxied() > 0; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  if (front_) front_->Stop();
 }
 
 }  // namespace seamap::server

@@ -12,6 +12,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -23,6 +24,7 @@
 #include "server/mission_api.h"
 #include "server/mission_state.h"
 #include "server/server_options.h"
+#include "server/tile_answer.h"
 #include "server/tile_source.h"
 
 namespace httplib {
@@ -61,21 +63,29 @@ class CatalogServer {
   };
 
   void Routes();
+  // A tile of a mission for the front end; nullopt for an unknown or
+  // unavailable id (httplib then answers the JSON 404).
+  std::optional<TileAnswer> AnswerMissionTile(const std::string& id, const std::string& path,
+                                              const std::optional<std::string>& if_none_match);
   // The mission's API services; throws ApiError 404 like Mission().
   MissionServices Services(const std::string& id);
-  void RefreshLocked();  // rescans when the listing is over a second old; mutex_ held
+  // Rescans when the listing is over a second old (mutex_ not held); while
+  // one thread rescans, the others go on with the listing as it is.
+  void Refresh();
   // The mission's tiles; throws ApiError 404 for an unknown or unavailable id.
   std::pair<CatalogEntry, std::shared_ptr<TileSource>> Mission(const std::string& id);
 
   ServerOptions options_;
   MapCatalog catalog_;
-  std::unique_ptr<httplib::Server> http_;
+  std::unique_ptr<httplib::Server> http_;      // on a loopback port
+  std::unique_ptr<class TileFrontEnd> front_;  // the public port: tiles itself, the rest to http_
   std::thread thread_;
   int port_ = 0;
 
   std::mutex mutex_;  // guards what follows
   std::vector<CatalogEntry> listing_;
   std::chrono::steady_clock::time_point scanned_{};
+  bool scanning_ = false;                                       // catalog_ is used by the scanning thread alone
   std::map<std::string, std::shared_ptr<TileSource>> sources_;  // by map path
   std::map<std::string, std::unique_ptr<OpenMission>> open_;    // by map path
   std::atomic<int> streams_{0};

@@ -187,7 +187,12 @@ void HttpServer::Bind() {
   if (backend <= 0) throw InputError("", 0, "--port", "cannot open the server's loopback port");
   static_cast<BacklogServer*>(http_.get())->RaiseBacklog();
   const int loops = static_cast<int>(std::max(1u, std::min(4u, std::thread::hardware_concurrency())));
-  front_ = std::make_unique<TileFrontEnd>(tiles_, mission_, backend, loops, kMaxRequestBody);
+  auto tiles = [this](const std::string& mission, const std::string& path,
+                      const std::optional<std::string>& if_none_match) -> std::optional<TileAnswer> {
+    if (!mission.empty()) return std::nullopt;  // a catalogue's path: the backend's 404
+    return AnswerTile(*tiles_, mission_->building(), path, if_none_match);
+  };
+  front_ = std::make_unique<TileFrontEnd>(tiles, backend, loops, kMaxRequestBody);
   port_ = front_->Bind(options_.host, options_.port);
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <utility>
 
 #include "server/http_tokens.h"
 
@@ -49,6 +50,20 @@ bool HasDotSegment(std::string_view path) {
 bool IsVersion(std::string_view v) {
   return v.size() == 8 && v.substr(0, 5) == "HTTP/" && std::isdigit(static_cast<unsigned char>(v[5])) && v[6] == '.' &&
          std::isdigit(static_cast<unsigned char>(v[7]));
+}
+
+// A catalogue mission's tile target ("/missions/{id}/tiles/..."): the id, and
+// the target from "/tiles/" on. Ids are [a-z0-9_-]+ (core/tiles/map_catalog).
+std::optional<std::pair<std::string_view, std::string_view>> MissionTileTarget(std::string_view target) {
+  constexpr std::string_view kMissions = "/missions/";
+  if (target.substr(0, kMissions.size()) != kMissions) return std::nullopt;
+  const size_t end = target.find('/', kMissions.size());
+  if (end == std::string_view::npos || end == kMissions.size()) return std::nullopt;
+  const std::string_view id = target.substr(kMissions.size(), end - kMissions.size());
+  if (!std::all_of(id.begin(), id.end(),
+                   [](unsigned char c) { return (c >= 'a' && c <= 'z') || std::isdigit(c) || c == '_' || c == '-'; }))
+    return std::nullopt;
+  return std::make_pair(id, target.substr(end));
 }
 
 // A plain tile target ("/tiles/z/x/y.ext[?query]"): its path after "/tiles/".
@@ -166,10 +181,12 @@ RequestHead ParseRequestHead(std::string_view bytes, const RequestHeadLimits& li
     return Refuse("a body needs a Content-Length", 411);
   head.keep_alive = !close && (!head.http_1_0 || keep_alive);
   head.head_only = method == "HEAD";
-  const std::optional<std::string_view> tile = TilePath(target);
+  const auto mission = MissionTileTarget(target);
+  const std::optional<std::string_view> tile = TilePath(mission ? mission->second : target);
   if (tile && (method == "GET" || method == "HEAD") && !to_backend) {
     head.kind = Kind::kTile;
     head.tile_path = std::string(*tile);
+    if (mission) head.mission_id = std::string(mission->first);
   } else {
     head.kind = Kind::kBackend;
     head.body_bytes = content_length.value_or(0);  // 0 with chunked: the chunks say

@@ -31,6 +31,7 @@ struct RequestHead {
   bool keep_alive = true;                    // else the connection closes after the answer
   bool http_1_0 = false;                     // a kept connection must then be announced ("Connection: keep-alive")
   std::string tile_path;                     // kTile: after "/tiles/", no query: "z/x/y.ext" or "layer/z/x/y.ext"
+  std::string mission_id;                    // kTile of "/missions/{id}/tiles/...": the catalogue's mission
   std::optional<std::string> if_none_match;  // kTile; several fields are joined with ", "
   int status = 400;                          // kRefuse: 400; 411 a body without a length; 414, 431 over the limits;
                                              // 501 a transfer coding other than chunked; 505 not HTTP/1.x

@@ -24,7 +24,6 @@
 
 #include "core/util/error.h"
 #include "server/chunked_request.h"
-#include "server/mission_state.h"
 #include "server/request_head.h"
 #include "server/response_framer.h"
 #include "server/tile_answer.h"
@@ -168,12 +167,15 @@ struct TileFrontEnd::Connection {
       switch (h.kind) {
         case RequestHead::Kind::kNeedMore:
           return;
-        case RequestHead::Kind::kTile:
-          Answer(h);
-          evbuffer_drain(in, h.size);
-          break;
         case RequestHead::Kind::kRefuse:
           return Refuse(h.status, h.error);
+        case RequestHead::Kind::kTile:
+          if (std::optional<TileAnswer> a = owner->tiles_(h.mission_id, h.tile_path, h.if_none_match)) {
+            Answer(h, *a);
+            evbuffer_drain(in, h.size);
+            break;
+          }
+          [[fallthrough]];  // not ours (an unknown mission, say): the backend answers
         case RequestHead::Kind::kBackend:
           if (!OpenBackend()) return;
           in_flight.emplace(h.head_only);
@@ -185,8 +187,7 @@ struct TileFrontEnd::Connection {
     }
   }
 
-  void Answer(const RequestHead& r) {
-    TileAnswer a = AnswerTile(*owner->tiles_, owner->mission_->building(), r.tile_path, r.if_none_match);
+  void Answer(const RequestHead& r, const TileAnswer& a) {
     std::string head;
     head.reserve(256);
     head += "HTTP/1.1 ";
@@ -421,8 +422,8 @@ std::once_flag g_threads_once;
 
 }  // namespace
 
-TileFrontEnd::TileFrontEnd(TileSource* tiles, MissionState* mission, int backend_port, int loops, size_t max_body_bytes)
-    : tiles_(tiles), mission_(mission), backend_port_(backend_port), max_body_bytes_(max_body_bytes) {
+TileFrontEnd::TileFrontEnd(TileResolver tiles, int backend_port, int loops, size_t max_body_bytes)
+    : tiles_(std::move(tiles)), backend_port_(backend_port), max_body_bytes_(max_body_bytes) {
   std::call_once(g_threads_once, [] { evthread_use_pthreads(); });  // loops are stopped from other threads
   for (int i = 0; i < std::max(1, loops); ++i) loops_.push_back(std::make_unique<Loop>());
 }

@@ -7,25 +7,31 @@
 // request head is comes from request_head.*, where httplib's answer ends from
 // response_framer.*; this file is the event loop and connection plumbing.
 #include <atomic>
+#include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
 
-#include "server/tile_source.h"
+#include "server/tile_answer.h"
 
 struct event_base;
 struct evconnlistener;
 
 namespace seamap::server {
 
-class MissionState;
+// The answer to a plain tile GET: `mission_id` is empty for "/tiles/...", the
+// catalogue's id for "/missions/{id}/tiles/...", `tile_path` what follows
+// "/tiles/". nullopt: not this front end's to answer (the backend answers).
+using TileResolver = std::function<std::optional<TileAnswer>(
+    const std::string& mission_id, const std::string& tile_path, const std::optional<std::string>& if_none_match)>;
 
 class TileFrontEnd {
  public:
   // `max_body_bytes`: the limit of a chunked request body (httplib enforces
   // it for bodies with a Content-Length).
-  TileFrontEnd(TileSource* tiles, MissionState* mission, int backend_port, int loops, size_t max_body_bytes);
+  TileFrontEnd(TileResolver tiles, int backend_port, int loops, size_t max_body_bytes);
   ~TileFrontEnd();
 
   // Listens on host:port (0: any free port); throws InputError naming
@@ -40,8 +46,7 @@ class TileFrontEnd {
   struct Loop;
 
  private:
-  TileSource* tiles_;
-  MissionState* mission_;
+  TileResolver tiles_;
   int backend_port_;
   size_t max_body_bytes_;
   int listen_fd_ = -1;

@@ -54,6 +54,22 @@ TEST(RequestHead, APlainTileGet) {
   EXPECT_EQ(ParseRequestHead("GET /tiles/3/4/2.png HTTP/1.1\r\n\r\n").kind, Kind::kTile) << "no fields at all";
 }
 
+// A catalogue's tiles ("/missions/{id}/tiles/...") are answered by the front end too.
+TEST(RequestHead, ACatalogueMissionsTileGet) {
+  const RequestHead h = ParseRequestHead(Request("GET /missions/dive_a-2/tiles/raw/3/4/2.png?v=1 HTTP/1.1"));
+  ASSERT_EQ(h.kind, Kind::kTile);
+  EXPECT_EQ(h.mission_id, "dive_a-2");
+  EXPECT_EQ(h.tile_path, "raw/3/4/2.png");
+  EXPECT_EQ(ParseRequestHead(kTileGet).mission_id, "");
+  ExpectKind(Request("GET /missions//tiles/3/4/2.png HTTP/1.1"), Kind::kBackend, "no id");
+  ExpectKind(Request("GET /missions/Dive/tiles/3/4/2.png HTTP/1.1"), Kind::kBackend, "not a catalogue id");
+  ExpectKind(Request("GET /missions/d%61/tiles/3/4/2.png HTTP/1.1"), Kind::kBackend, "an escape");
+  ExpectKind(Request("GET /missions/dive/tiles.json HTTP/1.1"), Kind::kBackend, "TileJSON");
+  ExpectKind(Request("GET /missions/dive/tiles/raw.json HTTP/1.1"), Kind::kBackend, "a layer's TileJSON");
+  ExpectKind(Request("GET /missions/dive/api/status HTTP/1.1"), Kind::kBackend, "the API");
+  ExpectKind(Request("GET /missions/dive/tiles/../../x HTTP/1.1"), Kind::kBackend, "dot segments");
+}
+
 TEST(RequestHead, EveryPrefixOfARequestWaitsForMore) {
   for (size_t n = 0; n < kTileGet.size(); ++n) ExpectKind(kTileGet.substr(0, n), Kind::kNeedMore);
 }

@@ -92,6 +92,7 @@ try {
     if (elsewhere.length) throw new Error(`API asked outside the mission: ${elsewhere.join(', ')}`);
     if (!apiRequests.includes('/missions/dive_a/api/events')) throw new Error(`no event stream: ${apiRequests.join(', ')}`);
     if (await page.$eval('#progress', el => el.dataset.state) !== 'complete') throw new Error('state is not complete');
+    if (await page.$eval('#catalogue-link', a => a.hidden || a.getAttribute('href') !== '/')) throw new Error('no way back to the missions');
     // A catalogue is read-only: a mark is refused, and the console says so instead of offering to write.
     const post = await fetch(new URL('missions/dive_a/api/detections', base), {method: 'POST',
       headers: {'Content-Type': 'application/json'},

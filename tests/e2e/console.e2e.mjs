@@ -155,6 +155,7 @@ async function main() {
     await page.evaluate(() => { window.__e2eSamePage = true; });
     const hasLeaflet = await page.evaluate(() => Boolean(window.L && window.seamap && window.seamap.map));
     if (!hasLeaflet) throw new Error('Leaflet or the console did not start');
+    if (!await page.$eval('#catalogue-link', a => a.hidden)) throw new Error('a link to a catalogue that is not there');
     return `status ${await page.textContent('#progress-label')}`;
   });
   if (!loaded) throw new Error('the console did not load; the other checks need it');

@@ -89,26 +89,39 @@ export async function checkConsoleTools({browser, page, checks, base, shot}) {
 
   await checks.run('a mark is moved by dragging it', async () => {
     const before = (await api(base, `api/detections/${id}`)).body.geometry.coordinates;
-    const marker = await page.$(`.leaflet-marker-icon[data-detection-id="${id}"]`);
-    const box = await marker.boundingBox();
-    const from = {x: box.x + box.width / 2, y: box.y + box.height / 2};
-    await page.mouse.move(from.x, from.y);
-    await page.mouse.down();
-    for (let i = 1; i <= 10; ++i) await page.mouse.move(from.x + 6 * i, from.y + 4 * i);
-    // Leaflet moves the marker in an animation frame after each mouse move; on
-    // a loaded machine the drop can come before the last one: wait for two.
-    await page.evaluate(() => new Promise(resolve => requestAnimationFrame(() => requestAnimationFrame(resolve))));
-    await page.mouse.up();
-    const after = await waitFor('the move stored', async () => {
+    const drag = async () => {
+      const marker = await page.$(`.leaflet-marker-icon[data-detection-id="${id}"]`);
+      const box = await marker.boundingBox();
+      const from = {x: box.x + box.width / 2, y: box.y + box.height / 2};
+      await page.mouse.move(from.x, from.y);
+      await page.mouse.down();
+      for (let i = 1; i <= 10; ++i) await page.mouse.move(from.x + 6 * i, from.y + 4 * i);
+      // Leaflet moves the marker in an animation frame after each mouse move; on
+      // a loaded machine the drop can come before the last one: wait for two.
+      await page.evaluate(() => new Promise(resolve => requestAnimationFrame(() => requestAnimationFrame(resolve))));
+      await page.mouse.up();
+      return from;
+    };
+    const stored = async () => {
       const {body} = await api(base, `api/detections/${id}`);
       const c = body.geometry.coordinates;
       return c[0] !== before[0] && c[1] !== before[1] ? c : null;
-    }, {timeoutMs: 5000});
+    };
+    let from = await drag();
+    let after = await waitFor('the move stored', stored, {timeoutMs: 3000}).catch(() => null);
+    let tries = 1;
+    if (!after) {
+      // Under a loaded suite the first press can land while the previous edit's
+      // live event is redrawn (CI saw it once in many runs): an operator drags again.
+      from = await drag();
+      tries = 2;
+      after = await waitFor('the move stored', stored, {timeoutMs: 5000});
+    }
     const at = await screenOf(page, after[1], after[0]);
     const off = Math.hypot(at.x - (from.x + 60), at.y - (from.y + 40));
     if (off > 6) throw new Error(`stored ${off.toFixed(1)} px from where it was dropped`);
     if ((await api(base, `api/detections/${id}`)).body.properties.class !== 'e2e-boulder') throw new Error('the move lost the class');
-    return `dropped within ${off.toFixed(1)} px`;
+    return `dropped within ${off.toFixed(1)} px${tries > 1 ? ' (second drag)' : ''}`;
   });
 
   await checks.run('a mark is deleted from its popup', async () => {

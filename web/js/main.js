@@ -1,6 +1,6 @@
 // Console start-up: wires the map, the live stream and the panel together.
 
-import {checkToken, getJSON, getToken, setToken} from './api.js';
+import {checkToken, getJSON, getToken, missionBase, setToken} from './api.js';
 import {$, toast} from './dom.js';
 
 const L = window.L;
@@ -283,6 +283,8 @@ async function start() {
   // For debugging from the browser console and for the end-to-end test.
   window.seamap = {map, live, link, track: tracks.estimated, tracks, detections, photos, measure, footprints, vehicle, swipe, fitMission, toVehicle, setFollow,
     get layers() { return photoLayers; }, get status() { return status; }};
+  // A mission of a catalogue (`seamap serve FOLDER`): a way back to the others.
+  document.getElementById('catalogue-link').hidden = !missionBase;
   document.body.dataset.ready = 'true';
 }
 

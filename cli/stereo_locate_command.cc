@@ -1,13 +1,24 @@
 // seamap stereo-locate: the camera's pose in the object's frame from stereo pairs.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
+#include <memory>
+#include <optional>
 
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "core/nav/frame_list.h"
+#include "core/nav/nav_reader.h"
 #include "core/stereo/icp_baseline.h"
+#include "core/stereo/object_georef.h"
 #include "core/stereo/object_locator.h"
+#include "core/tiles/detection_match.h"
+#include "core/tiles/mission_classes.h"
+#include "core/tiles/tile_store.h"
 #include "core/util/error.h"
+#include "core/util/utc_time.h"
 
 namespace seamap::cli {
 namespace {
@@ -22,7 +33,68 @@ found: false (exit 0) when the object is not recognised.
   --no-tie-points    joint solution without points matched between the pairs
   --min-inliers N    found rule: inliers per pair (default 12)
   --max-features N   SIFT keypoints per image (default 4000)
+where the object is on the Earth (with --nav and --time):
+  --nav FILE         the vehicle's navigation, as seamap build reads it
+  --time T           when the first pair used was taken, in the navigation's clock (s)
+  --rig forward|down the left camera looks along the bow (default) or down, image top to the bow
+  --rig-offset X,Y,Z the left camera in the vehicle's frame, m (x forward, y starboard, z down)
+  --map MAP          also store the object in the mission as a detection (source "stereo",
+                     class = the model's name, heading and depth), replacing its earlier location
 )";
+
+RigMount ReadRigMount(Args& args) {
+  RigMount mount;
+  mount.looking = ParseLooking(args.GetOr("rig", "forward"), "--rig");
+  if (auto text = args.Get("rig-offset")) {
+    double x = 0, y = 0, z = 0;
+    char end = 0;
+    if (std::sscanf(text->c_str(), "%lf,%lf,%lf%c", &x, &y, &z, &end) != 3 || !std::isfinite(x + y + z) ||
+        std::abs(x) + std::abs(y) + std::abs(z) > 100)
+      throw InputError("", 0, "--rig-offset", "expected X,Y,Z in metres (each within 100 m), got '" + *text + "'");
+    mount.offset_m = {x, y, z};
+  }
+  return mount;
+}
+
+// The mission's origin, for local navigation and the detection's position_m.
+LatLon MapOrigin(const TileStore& store, const std::string& path) {
+  const auto meta = store.Metadata();
+  double lat = 0, lon = 0;
+  if (!meta.count("seamap_origin") || std::sscanf(meta.at("seamap_origin").c_str(), "%lf,%lf", &lat, &lon) != 2)
+    throw InputError(path, 0, "seamap_origin", "the map's metadata has no mission origin (lat,lon)");
+  return {lat, lon};
+}
+
+// Stores the located object; an earlier stereo location of the same object
+// (same model, within 10 cm) keeps its id, creation time, note and review.
+Detection StoreLocated(TileStore& store, Detection d) {
+  std::vector<std::string> table = MissionClassTable(store);
+  if (ExtendClassTable(&table, {d.class_name})) StoreClassTable(&store, table);
+  StoreMissionT0(&store);
+  int64_t last_id = 0, last_seq = 0;
+  std::vector<Detection> earlier;
+  for (const Detection& e : store.Detections()) {
+    last_id = std::max(last_id, e.id);
+    last_seq = std::max(last_seq, e.seq);
+    if (e.source == "stereo") earlier.push_back(e);
+  }
+  const std::string now = UtcNowIso8601();
+  const int match = MatchEarlier(earlier, {d})[0];
+  if (match >= 0) {
+    d.id = earlier[match].id;
+    d.created = earlier[match].created;
+    d.note = earlier[match].note;
+    d.status = earlier[match].status;
+  } else {
+    d.id = last_id + 1;
+    d.created = now;
+  }
+  d.updated = now;
+  d.seq = last_seq + 1;
+  store.PutDetection(d);
+  store.Flush();
+  return d;
+}
 
 }  // namespace
 
@@ -42,7 +114,14 @@ int RunStereoLocate(int argc, char** argv, int first) {
   options.tie_points = !args.Flag("no-tie-points");
   options.min_inliers = args.GetInt("min-inliers", options.min_inliers);
   options.sift.max_features = args.GetInt("max-features", options.sift.max_features);
+  const std::optional<std::string> nav_path = args.Get("nav"), map_path = args.Get("map");
+  const std::optional<std::string> time_text = args.Get("time");
+  const double time_s = args.GetDouble("time", 0);
+  const RigMount mount = ReadRigMount(args);
   args.RejectUnknown();
+  if (map_path && !nav_path) throw InputError("", 0, "--map", "needs --nav and --time: where the vehicle was");
+  if (nav_path.has_value() != time_text.has_value())
+    throw InputError("", 0, nav_path ? "--time" : "--nav", "--nav and --time go together");
   if (!args.positionals().empty())
     throw InputError("", 0, args.positionals()[0], "unexpected argument; see seamap stereo-locate --help");
 
@@ -65,6 +144,24 @@ int RunStereoLocate(int argc, char** argv, int first) {
   std::vector<LoadedPair> pairs;
   for (const PairFiles& f : files) pairs.push_back(LoadStereoPair(f, calibration.image_size, calib_path));
 
+  // Where the vehicle was, before the (slow) search: bad navigation is reported first.
+  std::unique_ptr<TileStore> store = map_path ? OpenExistingMap(*map_path, /*writable=*/true) : nullptr;
+  std::optional<VehiclePose> vehicle;
+  std::optional<LocalFrame> frame;
+  if (nav_path) {
+    NavReadOptions nav_options;
+    if (store) nav_options.origin = MapOrigin(*store, *map_path);
+    const NavTable nav = ReadNavigation(*nav_path, nav_options);
+    if (!nav.has_times)
+      throw InputError(*nav_path, 0, "time_s", "the navigation has no times to interpolate at --time");
+    vehicle = InterpolatePose(nav.records, time_s);
+    if (!vehicle)
+      throw InputError(*nav_path, 0, "--time",
+                       cv::format("%.3f s is outside the navigation's times (%.3f to %.3f s)", time_s,
+                                  nav.records.front().time_s.value_or(0), nav.records.back().time_s.value_or(0)));
+    frame.emplace(nav.origin);
+  }
+
   LocateResult result;
   if (method == "icp") {
     IcpOptions icp;
@@ -74,9 +171,39 @@ int RunStereoLocate(int argc, char** argv, int first) {
   } else {
     result = LocateObject(model, calibration, pairs, options);
   }
+  nlohmann::json pose_json = LocateResultToJson(result, model.name);
+  std::optional<PlacedObject> placed;
+  if (result.found && vehicle) {
+    placed = PlaceObject(result.object_from_camera, mount, *vehicle, *frame);
+    pose_json["geo"] = {{"lat", placed->position.lat},
+                        {"lon", placed->position.lon},
+                        {"depth_m", placed->depth_m},
+                        {"heading_deg", placed->heading_deg},
+                        {"time_s", time_s}};
+  }
   std::ofstream file(out);
   if (!file) throw InputError(out, 0, "--out", "cannot write the pose");
-  file << LocateResultToJson(result, model.name).dump(2) << "\n";
+  file << pose_json.dump(2) << "\n";
+  if (placed) {
+    std::printf("object at %.7f %.7f, %.3f m deep, heading %.2f deg\n", placed->position.lat, placed->position.lon,
+                placed->depth_m, placed->heading_deg);
+    if (store) {
+      Detection d;
+      d.class_name = model.name;
+      d.source = "stereo";
+      d.model = std::filesystem::path(model_path).filename().string();
+      d.score = 1;
+      d.position = placed->position;
+      const LocalXY in_mission = LocalFrame(MapOrigin(*store, *map_path)).FromLatLon(placed->position);
+      d.position_m = std::array<double, 2>{in_mission.east, in_mission.north};
+      d.heading_deg = placed->heading_deg;
+      d.depth_m = placed->depth_m;
+      d.time_s = time_s;
+      d.status = "unconfirmed";
+      d = StoreLocated(*store, d);
+      std::printf("stored as detection %lld in %s\n", static_cast<long long>(d.id), map_path->c_str());
+    }
+  }
   if (result.found) {
     const Eigen::Vector3d c = result.object_from_camera.translation();
     std::printf("found '%s' (%s) in %zu pair(s): camera at %.4f %.4f %.4f m, sigma %.1f mm, RMS %.2f px -> %s\n",

@@ -49,9 +49,9 @@ LatLon ParsePoint(const nlohmann::json& geometry) {
 // Applies the writable properties; read-only ones a client echoes back are ignored.
 void ApplyProperties(const nlohmann::json& props, Detection* d) {
   if (!props.is_object()) throw ApiError(400, "properties: expected an object");
-  static const std::set<std::string> kReadOnly = {"id",         "source", "created", "updated",   "seq",
-                                                  "frame_id",   "model",  "level",   "levels",    "box",
-                                                  "position_m", "size_m", "frames",  "truncated", "alt_class"};
+  static const std::set<std::string> kReadOnly = {
+      "id",  "source",     "created", "updated", "seq",       "frame_id",  "model",       "level",  "levels",
+      "box", "position_m", "size_m",  "frames",  "truncated", "alt_class", "heading_deg", "depth_m"};
   for (const auto& [key, value] : props.items()) {
     if (key == "class") {
       if (!value.is_string() || value.get<std::string>().empty() || value.get<std::string>().size() > kMaxClassLength)

@@ -40,14 +40,16 @@ const std::vector<SqlColumn> kFrameNavColumns = {
     {"nav_heading_deg", "real"}, {"nav_pitch_deg", "real"}, {"nav_roll_deg", "real"}};
 const std::vector<SqlColumn> kTrackNavColumns = {{"nav_lat", "real"}, {"nav_lon", "real"}, {"nav_heading_deg", "real"}};
 // A recogniser's fields and the review status (issue 19); arrays as JSON text.
-const std::vector<SqlColumn> kDetectionObjectColumns = {
-    {"model", "text"},  {"level", "integer"}, {"levels", "text"},       {"box", "text"},
-    {"east_m", "real"}, {"north_m", "real"},  {"size_ew_m", "real"},    {"size_ns_m", "real"},
-    {"frames", "text"}, {"status", "text"},   {"truncated", "integer"}, {"alt_class", "text"}};
+const std::vector<SqlColumn> kDetectionObjectColumns =
+    {
+        {"model", "text"},       {"level", "integer"}, {"levels", "text"},       {"box", "text"},
+        {"east_m", "real"},      {"north_m", "real"},  {"size_ew_m", "real"},    {"size_ns_m", "real"},
+        {"frames", "text"},      {"status", "text"},   {"truncated", "integer"}, {"alt_class", "text"},
+        {"heading_deg", "real"}, {"depth_m", "real"}};  // a stereo location's orientation and depth (issue 20)
 const std::vector<std::string> kDetectionColumns = {
-    "id",     "class",   "score",     "lat",       "lon",    "note",   "source",    "frame_id",
-    "time_s", "created", "updated",   "seq",       "model",  "level",  "levels",    "box",
-    "east_m", "north_m", "size_ew_m", "size_ns_m", "frames", "status", "truncated", "alt_class"};
+    "id",        "class",     "score",  "lat",    "lon",       "note",      "source",      "frame_id", "time_s",
+    "created",   "updated",   "seq",    "model",  "level",     "levels",    "box",         "east_m",   "north_m",
+    "size_ew_m", "size_ns_m", "frames", "status", "truncated", "alt_class", "heading_deg", "depth_m"};
 
 // Every column in the order rows are bound and read.
 const std::vector<std::string> kFrameColumns = {
@@ -511,6 +513,8 @@ void MBTilesStore::PutDetection(const Detection& d) {
   text(22, d.status);
   sqlite3_bind_int(s, 23, d.truncated ? 1 : 0);
   text(24, d.alt_class);
+  BindOptional(s, 25, d.heading_deg);
+  BindOptional(s, 26, d.depth_m);
   if (sqlite3_step(s) != SQLITE_DONE) Fail("write detection");
   EndWrite();
 }
@@ -551,6 +555,8 @@ std::vector<Detection> MBTilesStore::Detections() const {
     d.status = ColumnText(s, 21);
     d.truncated = sqlite3_column_int(s, 22) != 0;
     d.alt_class = ColumnText(s, 23);
+    d.heading_deg = ColumnOptional(s, 24);
+    d.depth_m = ColumnOptional(s, 25);
     NormaliseDetection(&d);
     return d;
   });

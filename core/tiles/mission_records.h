@@ -63,11 +63,13 @@ struct Detection {
   std::vector<int> frames;                          // photos that saw it, best first
   std::optional<int> frame_id;                      // the photo it was found in (frames[0])
   std::optional<double> time_s;
-  std::string status;            // "unconfirmed", "confirmed" or "rejected"; empty: by source (NormaliseDetection)
-  bool truncated = false;        // only cut boxes were seen (at a window edge)
-  std::string alt_class;         // a class that lost to this one at the same place
-  std::string created, updated;  // ISO 8601 UTC
-  int64_t seq = 0;               // change number: grows with every change
+  std::string status;                 // "unconfirmed", "confirmed" or "rejected"; empty: by source (NormaliseDetection)
+  bool truncated = false;             // only cut boxes were seen (at a window edge)
+  std::string alt_class;              // a class that lost to this one at the same place
+  std::optional<double> heading_deg;  // stereo: the object's x axis, clockwise from true north
+  std::optional<double> depth_m;      // stereo: the object frame's origin below the surface
+  std::string created, updated;       // ISO 8601 UTC
+  int64_t seq = 0;                    // change number: grows with every change
 };
 
 // Detections stored before `model` and `status` existed kept a recogniser's

@@ -103,6 +103,11 @@ ModemRecord ModemRecordOf(const Detection& original, uint8_t class_id, std::opti
   }
   const ModemStatus status = deleted ? ModemStatus::kDeleted : StatusOf(d.status);
   r.flags = static_cast<uint8_t>(static_cast<uint8_t>(status) | (static_cast<uint8_t>(SourceOf(d.source)) << 2));
+  if (d.heading_deg && std::isfinite(*d.heading_deg)) {  // 360/256 degree steps, rounded
+    const double turns = std::fmod(std::fmod(*d.heading_deg, 360.0) + 360.0, 360.0) / 360.0;
+    r.heading = static_cast<uint8_t>(static_cast<int>(std::lround(turns * 256)) & 0xFF);
+    r.flags |= 0x10;
+  }
   return r;
 }
 

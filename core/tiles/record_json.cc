@@ -160,6 +160,8 @@ nlohmann::json DetectionToJson(const Detection& original) {
           {"status", d.status},
           {"truncated", d.truncated},
           {"alt_class", d.alt_class.empty() ? nlohmann::json(nullptr) : nlohmann::json(d.alt_class)},
+          {"heading_deg", OptionalToJson(d.heading_deg)},
+          {"depth_m", OptionalToJson(d.depth_m)},
           {"created", d.created},
           {"updated", d.updated},
           {"seq", d.seq}};
@@ -185,6 +187,8 @@ Detection DetectionFromJson(const nlohmann::json& j) {
   d.status = j.contains("status") && j.at("status").is_string() ? j.at("status").get<std::string>() : "";
   d.truncated = j.contains("truncated") && j.at("truncated").is_boolean() && j.at("truncated").get<bool>();
   if (j.contains("alt_class") && j.at("alt_class").is_string()) d.alt_class = j.at("alt_class").get<std::string>();
+  d.heading_deg = OptionalFromJson(j, "heading_deg");
+  d.depth_m = OptionalFromJson(j, "depth_m");
   d.created = j.value("created", "");
   d.updated = j.value("updated", "");
   d.seq = j.value("seq", int64_t{0});

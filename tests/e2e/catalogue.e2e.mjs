@@ -10,6 +10,7 @@ import path from 'node:path';
 import {Checks, killAll, run, startProcess, stopProcess, waitFor, waitForOutput, testEnvironment, launchChromium} from './harness.mjs';
 
 const {sourceDir, seamap, artifacts} = testEnvironment();
+const seeder = process.env.SEAMAP_SEED_DETECTIONS || path.join(path.dirname(seamap), 'seed_detections');
 const checks = new Checks();
 const watchdog = setTimeout(() => {
   console.log('not ok - test finished within 180 s');
@@ -30,6 +31,7 @@ try {
     '--camera', path.join(survey, 'camera.json'), '--origin', '43.1,131.9', '--quiet', '--out', map]);
   fs.mkdirSync(folder);
   fs.copyFileSync(map, path.join(folder, 'dive_a.mbtiles'));
+  await run(seeder, [path.join(folder, 'dive_a.mbtiles'), '--stereo']);  // an object located by stereo, with a heading
   fs.copyFileSync(map, path.join(folder, 'dive_b.mbtiles'));
   fs.writeFileSync(path.join(folder, 'broken.mbtiles'), 'half-copied');
   server = startProcess(seamap, ['serve', folder, '--host', '127.0.0.1', '--port', '0',
@@ -98,10 +100,19 @@ try {
       headers: {'Content-Type': 'application/json'},
       body: JSON.stringify({type: 'Feature', geometry: {type: 'Point', coordinates: [131.9, 43.1]}, properties: {class: 'tyre'}})});
     if (post.status < 400) throw new Error(`a write was accepted: ${post.status}`);
+    // The object located by stereo: its mark carries an arrow along its heading, its popup heading and depth.
+    const arrow = await page.waitForSelector('.leaflet-marker-icon .heading', {timeout: 5000});
+    const turn = await arrow.evaluate(b => [b.dataset.heading, b.style.transform]);
+    if (turn[0] !== '123.7' || !turn[1].includes('rotate(123.7deg)')) throw new Error(`arrow ${turn}`);
+    await page.click('.leaflet-marker-icon:has(.heading)');
+    const heading = await page.textContent('.leaflet-popup .popup-heading');
+    if (heading !== '123.7°') throw new Error(`popup heading "${heading}"`);
+    await page.evaluate(() => window.seamap.map.closePopup());
     const other = await fetch(new URL('missions/nope/api/status', base));
     if (other.status !== 404) throw new Error(`unknown mission: ${other.status}`);
     await page.screenshot({path: path.join(artifacts, 'catalogue-console.png')});
-    return `${shown} track points, ${apiRequests.length} API requests under the prefix, write refused ${post.status}`;
+    return `${shown} track points, ${apiRequests.length} API requests under the prefix, write refused ${post.status}, ` +
+      `stereo mark heading ${heading}`;
   });
 
   await checks.run('a mission another process is building keeps its live events', async () => {

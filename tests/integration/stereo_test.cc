@@ -11,7 +11,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/geo/local_frame.h"
+#include "core/stereo/object_georef.h"
 #include "core/stereo/rigid_transform.h"
+#include "core/tiles/modem_record.h"
+#include "core/tiles/tile_store.h"
 #include "tests/integration/survey_fixture.h"
 
 namespace seamap {
@@ -79,6 +83,78 @@ nlohmann::json Locate(const Scene& s, const std::string& extra, const std::strin
       << log;
   std::printf("%s", log.c_str());
   return ReadJson(out);
+}
+
+// A located object becomes a detection of the mission: the vehicle's
+// navigation at the pair's time and the rig's mounting place it on the Earth.
+TEST(Stereo, ALocatedObjectIsStoredAsADetectionWithPositionHeadingAndDepth) {
+  const Scene& s = SharedScene();
+  const auto& survey = testing::SharedSurvey("stereo_map", "--frames 12 --line-length 2 --seed 3");
+  const std::string map = (s.dir->path() / "mission.mbtiles").string();
+  std::string log;
+  ASSERT_EQ(Seamap(survey.BuildArgs() + " --out " + map + " --overwrite", &log), 0) << log;
+  // The vehicle: 5 m east, 7 m north of the mission origin, 40 m deep, bow at 35 degrees, pitched and rolled.
+  const std::string nav = (s.dir->path() / "rov_nav.csv").string();
+  std::ofstream(nav) << "time_s,x_m,y_m,depth_m,altitude_m,heading_deg,pitch_deg,roll_deg\n"
+                     << "100,5,7,40,3,35,4,-3\n102,5,7,40,3,35,4,-3\n";
+  const std::string where = " --nav " + nav + " --time 101 --rig-offset 0.8,0.1,0.3 --map " + map;
+  const nlohmann::json pose = Locate(s, "--views 1" + where);
+  ASSERT_TRUE(pose["found"].get<bool>()) << pose.dump();
+
+  // Expected: the true pose of the pair used, carried through the same mounting and navigation.
+  const auto truth = ReadJson(s.root + "/truth/poses.json");
+  const std::string pair = pose["views"][0]["pair"];
+  const Rigid model_from_camera = RigidFromJson(truth["overview"]["ov_001"], "truth", "ov_001").inverse() *
+                                  RigidFromJson(truth["approach"][pair], "truth", pair);
+  VehiclePose vehicle;
+  vehicle.east_m = 5, vehicle.north_m = 7, vehicle.depth_m = 40, vehicle.altitude_m = 3;
+  vehicle.heading_deg = 35, vehicle.pitch_deg = 4, vehicle.roll_deg = -3;
+  RigMount mount;
+  mount.offset_m = {0.8, 0.1, 0.3};
+  auto store = OpenExistingMap(map, false);
+  double lat0 = 0, lon0 = 0;  // the mission's origin: local navigation is relative to it
+  ASSERT_EQ(std::sscanf(store->Metadata().at("seamap_origin").c_str(), "%lf,%lf", &lat0, &lon0), 2);
+  const LocalFrame frame(LatLon{lat0, lon0});
+  const PlacedObject expected = PlaceObject(model_from_camera, mount, vehicle, frame);
+
+  std::vector<Detection> stereo;
+  for (const Detection& d : store->Detections())
+    if (d.source == "stereo") stereo.push_back(d);
+  ASSERT_EQ(stereo.size(), 1u);
+  const Detection& d = stereo[0];
+  const LocalXY at = frame.FromLatLon(d.position);
+  EXPECT_LT(std::hypot(at.east - expected.local.east, at.north - expected.local.north), 0.01);
+  ASSERT_TRUE(d.depth_m && d.heading_deg);
+  EXPECT_NEAR(*d.depth_m, expected.depth_m, 0.01);
+  EXPECT_NEAR(*d.heading_deg, expected.heading_deg, 0.5);
+  EXPECT_EQ(d.class_name, pose["model"].get<std::string>());
+  EXPECT_EQ(d.status, "unconfirmed");
+  EXPECT_NEAR(pose["geo"]["heading_deg"].get<double>(), *d.heading_deg, 1e-9);
+  // The acoustic modem's record carries the heading (360/256 degree steps).
+  const ModemRecord r = ModemRecordOf(d, 0, std::nullopt);
+  ASSERT_TRUE(r.heading_valid());
+  EXPECT_LT(std::abs(std::remainder(r.heading * 360.0 / 256 - *d.heading_deg, 360.0)), 360.0 / 512 + 1e-9);
+
+  // Located again: the same detection, updated, not a second one.
+  Locate(s, "--views 1" + where);
+  int count = 0;
+  for (const Detection& again : OpenExistingMap(map, false)->Detections())
+    if (again.source == "stereo") {
+      ++count;
+      EXPECT_EQ(again.id, d.id);
+    }
+  EXPECT_EQ(count, 1);
+
+  // Where the vehicle was must be known, and inside the navigation's times.
+  const std::string base = "stereo-locate --calib " + s.calib + " --model " + s.model + " --pairs " + s.root +
+                           "/approach --out " + (s.dir->path() / "p.json").string();
+  EXPECT_NE(Seamap(base + " --map " + map, &log), 0);
+  EXPECT_NE(log.find("--map"), std::string::npos) << log;
+  EXPECT_NE(Seamap(base + " --nav " + nav + " --time 500 --map " + map, &log), 0);
+  EXPECT_NE(log.find("--time"), std::string::npos) << log;
+  EXPECT_NE(log.find("outside the navigation"), std::string::npos) << log;
+  EXPECT_NE(Seamap(base + " --nav " + nav + " --time 101 --rig sideways", &log), 0);
+  EXPECT_NE(log.find("--rig"), std::string::npos) << log;
 }
 
 TEST(Stereo, ModelHoldsPointsInTheFirstOverviewFrame) {

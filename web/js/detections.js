@@ -80,10 +80,13 @@ export class Detections {
     const [lon, lat] = feature.geometry.coordinates;
     let marker = this.markers.get(id);
     const editable = p.source === 'operator' && this.canEdit();
-    const iconKey = `${p.class}|${p.source}|${p.status}`;
+    // A stereo location has an orientation: an arrow along the object's x axis.
+    const heading = Number.isFinite(p.heading_deg) ? Math.round(p.heading_deg * 10) / 10 : null;
+    const iconKey = `${p.class}|${p.source}|${p.status}|${heading}`;
     const icon = L.divIcon({
       className: `detection-icon ${p.source === 'operator' ? 'operator' : 'detected'} class-${escapeClass(p.class)} status-${escapeClass(p.status || 'unconfirmed')}`,
-      html: `<span data-detection-id="${id}" title="${escapeHtml(p.class)}" style="background:${classColour(p.class)}"></span>`,
+      html: `<span data-detection-id="${id}" title="${escapeHtml(p.class)}" style="background:${classColour(p.class)}"></span>` +
+        (heading === null ? '' : `<b class="heading" data-heading="${heading}" style="transform:rotate(${heading}deg)">↑</b>`),
       iconSize: [18, 18],
       iconAnchor: [9, 9],
       popupAnchor: [0, -8],
@@ -236,6 +239,8 @@ export class Detections {
         p.model ? [el('dt', {}, 'model'), el('dd', {}, p.model)] : null,
         p.source !== 'operator' ? [el('dt', {}, 'status'), el('dd', {class: 'popup-status'}, p.status || 'unconfirmed')] : null,
         p.size_m ? [el('dt', {}, 'size'), el('dd', {}, `${formatMetres(p.size_m[0])} × ${formatMetres(p.size_m[1])}`)] : null,
+        Number.isFinite(p.heading_deg) ? [el('dt', {}, 'heading'), el('dd', {class: 'popup-heading'}, `${Number(p.heading_deg).toFixed(1)}°`)] : null,
+        Number.isFinite(p.depth_m) ? [el('dt', {}, 'depth'), el('dd', {}, formatMetres(p.depth_m))] : null,
         el('dt', {}, 'position'), el('dd', {}, where),
         el('dt', {}, 'time'), el('dd', {}, formatTime(p.time_s)),
         p.note ? [el('dt', {}, 'note'), el('dd', {}, p.note)] : null),

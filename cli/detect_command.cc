@@ -99,11 +99,10 @@ int RunDetect(int argc, char** argv, int first) {
   settings.min_score = min_score.value_or(model->min_score);
   settings.tile_size = meta.count("seamap_tile_size") ? MetaInt(meta, "seamap_tile_size", path) : 256;
   const int min_zoom = MetaInt(meta, "minzoom", path), base_zoom = MetaInt(meta, "maxzoom", path);
-  double lat = 0, lon = 0;
-  if (!meta.count("seamap_origin") || std::sscanf(meta.at("seamap_origin").c_str(), "%lf,%lf", &lat, &lon) != 2)
-    throw InputError(path, 0, "seamap_origin", "the map's metadata has no mission origin (lat,lon)");
-  settings.origin = {lat, lon};
-  settings.zooms = ChooseZooms(requested, "--zooms", min_zoom, base_zoom, lat, settings.tile_size, *model);
+  const std::optional<LatLon> origin = MissionOrigin(meta);
+  if (!origin) throw InputError(path, 0, "seamap_origin", "the map's metadata has no mission origin (lat,lon)");
+  settings.origin = *origin;
+  settings.zooms = ChooseZooms(requested, "--zooms", min_zoom, base_zoom, origin->lat, settings.tile_size, *model);
 
   cv::setNumThreads(1);  // as in a build: ms per window on one thread
   const std::vector<WindowKey> windows = MapWindows(tiles, settings.zooms, settings.tile_size);

@@ -15,10 +15,8 @@
 #include "core/stereo/object_georef.h"
 #include "core/stereo/object_locator.h"
 #include "core/tiles/detection_match.h"
-#include "core/tiles/mission_classes.h"
 #include "core/tiles/tile_store.h"
 #include "core/util/error.h"
-#include "core/util/utc_time.h"
 
 namespace seamap::cli {
 namespace {
@@ -58,42 +56,9 @@ RigMount ReadRigMount(Args& args) {
 
 // The mission's origin, for local navigation and the detection's position_m.
 LatLon MapOrigin(const TileStore& store, const std::string& path) {
-  const auto meta = store.Metadata();
-  double lat = 0, lon = 0;
-  if (!meta.count("seamap_origin") || std::sscanf(meta.at("seamap_origin").c_str(), "%lf,%lf", &lat, &lon) != 2)
-    throw InputError(path, 0, "seamap_origin", "the map's metadata has no mission origin (lat,lon)");
-  return {lat, lon};
-}
-
-// Stores the located object; an earlier stereo location of the same object
-// (same model, within 10 cm) keeps its id, creation time, note and review.
-Detection StoreLocated(TileStore& store, Detection d) {
-  std::vector<std::string> table = MissionClassTable(store);
-  if (ExtendClassTable(&table, {d.class_name})) StoreClassTable(&store, table);
-  StoreMissionT0(&store);
-  int64_t last_id = 0, last_seq = 0;
-  std::vector<Detection> earlier;
-  for (const Detection& e : store.Detections()) {
-    last_id = std::max(last_id, e.id);
-    last_seq = std::max(last_seq, e.seq);
-    if (e.source == "stereo") earlier.push_back(e);
-  }
-  const std::string now = UtcNowIso8601();
-  const int match = MatchEarlier(earlier, {d})[0];
-  if (match >= 0) {
-    d.id = earlier[match].id;
-    d.created = earlier[match].created;
-    d.note = earlier[match].note;
-    d.status = earlier[match].status;
-  } else {
-    d.id = last_id + 1;
-    d.created = now;
-  }
-  d.updated = now;
-  d.seq = last_seq + 1;
-  store.PutDetection(d);
-  store.Flush();
-  return d;
+  const std::optional<LatLon> origin = MissionOrigin(store.Metadata());
+  if (!origin) throw InputError(path, 0, "seamap_origin", "the map's metadata has no mission origin (lat,lon)");
+  return *origin;
 }
 
 }  // namespace
@@ -200,7 +165,9 @@ int RunStereoLocate(int argc, char** argv, int first) {
       d.depth_m = placed->depth_m;
       d.time_s = time_s;
       d.status = "unconfirmed";
-      d = StoreLocated(*store, d);
+      // Located again within 10 cm (same model file): the same detection, its review kept.
+      d = StoreFound(*store, {d}, "stereo", d.model, {d.class_name})[0];
+      store->Flush();
       std::printf("stored as detection %lld in %s\n", static_cast<long long>(d.id), map_path->c_str());
     }
   }

@@ -166,17 +166,6 @@ DetectionFilter ParseDetectionFilter(const std::optional<std::string>& bbox, con
   return f;
 }
 
-nlohmann::json DetectionFeature(const Detection& d) {
-  // Every stored field but lat/lon, which the Point geometry carries.
-  nlohmann::json props = DetectionToJson(d);
-  props.erase("lat");
-  props.erase("lon");
-  return {{"type", "Feature"},
-          {"id", d.id},
-          {"geometry", {{"type", "Point"}, {"coordinates", {d.position.lon, d.position.lat}}}},
-          {"properties", std::move(props)}};
-}
-
 void DetectionRegistry::Load(const TileStore& store) {
   std::lock_guard<std::mutex> lock(mutex_);
   for (const Detection& d : store.Detections()) {

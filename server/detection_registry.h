@@ -13,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/tiles/record_json.h"  // DetectionFeature, for the API and events
 #include "core/tiles/tile_store.h"
 #include "server/event_hub.h"
 
@@ -54,9 +55,6 @@ DetectionFilter ParseDetectionFilter(const std::optional<std::string>& bbox, con
                                      const std::optional<std::string>& since,
                                      const std::optional<std::string>& status = std::nullopt,
                                      const std::optional<std::string>& source = std::nullopt);
-
-// GeoJSON Feature of a detection (Point geometry, properties, id).
-nlohmann::json DetectionFeature(const Detection& d);
 
 class DetectionRegistry {
  public:

@@ -89,10 +89,7 @@ void MissionState::Load(const TileStore& store) {
     }
   }
   if (metadata.count("seamap_state")) progress_.state = metadata["seamap_state"] == "complete" ? "complete" : "stopped";
-  if (metadata.count("seamap_origin")) {
-    double lat, lon;
-    if (std::sscanf(metadata["seamap_origin"].c_str(), "%lf,%lf", &lat, &lon) == 2) origin_ = LatLon{lat, lon};
-  }
+  if (auto origin = MissionOrigin(metadata)) origin_ = *origin;
   stored_t0_.reset();
   if (metadata.count(kT0Key)) {
     char* end = nullptr;

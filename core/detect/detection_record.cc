@@ -4,8 +4,6 @@
 #include <cmath>
 
 #include "core/tiles/detection_match.h"
-#include "core/tiles/mission_classes.h"
-#include "core/util/utc_time.h"
 
 namespace seamap {
 namespace {
@@ -70,45 +68,9 @@ namespace seamap {
 
 std::vector<Detection> StoreRecognised(TileStore& store, const std::vector<RecognisedObject>& objects,
                                        const std::string& model, const std::vector<std::string>& class_names) {
-  std::vector<std::string> table = MissionClassTable(store);
-  if (ExtendClassTable(&table, class_names)) StoreClassTable(&store, table);
-  StoreMissionT0(&store);
-  int64_t last_id = 0, last_seq = 0;
-  std::vector<Detection> old;
-  for (const Detection& d : store.Detections()) {
-    last_id = std::max(last_id, d.id);
-    last_seq = std::max(last_seq, d.seq);
-    if (d.source == "recogniser" && ModelFile(d.model) == ModelFile(model)) old.push_back(d);
-  }
   std::vector<Detection> found;
   for (const RecognisedObject& o : objects) found.push_back(ToDetection(o));
-  const std::vector<int> continues = MatchEarlier(old, found);
-  std::vector<bool> used(old.size(), false);
-  const std::string now = UtcNowIso8601();
-  std::vector<Detection> stored;
-  for (size_t k = 0; k < found.size(); ++k) {
-    Detection& d = found[k];
-    const int match = continues[k];
-    if (match >= 0) {
-      used[match] = true;
-      // The operator's review stays, and a rejected object is not recreated: it is kept as rejected.
-      d.id = old[match].id;
-      d.created = old[match].created;
-      d.note = old[match].note;
-      if (!old[match].status.empty()) d.status = old[match].status;
-    } else {
-      d.id = ++last_id;
-      d.created = now;
-    }
-    d.updated = now;
-    d.seq = ++last_seq;
-    store.PutDetection(d);
-    stored.push_back(d);
-  }
-  // Gone from this search: dropped, unless the operator reviewed it (kept as they left it).
-  for (size_t i = 0; i < old.size(); ++i)
-    if (!used[i] && old[i].status != "confirmed" && old[i].status != "rejected") store.DeleteDetection(old[i].id);
-  return stored;
+  return StoreFound(store, std::move(found), "recogniser", model, class_names);
 }
 
 nlohmann::json RecognisedFeatureCollection(const std::vector<RecognisedObject>& objects) {

@@ -21,15 +21,9 @@ void AttachFrames(std::vector<RecognisedObject>& objects, const std::vector<Fram
 // source "recogniser"; frame_id/time_s from the first frame.
 Detection ToDetection(const RecognisedObject& object);
 
-// Stores the recogniser's objects in the mission, replacing the earlier
-// detections of the same model file (`model`: "name.onnx#hash"): one matching
-// a new object (same class, centres within max(10 cm, a quarter of the
-// smaller size)) keeps its id, creation time, note and the operator's status
-// (a rejected object stays rejected, never recreated as new); unmatched ones
-// go unless the operator confirmed or rejected them. Returns the detections
-// as stored.
-// The model's class names go first into the mission's class table (the
-// modem record's class ids), and t0 is stored.
+// The recogniser's objects stored in the mission (StoreFound, source
+// "recogniser", `model`: "name.onnx#hash"): ids, notes and the operator's
+// review carried over from the same model file's earlier search.
 std::vector<Detection> StoreRecognised(TileStore& store, const std::vector<RecognisedObject>& objects,
                                        const std::string& model, const std::vector<std::string>& class_names);
 

@@ -58,11 +58,9 @@ nlohmann::json ObjectsGeoJson(const std::vector<Detection>& detections) {
   nlohmann::json features = nlohmann::json::array();
   for (const Detection& d : detections) {
     if (d.status == "rejected") continue;
-    nlohmann::json properties = DetectionToJson(d);
-    for (const char* internal : {"lat", "lon", "seq", "frames", "box", "levels", "model"}) properties.erase(internal);
-    features.push_back({{"type", "Feature"},
-                        {"geometry", {{"type", "Point"}, {"coordinates", {d.position.lon, d.position.lat}}}},
-                        {"properties", properties}});
+    nlohmann::json feature = DetectionFeature(d);
+    for (const char* internal : {"seq", "frames", "box", "levels", "model"}) feature["properties"].erase(internal);
+    features.push_back(std::move(feature));
   }
   return {{"type", "FeatureCollection"}, {"features", features}};
 }

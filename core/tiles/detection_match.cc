@@ -4,6 +4,9 @@
 #include <cmath>
 #include <tuple>
 
+#include "core/tiles/mission_classes.h"
+#include "core/util/utc_time.h"
+
 namespace seamap {
 namespace {
 
@@ -48,6 +51,47 @@ std::vector<int> MatchEarlier(const std::vector<Detection>& earlier, const std::
     taken[e] = true;
   }
   return match;
+}
+
+std::vector<Detection> StoreFound(TileStore& store, std::vector<Detection> found, const std::string& source,
+                                  const std::string& model, const std::vector<std::string>& class_names) {
+  std::vector<std::string> table = MissionClassTable(store);
+  if (ExtendClassTable(&table, class_names)) StoreClassTable(&store, table);
+  StoreMissionT0(&store);
+  int64_t last_id = 0, last_seq = 0;
+  std::vector<Detection> old;
+  for (const Detection& d : store.Detections()) {
+    last_id = std::max(last_id, d.id);
+    last_seq = std::max(last_seq, d.seq);
+    if (d.source == source && ModelFile(d.model) == ModelFile(model)) old.push_back(d);
+  }
+  const std::vector<int> continues = MatchEarlier(old, found);
+  std::vector<bool> used(old.size(), false);
+  const std::string now = UtcNowIso8601();
+  std::vector<Detection> stored;
+  for (size_t k = 0; k < found.size(); ++k) {
+    Detection& d = found[k];
+    const int match = continues[k];
+    if (match >= 0) {
+      used[match] = true;
+      // The operator's review stays, and a rejected object is not recreated: it is kept as rejected.
+      d.id = old[match].id;
+      d.created = old[match].created;
+      d.note = old[match].note;
+      if (!old[match].status.empty()) d.status = old[match].status;
+    } else {
+      d.id = ++last_id;
+      d.created = now;
+    }
+    d.updated = now;
+    d.seq = ++last_seq;
+    store.PutDetection(d);
+    stored.push_back(d);
+  }
+  // Gone from this search: dropped, unless the operator reviewed it (kept as they left it).
+  for (size_t i = 0; i < old.size(); ++i)
+    if (!used[i] && old[i].status != "confirmed" && old[i].status != "rejected") store.DeleteDetection(old[i].id);
+  return stored;
 }
 
 }  // namespace seamap

@@ -167,6 +167,16 @@ nlohmann::json DetectionToJson(const Detection& original) {
           {"seq", d.seq}};
 }
 
+nlohmann::json DetectionFeature(const Detection& d) {
+  nlohmann::json props = DetectionToJson(d);
+  props.erase("lat");  // the Point geometry carries them
+  props.erase("lon");
+  return {{"type", "Feature"},
+          {"id", d.id},
+          {"geometry", {{"type", "Point"}, {"coordinates", {d.position.lon, d.position.lat}}}},
+          {"properties", std::move(props)}};
+}
+
 Detection DetectionFromJson(const nlohmann::json& j) {
   Detection d;
   d.id = j.at("id").get<int64_t>();

@@ -32,6 +32,8 @@ TrackPoint TrackPointFromJson(const nlohmann::json& j);
 nlohmann::json BoxToJson(const std::vector<LatLon>& ring);
 std::vector<LatLon> BoxFromJson(const nlohmann::json& j);
 nlohmann::json DetectionToJson(const Detection& d);
+// A GeoJSON Feature: Point at the position, every stored field but lat/lon as properties.
+nlohmann::json DetectionFeature(const Detection& d);
 Detection DetectionFromJson(const nlohmann::json& j);
 
 }  // namespace seamap

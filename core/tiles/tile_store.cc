@@ -1,6 +1,7 @@
 #include "core/tiles/tile_store.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 
@@ -15,6 +16,13 @@ namespace seamap {
 bool IsMBTilesPath(const std::string& path) {
   const std::string suffix = ".mbtiles";
   return path.size() >= suffix.size() && path.compare(path.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+std::optional<LatLon> MissionOrigin(const std::map<std::string, std::string>& metadata) {
+  const auto it = metadata.find("seamap_origin");
+  double lat = 0, lon = 0;
+  if (it == metadata.end() || std::sscanf(it->second.c_str(), "%lf,%lf", &lat, &lon) != 2) return std::nullopt;
+  return LatLon{lat, lon};
 }
 
 std::unique_ptr<TileStore> OpenExistingMap(const std::string& path, bool writable) {

@@ -239,14 +239,23 @@ TEST(Stereo, ObjectFrameFromDrawingPointsGivesPosesInTheDrawingFrame) {
   EXPECT_NE(log.find("collinear"), std::string::npos) << log;
 }
 
-TEST(Stereo, IcpBaselineGivesAPose) {
+TEST(Stereo, IcpBaselineGivesARightPoseOrSaysWhyNot) {
+  // ICP registers the structure standing off the seabed; on this scene (seed 1)
+  // it ends ~8 cm off, and its found rule must refuse that rather than report it.
   const Scene& s = SharedScene();
   const auto icp = Locate(s, "--views 1 --method icp");
   EXPECT_EQ(icp["method"], "icp");
-  ASSERT_TRUE(icp["found"].get<bool>()) << icp.dump(2);
+  EXPECT_GT(icp["timing"]["registration_s"].get<double>(), 0);
+  if (!icp["found"].get<bool>()) {
+    EXPECT_TRUE(icp["object_from_camera"].is_null());
+    EXPECT_NE(icp["reason"].get<std::string>().find("off the seabed plane"), std::string::npos) << icp.dump(2);
+    return;
+  }
   const double e = PoseError(s, icp);
-  std::printf("ICP check-point error %.1f mm\n", 1000 * e);
-  EXPECT_LT(e, 0.2);  // right place, far less precise than features
+  const auto& sigma = icp["uncertainty"]["position_sigma_m"];
+  const double sigma_m = std::hypot(sigma[0].get<double>(), sigma[1].get<double>(), sigma[2].get<double>());
+  std::printf("ICP check-point error %.1f mm, sigma %.1f mm\n", 1000 * e, 1000 * sigma_m);
+  EXPECT_LT(e, 3 * sigma_m + 0.002);
 }
 
 TEST(Stereo, NoObjectInViewIsFoundFalseNotAWrongPose) {

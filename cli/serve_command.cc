@@ -163,7 +163,8 @@ int RunServe(int argc, char** argv, int first) {
               static_cast<size_t>(mission.progress().frames_done), static_cast<size_t>(mission.TrackSize()));
   std::fflush(stdout);
   // A map another process is still building: follow it every two seconds
-  // (frames, track, state) and tell the browsers.
+  // (frames, track, state) and tell the browsers; detections another process
+  // adds to any map, too.
   std::string state_seen = state.state;
   {
     std::unique_lock<std::mutex> lock(mutex);
@@ -179,6 +180,7 @@ int RunServe(int argc, char** argv, int first) {
               now.Explanation());
         }
         state_seen = now.state;
+        detections.Refresh(records);  // another process's stereo-locate --map or detect
       } catch (const std::exception& e) {
         std::fprintf(stderr, "warning: cannot follow %s: %s\n", path.c_str(), e.what());
       }

@@ -157,9 +157,11 @@ void CatalogServer::Follow() {
   std::lock_guard<std::mutex> lock(mutex_);
   for (const CatalogEntry& e : listing_) {
     auto it = open_.find(e.path);
-    if (it == open_.end() || !e.available || (e.state != "building" && it->second->state != "building")) continue;
+    if (it == open_.end() || !e.available) continue;
     OpenMission& m = *it->second;
     try {
+      m.detections->Refresh(*m.records);
+      if (e.state != "building" && m.state != "building") continue;
       FollowRecords(m.mission, m.events, *m.records, e.state, "");
       m.state = e.state;
     } catch (const std::exception& ex) {

@@ -170,10 +170,49 @@ void DetectionRegistry::Load(const TileStore& store) {
   std::lock_guard<std::mutex> lock(mutex_);
   for (const Detection& d : store.Detections()) {
     detections_[d.id] = d;
+    stored_seq_[d.id] = d.seq;
     last_seq_ = std::max(last_seq_, d.seq);
     last_id_ = std::max(last_id_, d.id);
   }
   classes_ = MissionClassTable(store);
+}
+
+void DetectionRegistry::Refresh(const TileStore& store) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  RefreshLocked(store);
+}
+
+void DetectionRegistry::RefreshLocked(const TileStore& store) {
+  std::map<int64_t, Detection> in_store;
+  for (Detection& d : store.Detections()) in_store[d.id] = std::move(d);
+  for (auto& [id, d] : in_store) {
+    last_id_ = std::max(last_id_, id);
+    auto seen = stored_seq_.find(id);
+    if (seen != stored_seq_.end() && seen->second == d.seq) continue;
+    stored_seq_[id] = d.seq;
+    // The other process numbered it from the file alone; browsers asking
+    // `since` our last seq (deletions of this session count) must still get it.
+    if (d.seq <= last_seq_) d.seq = ++last_seq_;
+    last_seq_ = d.seq;
+    const bool known = detections_.count(id) > 0;
+    deleted_.erase(id);
+    detections_[id] = d;
+    Announce(known ? "updated" : "created", d);
+  }
+  for (auto it = detections_.begin(); it != detections_.end();) {
+    if (in_store.count(it->first)) {
+      ++it;
+      continue;
+    }
+    Detection gone = it->second;
+    stored_seq_.erase(gone.id);
+    it = detections_.erase(it);
+    gone.seq = ++last_seq_;
+    deleted_[gone.id] = gone;
+    Announce("deleted", gone);
+  }
+  const std::vector<std::string> classes = MissionClassTable(store);
+  if (classes.size() > classes_.size()) classes_ = classes;
 }
 
 nlohmann::json DetectionRegistry::Query(const DetectionFilter& f) const {
@@ -206,6 +245,7 @@ void DetectionRegistry::Announce(const char* action, const Detection& d) {
 
 void DetectionRegistry::Store(const Detection& d) {
   store_->PutDetection(d);
+  stored_seq_[d.id] = d.seq;
   if (ExtendClassTable(&classes_, {d.class_name})) StoreClassTable(store_, classes_);
   if (!t0_stored_) t0_stored_ = StoreMissionT0(store_).has_value();
 }
@@ -213,6 +253,7 @@ void DetectionRegistry::Store(const Detection& d) {
 void DetectionRegistry::Forget(std::map<int64_t, Detection>::iterator it) {
   Detection gone = it->second;
   store_->DeleteDetection(gone.id);
+  stored_seq_.erase(gone.id);
   detections_.erase(it);
   gone.seq = ++last_seq_;
   deleted_[gone.id] = gone;
@@ -231,6 +272,7 @@ nlohmann::json DetectionRegistry::Create(const nlohmann::json& feature) {
   d.source = "operator";
   d.created = d.updated = UtcNowIso8601();
   std::lock_guard<std::mutex> lock(mutex_);
+  RefreshLocked(*store_);
   d.id = ++last_id_;  // never reuses the id of a mark deleted in this session
   d.seq = ++last_seq_;
   Store(d);
@@ -243,6 +285,7 @@ nlohmann::json DetectionRegistry::Create(const nlohmann::json& feature) {
 nlohmann::json DetectionRegistry::Update(int64_t id, const nlohmann::json& patch) {
   CheckWritable();
   std::lock_guard<std::mutex> lock(mutex_);
+  RefreshLocked(*store_);
   auto it = detections_.find(id);
   if (it == detections_.end()) throw ApiError(404, "no detection " + std::to_string(id));
   if (!patch.is_object()) throw ApiError(400, "body: expected a GeoJSON Feature or a properties object");
@@ -272,6 +315,7 @@ nlohmann::json DetectionRegistry::Update(int64_t id, const nlohmann::json& patch
 void DetectionRegistry::Delete(int64_t id) {
   CheckWritable();
   std::lock_guard<std::mutex> lock(mutex_);
+  RefreshLocked(*store_);
   auto it = detections_.find(id);
   if (it == detections_.end()) throw ApiError(404, "no detection " + std::to_string(id));
   if (it->second.source != "operator")
@@ -286,6 +330,7 @@ PublishResult DetectionRegistry::Publish(std::vector<Detection> batch, const Pub
   PublishResult result;
   const std::string now = UtcNowIso8601();
   std::lock_guard<std::mutex> lock(mutex_);
+  RefreshLocked(*store_);
   if (ExtendClassTable(&classes_, options.model_classes)) StoreClassTable(store_, classes_);
   // Which earlier detection each one continues: by id when it has one (an
   // operator's mark is not ours to change), else the same object nearby.

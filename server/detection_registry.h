@@ -62,6 +62,12 @@ class DetectionRegistry {
   DetectionRegistry(TileStore* store, EventHub* events) : store_(store), events_(events) {}
 
   void Load(const TileStore& store);
+  // Takes in what another process wrote to the mission since (stereo-locate
+  // --map, seamap detect): new and changed detections and the ones it deleted,
+  // announced like the API's own changes, and new classes. Every write through
+  // the API does this first, so an id is never taken twice and a PATCH never
+  // puts back what another process changed.
+  void Refresh(const TileStore& store);
   bool writable() const { return store_ != nullptr; }
 
   // FeatureCollection with "last_seq".
@@ -95,12 +101,14 @@ class DetectionRegistry {
   // Stores the detection; the class table and t0 join the metadata when new. Call with mutex_ held.
   void Store(const Detection& d);
   void Forget(std::map<int64_t, Detection>::iterator it);  // deletes, keeps a tombstone
+  void RefreshLocked(const TileStore& store);
 
   TileStore* store_;
   EventHub* events_;
   mutable std::mutex mutex_;
   std::map<int64_t, Detection> detections_;
-  std::map<int64_t, Detection> deleted_;  // this session's deletions, seq = the deletion's
+  std::map<int64_t, Detection> deleted_;   // this session's deletions, seq = the deletion's
+  std::map<int64_t, int64_t> stored_seq_;  // id -> seq in the store as last read or written
   std::vector<std::string> classes_;
   bool t0_stored_ = false;
   int64_t last_seq_ = 0;

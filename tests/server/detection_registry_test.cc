@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include "core/tiles/detection_match.h"
 #include "server/api_error.h"
 #include "tests/server/test_mission.h"
 #include "tests/testing/temp_dir.h"
@@ -362,6 +363,68 @@ TEST_F(DetectionRegistryTest, AReadOnlyMissionRefusesWrites) {
   EXPECT_API_ERROR(read_only.Create(Mark(5, 43, "x")), 403, "read-only");
   EXPECT_API_ERROR(read_only.Update(2, {{"note", "x"}}), 403, "read-only");
   EXPECT_API_ERROR(read_only.Delete(2), 403, "read-only");
+}
+
+TEST_F(DetectionRegistryTest, TakesInWhatAnotherProcessWrote) {
+  // stereo-locate --map in another process: its own connection to the file.
+  const int64_t marked = registry_->Create(Mark(5, 43, "a"))["id"];  // id 3, seq 3
+  registry_->Delete(marked);                                         // a tombstone at seq 4
+  Detection located;
+  {
+    MBTilesStore other(mission_.path.string());
+    located.class_name = "wellhead";
+    located.source = "stereo";
+    located.position = {43.01, 5.01};
+    located.heading_deg = 30;
+    located = StoreFound(other, {located}, "stereo", "wellhead.json", {"wellhead"}).at(0);
+    Detection changed = other.Detections().at(1);  // id 2, moved by the other process
+    changed.position.lat += 0.001;
+    changed.seq = located.seq + 1;
+    other.PutDetection(changed);
+    other.DeleteDetection(1);
+    other.Flush();
+  }
+  EXPECT_EQ(located.id, marked);  // numbered from the file, where the deleted mark's id is free again
+  EXPECT_LE(located.seq, 4);
+  const int64_t before = events_.LastId();
+  registry_->Refresh(*store_);
+  std::vector<std::string> actions;
+  for (const auto& e : events_.WaitAfter(before, std::chrono::milliseconds(0)))
+    actions.push_back(json::parse(e.data)["action"].get<std::string>() + " " +
+                      std::to_string(json::parse(e.data)["id"].get<int64_t>()));
+  EXPECT_EQ(actions, (std::vector<std::string>{"updated 2", "created 3", "deleted 1"}));
+  const json all = registry_->Query({});
+  EXPECT_EQ(Ids(all), (std::vector<int64_t>{2, 3}));
+  // A browser that had seen everything up to our tombstone (seq 4) still gets the new ones.
+  DetectionFilter since;
+  since.since = 4;
+  EXPECT_EQ(Ids(registry_->Query(since)), (std::vector<int64_t>{2, 3}));
+  EXPECT_EQ(registry_->Get(3).value()["properties"]["heading_deg"], 30);
+  EXPECT_EQ(registry_->Classes().back(), "wellhead");
+  // Nothing more the second time.
+  const int64_t after = events_.LastId();
+  registry_->Refresh(*store_);
+  EXPECT_EQ(events_.LastId(), after);
+
+  // Another write by the other process, not yet refreshed: a PATCH does not put
+  // back the old position, and a new mark does not take its id.
+  {
+    MBTilesStore other(mission_.path.string());
+    Detection again = located;
+    again.position.lon += 0.002;
+    again.seq = 99;
+    other.PutDetection(again);
+    Detection more = located;
+    more.id = 5;
+    more.seq = 100;
+    other.PutDetection(more);
+    other.Flush();
+  }
+  registry_->Update(3, {{"note", "seen by the arm camera"}});
+  EXPECT_NEAR(Stored().at(3).position.lon, located.position.lon + 0.002, 1e-12);
+  EXPECT_EQ(Stored().at(3).note, "seen by the arm camera");
+  EXPECT_EQ(registry_->Create(Mark(5, 43, "b"))["id"], 6);
+  EXPECT_EQ(Stored().size(), 4u);  // 2, 3, 5, 6
 }
 
 }  // namespace

@@ -173,9 +173,11 @@ int RunStereoLocate(int argc, char** argv, int first) {
   }
   if (result.found) {
     const Eigen::Vector3d c = result.object_from_camera.translation();
-    std::printf("found '%s' (%s) in %zu pair(s): camera at %.4f %.4f %.4f m, sigma %.1f mm, RMS %.2f px -> %s\n",
-                model.name.c_str(), result.method.c_str(), result.pairs.size(), c.x(), c.y(), c.z(),
-                1000 * result.position_sigma_m.norm(), result.joint_rms_px, out.c_str());
+    std::printf(
+        "found '%s' (%s) in %zu pair(s): camera at %.4f %.4f %.4f m (sigma %.1f mm), object points sigma %.2f mm, "
+        "RMS %.2f px -> %s\n",
+        model.name.c_str(), result.method.c_str(), result.pairs.size(), c.x(), c.y(), c.z(),
+        1000 * result.position_sigma_m.norm(), 1000 * result.point_sigma_m, result.joint_rms_px, out.c_str());
   } else {
     std::printf("not found: %s -> %s\n", result.reason.c_str(), out.c_str());
   }

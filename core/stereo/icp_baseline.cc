@@ -125,12 +125,12 @@ bool IcpFound(const IcpRegistration& registration, const IcpOptions& options, st
   const bool found = registration.near >= options.min_near &&
                      registration.near >= options.min_near_fraction * registration.structure &&
                      registration.rms_m <= options.max_rms_m;
-  if (!found && reason)
-    *reason = cv::format(
-        "ICP: %d of %d points off the seabed plane within %.0f mm of the model (need %d and %.0f %%), "
-        "RMS %.1f mm",
-        registration.near, registration.structure, 1000 * options.near_m, options.min_near,
-        100 * options.min_near_fraction, 1000 * registration.rms_m);
+  if (!found && reason) {
+    *reason = cv::format("ICP: %d of %d points off the seabed plane within %.0f mm of the model (need %d and %.0f %%)",
+                         registration.near, registration.structure, 1000 * options.near_m, options.min_near,
+                         100 * options.min_near_fraction);
+    if (registration.near > 0) *reason += cv::format(", RMS %.1f mm", 1000 * registration.rms_m);
+  }
   return found;
 }
 
@@ -166,6 +166,7 @@ LocateResult LocateObjectIcp(const ObjectModel& model, const StereoCalibration& 
       const double sigma = reg.rms_m / std::sqrt(std::max(1.0, reg.near / double(options.normal_neighbours)));
       result.position_sigma_m = Eigen::Vector3d::Constant(sigma);
       result.covariance.bottomRightCorner<3, 3>() = Eigen::Matrix3d::Identity() * sigma * sigma;
+      result.point_sigma_m = std::sqrt(3.0) * sigma;
     }
     result.pairs.push_back(pr);
   }

@@ -138,6 +138,8 @@ LocateResult LocateObject(const ObjectModel& model, const StereoCalibration& cal
   std::sort(accepted.begin(), accepted.end());
 
   const auto t_joint = std::chrono::steady_clock::now();
+  std::vector<Eigen::Vector3d> model_xyz;
+  for (const ModelPoint& p : model.points) model_xyz.push_back(p.xyz);
   for (int round = 0; round < 3; ++round) {
     // One pose per accepted pair; matched model points under their priors; tie points free.
     BundleProblem problem;
@@ -239,6 +241,7 @@ LocateResult LocateObject(const ObjectModel& model, const StereoCalibration& cal
     }
     for (size_t a = 0; a < accepted.size(); ++a) result.pairs[accepted[a]].object_from_camera = problem.poses[a];
     result.object_from_camera = problem.poses[0];
+    result.point_sigma_m = PointSigmaM(result.object_from_camera, result.covariance, model_xyz);
     if (!solved.has_covariance) {
       result.reason = "the joint problem is rank deficient (no covariance)";
       result.found = false;
@@ -270,10 +273,10 @@ LocateResult LocateObject(const ObjectModel& model, const StereoCalibration& cal
     result.reason =
         cv::format("joint reprojection RMS %.2f px (limit %.2f px)", result.joint_rms_px, options.max_rms_px);
   }
-  if (result.found && result.position_sigma_m.norm() > options.max_position_sigma_m) {
+  if (result.found && result.point_sigma_m > options.max_point_sigma_m) {
     result.found = false;
-    result.reason = cv::format("position uncertainty %.3f m (limit %.3f m)", result.position_sigma_m.norm(),
-                               options.max_position_sigma_m);
+    result.reason = cv::format("the object's points are uncertain by %.3f m (limit %.3f m)", result.point_sigma_m,
+                               options.max_point_sigma_m);
   }
   return result;
 }
@@ -325,7 +328,8 @@ nlohmann::json LocateResultToJson(const LocateResult& r, const std::string& mode
     j["uncertainty"] = {
         {"covariance_6x6", cov},
         {"position_sigma_m", {r.position_sigma_m.x(), r.position_sigma_m.y(), r.position_sigma_m.z()}},
-        {"rotation_sigma_deg", {r.rotation_sigma_deg.x(), r.rotation_sigma_deg.y(), r.rotation_sigma_deg.z()}}};
+        {"rotation_sigma_deg", {r.rotation_sigma_deg.x(), r.rotation_sigma_deg.y(), r.rotation_sigma_deg.z()}},
+        {"point_sigma_m", r.point_sigma_m}};
   } else {
     j["object_from_camera"] = nullptr;
   }

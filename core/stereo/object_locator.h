@@ -26,10 +26,10 @@ struct LocateOptions {
   int min_inliers = 12;
   double min_inlier_share = 0.25;  // of the pair's model matches
   double max_rms_px = 1.5;
-  double min_hull_share = 0.02;  // of the image area
-  double min_spread_m = 0.05;    // second singular value of the inlier cloud
-  double max_position_sigma_m = 0.02;
-  bool tie_points = true;  // with several pairs
+  double min_hull_share = 0.02;     // of the image area
+  double min_spread_m = 0.05;       // second singular value of the inlier cloud
+  double max_point_sigma_m = 0.02;  // the model's points in the camera (PointSigmaM)
+  bool tie_points = true;           // with several pairs
   void Check() const;
 };
 
@@ -56,6 +56,7 @@ struct LocateResult {
   Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
   Eigen::Vector3d position_sigma_m = Eigen::Vector3d::Zero();
   Eigen::Vector3d rotation_sigma_deg = Eigen::Vector3d::Zero();
+  double point_sigma_m = 0;  // RMS over the model's points, in the camera frame
   double features_s = 0, registration_s = 0, joint_s = 0;
 };
 

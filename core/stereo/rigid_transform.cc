@@ -1,5 +1,7 @@
 #include "core/stereo/rigid_transform.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 
 #include <Eigen/Dense>
@@ -71,6 +73,29 @@ double CheckPointError(const Rigid& est_object_from_camera, const Rigid& true_ob
   for (const Eigen::Vector3d& p : check_points_object)
     sum += (est_camera_from_object * p - true_camera_from_object * p).norm();
   return sum / static_cast<double>(check_points_object.size());
+}
+
+double PointSigmaM(const Rigid& object_from_camera, const Eigen::Matrix<double, 6, 6>& covariance,
+                   const std::vector<Eigen::Vector3d>& points_object) {
+  if (points_object.empty()) return 0;
+  const Eigen::Matrix<double, 6, 1> v = RigidToVector(object_from_camera);
+  // Jacobian of camera_from_object * P by central differences: the rotation
+  // vector's chart has no simple closed form away from identity.
+  constexpr double kStep = 1e-6;
+  std::array<Rigid, 6> plus, minus;
+  for (int i = 0; i < 6; ++i) {
+    Eigen::Matrix<double, 6, 1> d = Eigen::Matrix<double, 6, 1>::Zero();
+    d[i] = kStep;
+    plus[i] = RigidFromVector(v + d).inverse();
+    minus[i] = RigidFromVector(v - d).inverse();
+  }
+  double sum = 0;
+  for (const Eigen::Vector3d& p : points_object) {
+    Eigen::Matrix<double, 3, 6> jacobian;
+    for (int i = 0; i < 6; ++i) jacobian.col(i) = (plus[i] * p - minus[i] * p) / (2 * kStep);
+    sum += (jacobian * covariance * jacobian.transpose()).trace();
+  }
+  return std::sqrt(std::max(0.0, sum / static_cast<double>(points_object.size())));
 }
 
 double RotationAngleDeg(const Eigen::Matrix3d& rotation) {

@@ -32,6 +32,14 @@ Rigid FitRigid(const std::vector<Eigen::Vector3d>& src, const std::vector<Eigen:
 double CheckPointError(const Rigid& est_object_from_camera, const Rigid& true_object_from_camera,
                        const std::vector<Eigen::Vector3d>& check_points_object);
 
+// The check-point error a pose's uncertainty predicts: the RMS distance the
+// points (object coordinates) move in the camera frame under the covariance
+// of object_from_camera's RigidToVector parameters (rotation vector first),
+// to first order. Unlike the camera's position sigma in the object frame, it
+// is not inflated by the lever arm from the object to the camera.
+double PointSigmaM(const Rigid& object_from_camera, const Eigen::Matrix<double, 6, 6>& covariance,
+                   const std::vector<Eigen::Vector3d>& points_object);
+
 // Angle of a rotation, degrees.
 double RotationAngleDeg(const Eigen::Matrix3d& rotation);
 

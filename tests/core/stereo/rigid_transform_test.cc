@@ -52,5 +52,34 @@ TEST(RigidTransform, CheckPointErrorIsZeroForEqualPosesAndTheOffsetForAShift) {
   EXPECT_NEAR(CheckPointError(shifted, truth, points), 0.005, 1e-9);
 }
 
+TEST(RigidTransform, PointSigmaPredictsHowFarThePointsMove) {
+  const Rigid object_from_camera = Pose(0.2, -0.3, 1.1, 0.4, -0.2, -3.6);
+  const std::vector<Eigen::Vector3d> points{{0, 0, 0}, {1.2, 0, 0.3}, {-0.8, 1, -0.5}, {0.3, -1.5, 0.2}};
+  // Translation alone: every point moves as the camera does, sqrt(3) sigma.
+  Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
+  covariance.bottomRightCorner<3, 3>() = Eigen::Matrix3d::Identity() * 1e-6;  // 1 mm per axis
+  EXPECT_NEAR(PointSigmaM(object_from_camera, covariance, points), std::sqrt(3.0) * 1e-3, 1e-7);
+
+  // With rotation and correlations: the RMS displacement of poses drawn from the covariance.
+  Eigen::Matrix<double, 6, 6> a = Eigen::Matrix<double, 6, 6>::Random() * 1e-3;
+  covariance = a * a.transpose();
+  const double predicted = PointSigmaM(object_from_camera, covariance, points);
+  const Eigen::Matrix<double, 6, 6> root = covariance.llt().matrixL();
+  std::mt19937 rng(4);
+  std::normal_distribution<double> gauss;
+  const Eigen::Matrix<double, 6, 1> v = RigidToVector(object_from_camera);
+  double sum = 0;
+  const int draws = 20000;
+  for (int k = 0; k < draws; ++k) {
+    Eigen::Matrix<double, 6, 1> z;
+    for (int i = 0; i < 6; ++i) z[i] = gauss(rng);
+    const Rigid drawn = RigidFromVector(v + root * z);
+    for (const Eigen::Vector3d& p : points)
+      sum += (drawn.inverse() * p - object_from_camera.inverse() * p).squaredNorm() / points.size();
+  }
+  EXPECT_NEAR(predicted, std::sqrt(sum / draws), 0.03 * predicted);
+  EXPECT_EQ(PointSigmaM(object_from_camera, covariance, {}), 0);
+}
+
 }  // namespace
 }  // namespace seamap

@@ -29,6 +29,7 @@ found: false (exit 0) when the object is not recognised.
   --views N          use the first N pairs of DIR (sorted by name) jointly (default 1)
   --method M         features (default) or icp (the baseline: OpenCV surface_matching ICP)
   --no-tie-points    joint solution without points matched between the pairs
+  --min-tie-points N a later pair joins only when N points tie it to the others (default 10)
   --min-inliers N    found rule: inliers per pair (default 12)
   --max-features N   SIFT keypoints per image (default 4000)
 where the object is on the Earth (with --nav and --time):
@@ -78,6 +79,7 @@ int RunStereoLocate(int argc, char** argv, int first) {
   LocateOptions options;
   options.tie_points = !args.Flag("no-tie-points");
   options.min_inliers = args.GetInt("min-inliers", options.min_inliers);
+  options.min_tie_points = args.GetInt("min-tie-points", options.min_tie_points);
   options.sift.max_features = args.GetInt("max-features", options.sift.max_features);
   const std::optional<std::string> nav_path = args.Get("nav"), map_path = args.Get("map");
   const std::optional<std::string> time_text = args.Get("time");

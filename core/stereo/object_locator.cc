@@ -54,6 +54,7 @@ std::vector<std::pair<int, int>> MatchStereoPoints(const StereoFrame& a, const S
 void LocateOptions::Check() const {
   sift.Check();
   if (min_inliers < 4) throw InputError("", 0, "--min-inliers", "expected at least 4");
+  if (min_tie_points < 0) throw InputError("", 0, "--min-tie-points", "expected 0 or more");
   if (!(registration.ratio > 0 && registration.ratio <= 1)) throw InputError("", 0, "--ratio", "expected (0, 1]");
 }
 
@@ -140,7 +141,8 @@ LocateResult LocateObject(const ObjectModel& model, const StereoCalibration& cal
   const auto t_joint = std::chrono::steady_clock::now();
   std::vector<Eigen::Vector3d> model_xyz;
   for (const ModelPoint& p : model.points) model_xyz.push_back(p.xyz);
-  for (int round = 0; round < 3; ++round) {
+  // Each round either ends or drops at least one pair.
+  for (size_t round = 0; round <= pairs.size(); ++round) {
     // One pose per accepted pair; matched model points under their priors; tie points free.
     BundleProblem problem;
     double sigma = 0;
@@ -166,6 +168,7 @@ LocateResult LocateObject(const ObjectModel& model, const StereoCalibration& cal
     }
     problem.sigma_px = sigma;
     int tie_points = 0;
+    std::vector<std::pair<size_t, int>> weak;  // (accepted index, its tie points), ascending
     if (options.tie_points && accepted.size() > 1) {
       // Nodes: (pose a, stereo point s); edges: verified matches between pairs.
       std::vector<int> offset(accepted.size() + 1, 0);
@@ -191,6 +194,7 @@ LocateResult LocateObject(const ObjectModel& model, const StereoCalibration& cal
           const int node = offset[a] + s;
           groups[sets.Find(node)].push_back({static_cast<int>(a), s});
         }
+      std::vector<int> ties_of(accepted.size(), 0);
       for (auto& [root, nodes] : groups) {
         if (nodes.size() < 2) continue;
         std::vector<int> poses_seen(accepted.size(), 0);
@@ -207,6 +211,7 @@ LocateResult LocateObject(const ObjectModel& model, const StereoCalibration& cal
         if (conflict) continue;
         int target = model_point;
         if (target < 0) {
+          for (const auto& [a, s] : nodes) ++ties_of[a];
           BundlePoint p;
           p.xyz.setZero();
           for (const auto& [a, s] : nodes) p.xyz += problem.poses[a] * frames[accepted[a]].points[s].xyz;
@@ -217,6 +222,21 @@ LocateResult LocateObject(const ObjectModel& model, const StereoCalibration& cal
         }
         for (const auto& [a, s] : nodes) point_of_left[a].emplace(frames[accepted[a]].points[s].left, target);
       }
+      for (size_t a = 1; a < accepted.size(); ++a)
+        if (ties_of[a] < options.min_tie_points) weak.push_back({a, ties_of[a]});
+    }
+    // A pair tied to the others by a handful of points adds its own error to the
+    // first pair's pose more than it averages it out (seen in murky water, 2-10
+    // tie points): it stays out. The first pair used always stays.
+    if (!weak.empty()) {
+      for (auto it = weak.rbegin(); it != weak.rend(); ++it) {
+        PairResult& dropped = result.pairs[accepted[it->first]];
+        dropped.accepted = false;
+        dropped.reason =
+            cv::format("only %d points tie it to the other pairs (need %d)", it->second, options.min_tie_points);
+        accepted.erase(accepted.begin() + it->first);
+      }
+      continue;
     }
     for (size_t a = 0; a < accepted.size(); ++a) {
       const StereoFrame& fr = frames[accepted[a]];

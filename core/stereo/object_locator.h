@@ -30,6 +30,7 @@ struct LocateOptions {
   double min_spread_m = 0.05;       // second singular value of the inlier cloud
   double max_point_sigma_m = 0.02;  // the model's points in the camera (PointSigmaM)
   bool tie_points = true;           // with several pairs
+  int min_tie_points = 10;          // a later pair tied to the others by fewer stays out of the joint
   void Check() const;
 };
 

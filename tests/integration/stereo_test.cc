@@ -213,6 +213,17 @@ TEST(Stereo, OneViewAndThreeViewsLocateTheObjectWithinThePapersErrors) {
   EXPECT_GT(s3, 0);
   EXPECT_LT(e3, 4 * s3 + 0.0003);
   EXPECT_GT(std::hypot(sigma[0].get<double>(), sigma[1].get<double>(), sigma[2].get<double>()), s3);
+  EXPECT_GE(three["tie_points"].get<int>(), 10);
+
+  // Pairs tied to the first by too few points stay out, saying so: the result is the first pair's own.
+  const auto untied = Locate(s, "--views 3 --min-tie-points 1000000");
+  ASSERT_TRUE(untied["found"].get<bool>()) << untied.dump(2);
+  EXPECT_EQ(untied["views"].size(), 1u);
+  ASSERT_EQ(untied["rejected"].size(), 2u);
+  EXPECT_NE(untied["rejected"][1]["reason"].get<std::string>().find("points tie it to the other pairs"),
+            std::string::npos)
+      << untied.dump(2);
+  EXPECT_NEAR(PoseError(s, untied), e1, 1e-6);
 }
 
 TEST(Stereo, ObjectFrameFromDrawingPointsGivesPosesInTheDrawingFrame) {

@@ -30,6 +30,8 @@ found: false (exit 0) when the object is not recognised.
   --method M         features (default) or icp (the baseline: OpenCV surface_matching ICP)
   --no-tie-points    joint solution without points matched between the pairs
   --min-tie-points N a later pair joins only when N points tie it to the others (default 10)
+  --motion FILE      the rig's motion between the pairs from the vehicle's navigation (motion.json:
+                     world_from_camera per pair, sigma_m, sigma_deg): holds the joint solution to it
   --min-inliers N    found rule: inliers per pair (default 12)
   --max-features N   SIFT keypoints per image (default 4000)
 where the object is on the Earth (with --nav and --time):
@@ -80,6 +82,7 @@ int RunStereoLocate(int argc, char** argv, int first) {
   options.tie_points = !args.Flag("no-tie-points");
   options.min_inliers = args.GetInt("min-inliers", options.min_inliers);
   options.min_tie_points = args.GetInt("min-tie-points", options.min_tie_points);
+  if (const auto motion = args.Get("motion")) options.motion = ReadRigMotion(*motion);
   options.sift.max_features = args.GetInt("max-features", options.sift.max_features);
   const std::optional<std::string> nav_path = args.Get("nav"), map_path = args.Get("map");
   const std::optional<std::string> time_text = args.Get("time");

@@ -11,7 +11,9 @@ namespace {
 
 const char* kUsage = R"(usage: seamap simulate-stereo --out DIR [options]
 Renders stereo.yaml, overview/ and approach/ pairs (NAME_left.png, NAME_right.png),
-empty/ (a pair without the object), truth/poses.json, truth/check_points.csv, scene.json.
+empty/ (a pair without the object), truth/poses.json, truth/check_points.csv, scene.json,
+and motion.json (the approach pairs' poses as the vehicle's navigation measures them, for
+stereo-locate --motion).
   --out DIR        output folder (must be empty unless --force)
   --force          replace a previous scene in DIR
   --seed N         scene layout, poses and noise (default 1)
@@ -22,6 +24,7 @@ empty/ (a pair without the object), truth/poses.json, truth/check_points.csv, sc
   --blur SIGMA_PX  optical blur (default 0)
   --offset M       first approach pair within M of the object's axis (default 1)
   --supersample S  S x S samples per pixel (default 2)
+  --motion-noise M,DEG  navigation noise per axis in motion.json (default 0.001,0.01)
 )";
 
 }  // namespace
@@ -43,6 +46,11 @@ int RunSimulateStereo(int argc, char** argv, int first) {
   o.render.blur_sigma_px = args.GetDouble("blur", o.render.blur_sigma_px);
   o.render.supersample = args.GetInt("supersample", o.render.supersample);
   o.approach_offset_m = args.GetDouble("offset", o.approach_offset_m);
+  if (const auto noise = args.Get("motion-noise")) {
+    char tail = 0;
+    if (std::sscanf(noise->c_str(), "%lf,%lf%c", &o.motion_sigma_m, &o.motion_sigma_deg, &tail) != 2)
+      throw InputError("", 0, "--motion-noise", "expected M,DEG (metres and degrees per axis), got '" + *noise + "'");
+  }
   args.RejectUnknown();
   if (!args.positionals().empty())
     throw InputError("", 0, args.positionals()[0], "unexpected argument; see seamap simulate-stereo --help");

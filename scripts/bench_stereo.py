@@ -48,7 +48,7 @@ built = set()  # models built by this run
 for variant in variants:
     for seed in range(1, scenes + 1):
         d = os.path.join(out, f"stereo_{variant}_{seed}")
-        if not os.path.exists(os.path.join(d, "truth", "poses.json")):
+        if not all(os.path.exists(os.path.join(d, f)) for f in ("truth/poses.json", "motion.json")):
             rc, log, _ = run(["simulate-stereo", "--out", d, "--force", "--seed", str(seed), "--views", "3"]
                              + options[variant].split())
             if rc:
@@ -70,10 +70,13 @@ for variant in variants:
             continue
         truth = json.load(open(d + "/truth/poses.json"))
         points = [list(map(float, l.split(","))) for l in open(d + "/truth/check_points.csv").read().split("\n")[1:] if l]
-        for method, views in (("features", 1), ("features", 2), ("features", 3), ("icp", 1)):
+        # "motion": the three pairs held to the rig's motion as the vehicle's navigation measured it
+        # (motion.json: 1 mm and 0.01 degree per axis).
+        for method, views in (("features", 1), ("features", 2), ("features", 3), ("motion", 3), ("icp", 1)):
             pose = os.path.join(d, f"pose_{method}_{views}.json")
-            rc, log, _ = run(["stereo-locate", "--calib", d + "/stereo.yaml", "--model", model, "--pairs",
-                              d + "/approach", "--views", str(views), "--method", method, "--out", pose])
+            extra = ["--motion", d + "/motion.json"] if method == "motion" else ["--method", method]
+            rc, log, _ = run(["stereo-locate", "--calib", model_dir + "/stereo.yaml", "--model", model, "--pairs",
+                              d + "/approach", "--views", str(views), "--out", pose] + extra)
             r = json.load(open(pose)) if rc == 0 else {"found": False}
             entry = {"found": r["found"], "views": r.get("views", []), "timing": r.get("timing", {})}
             if r["found"]:

@@ -1,5 +1,6 @@
 #include "core/sim/stereo_survey.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -44,6 +45,8 @@ void StereoSurveyOptions::Check() const {
   if (views < 1 || views > 20) throw InputError("", 0, "--views", "expected 1 to 20 pairs");
   if (!(object_texture >= 0 && object_texture <= 2)) throw InputError("", 0, "--texture", "expected 0-2");
   if (!(approach_offset_m >= 0 && approach_offset_m <= 2)) throw InputError("", 0, "--offset", "expected 0-2 m");
+  if (!(motion_sigma_m >= 0 && motion_sigma_m <= 1 && motion_sigma_deg >= 0 && motion_sigma_deg <= 10))
+    throw InputError("", 0, "--motion-noise", "expected 0-1 m and 0-10 degrees");
   render.Check();
 }
 
@@ -122,6 +125,22 @@ StereoSurveySummary SimulateStereoSurvey(const StereoSurveyOptions& options) {
   poses["empty"] = {{"em_001", RigidToJson(empty_pose)}};
 
   std::ofstream(out / "truth" / "poses.json") << poses.dump(2) << "\n";
+  // The rig's path as the vehicle's navigation measures it (stereo-locate --motion): the true poses,
+  // each off by the navigation's noise, from a generator of its own so the scene does not change.
+  std::mt19937_64 nav_rng(options.seed * 7919 + 17);
+  std::normal_distribution<double> gauss;
+  nlohmann::json measured = nlohmann::json::object();
+  for (const auto& [name, pose] : summary.approach) {
+    Eigen::Matrix<double, 6, 1> noise;
+    for (int i = 0; i < 3; ++i) noise[i] = gauss(nav_rng) * options.motion_sigma_deg * M_PI / 180;
+    for (int i = 3; i < 6; ++i) noise[i] = gauss(nav_rng) * options.motion_sigma_m;
+    measured[name] = RigidToJson(pose * RigidFromVector(noise));
+  }
+  std::ofstream(out / "motion.json") << nlohmann::json{{"world_from_camera", measured},
+                                                       {"sigma_m", std::max(options.motion_sigma_m, 1e-4)},
+                                                       {"sigma_deg", std::max(options.motion_sigma_deg, 1e-3)}}
+                                            .dump(2)
+                                     << "\n";
   std::ofstream check(out / "truth" / "check_points.csv");
   check << "x,y,z\n";
   for (const auto& [name, p] : scene.check_points) check << cv::format("%.6f,%.6f,%.6f\n", p.x(), p.y(), p.z());

@@ -22,6 +22,8 @@ struct StereoSurveyOptions {
   int views = 3;                 // overview pairs and approach pairs
   double object_texture = 1;     // 1 fouled steel, ~0.15 plain paint
   double approach_offset_m = 1;  // the approach's first pair lies within this of the object's axis
+  // motion.json: the approach poses as navigation would measure them, this noisy per axis.
+  double motion_sigma_m = 0.001, motion_sigma_deg = 0.01;
   StereoRenderOptions render;
   void Check() const;
 };

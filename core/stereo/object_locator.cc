@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <fstream>
 #include <map>
 #include <numeric>
 
@@ -50,6 +51,31 @@ std::vector<std::pair<int, int>> MatchStereoPoints(const StereoFrame& a, const S
 }
 
 }  // namespace
+
+RigMotion ReadRigMotion(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path, 0, "--motion", "cannot open the rig's motion file");
+  nlohmann::json j;
+  try {
+    in >> j;
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(path, 0, "--motion", std::string("not JSON: ") + e.what());
+  }
+  RigMotion motion;
+  if (!j.is_object() || !j.contains("world_from_camera") || !j["world_from_camera"].is_object())
+    throw InputError(path, 0, "world_from_camera", "expected an object of 4x4 poses by pair name");
+  for (const auto& [pair, pose] : j["world_from_camera"].items())
+    motion.world_from_camera[pair] = RigidFromJson(pose, path, "world_from_camera." + pair);
+  const auto positive = [&](const char* key, double* value) {
+    if (!j.contains(key)) return;
+    if (!j[key].is_number() || !(j[key].get<double>() > 0))
+      throw InputError(path, 0, key, "expected a positive number");
+    *value = j[key].get<double>();
+  };
+  positive("sigma_m", &motion.sigma_m);
+  positive("sigma_deg", &motion.sigma_deg);
+  return motion;
+}
 
 void LocateOptions::Check() const {
   sift.Check();
@@ -167,6 +193,21 @@ LocateResult LocateObject(const ObjectModel& model, const StereoCalibration& cal
       }
     }
     problem.sigma_px = sigma;
+    // The vehicle's measure of the rig's motion ties each later pair to the first.
+    std::vector<bool> moved_with_first(accepted.size(), false);
+    const auto first_pose = options.motion.world_from_camera.find(result.pairs[accepted[0]].pair);
+    for (size_t a = 1; a < accepted.size() && first_pose != options.motion.world_from_camera.end(); ++a) {
+      const auto pose = options.motion.world_from_camera.find(result.pairs[accepted[a]].pair);
+      if (pose == options.motion.world_from_camera.end()) continue;
+      BundleMotion m;
+      m.from_pose = 0;
+      m.to_pose = static_cast<int>(a);
+      m.from_camera_from_to_camera = first_pose->second.inverse() * pose->second;
+      m.sigma_m = options.motion.sigma_m;
+      m.sigma_rad = options.motion.sigma_deg * M_PI / 180;
+      problem.motions.push_back(m);
+      moved_with_first[a] = true;
+    }
     int tie_points = 0;
     std::vector<std::pair<size_t, int>> weak;  // (accepted index, its tie points), ascending
     if (options.tie_points && accepted.size() > 1) {
@@ -223,7 +264,7 @@ LocateResult LocateObject(const ObjectModel& model, const StereoCalibration& cal
         for (const auto& [a, s] : nodes) point_of_left[a].emplace(frames[accepted[a]].points[s].left, target);
       }
       for (size_t a = 1; a < accepted.size(); ++a)
-        if (ties_of[a] < options.min_tie_points) weak.push_back({a, ties_of[a]});
+        if (ties_of[a] < options.min_tie_points && !moved_with_first[a]) weak.push_back({a, ties_of[a]});
     }
     // A pair tied to the others by a handful of points adds its own error to the
     // first pair's pose more than it averages it out (seen in murky water, 2-10

@@ -7,6 +7,7 @@
 // matched between the pairs, object and seabed) whose 3D positions are free.
 // The result is the first accepted pair's object_from_camera with its
 // covariance, or found = false with the reason: never a confident wrong pose.
+#include <map>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,17 @@
 #include "core/stereo/stereo_pairs.h"
 
 namespace seamap {
+
+// What the vehicle measured of the rig's path (motion.json): the left camera's
+// pose per pair in any fixed frame, and how well each relative pose is known.
+struct RigMotion {
+  std::map<std::string, Rigid> world_from_camera;  // by pair name
+  double sigma_m = 0.002, sigma_deg = 0.02;        // per axis, of a pair's pose relative to another's
+};
+
+// Reads motion.json: {"world_from_camera": {pair: 4x4}, "sigma_m": s, "sigma_deg": s};
+// throws InputError naming the file and field.
+RigMotion ReadRigMotion(const std::string& path);
 
 struct LocateOptions {
   SiftOptions sift;
@@ -31,6 +43,9 @@ struct LocateOptions {
   double max_point_sigma_m = 0.02;  // the model's points in the camera (PointSigmaM)
   bool tie_points = true;           // with several pairs
   int min_tie_points = 10;          // a later pair tied to the others by fewer stays out of the joint
+  // The rig's own motion (--motion): each pair's world_from_camera from the
+  // vehicle's navigation; the joint solution holds the pairs to it.
+  RigMotion motion;
   void Check() const;
 };
 

@@ -82,6 +82,52 @@ struct PointPrior {
   Eigen::Matrix3d sqrt_info;
 };
 
+// Relative pose prior: the measured from_camera_from_to_camera against the
+// poses' own, rotation (angle-axis of the difference) and translation.
+struct MotionPrior {
+  explicit MotionPrior(const BundleMotion& m) : inv_sigma_m(1 / m.sigma_m), inv_sigma_rad(1 / m.sigma_rad) {
+    const Eigen::Matrix<double, 6, 1> v = RigidToVector(m.from_camera_from_to_camera.inverse());
+    for (int i = 0; i < 6; ++i) measured_inverse[i] = v[i];
+  }
+  template <typename T>
+  bool operator()(const T* from, const T* to, T* residual) const {
+    // from_camera_from_to_camera = R_from^T (R_to x + t_to - t_from)
+    T r_from[9], r_to[9], r_m[9];
+    ceres::AngleAxisToRotationMatrix(from, ceres::RowMajorAdapter3x3(r_from));
+    ceres::AngleAxisToRotationMatrix(to, ceres::RowMajorAdapter3x3(r_to));
+    const T w_m[3] = {T(measured_inverse[0]), T(measured_inverse[1]), T(measured_inverse[2])};
+    ceres::AngleAxisToRotationMatrix(w_m, ceres::RowMajorAdapter3x3(r_m));
+    // rel = R_from^T R_to; error = measured^-1 * rel.
+    T rel[9], err[9];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        rel[3 * i + j] = T(0);
+        for (int k = 0; k < 3; ++k) rel[3 * i + j] += r_from[3 * k + i] * r_to[3 * k + j];
+      }
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        err[3 * i + j] = T(0);
+        for (int k = 0; k < 3; ++k) err[3 * i + j] += r_m[3 * i + k] * rel[3 * k + j];
+      }
+    T w_err[3];
+    ceres::RotationMatrixToAngleAxis(ceres::RowMajorAdapter3x3(static_cast<const T*>(err)), w_err);
+    T t_rel[3];
+    const T d[3] = {to[3] - from[3], to[4] - from[4], to[5] - from[5]};
+    for (int i = 0; i < 3; ++i)
+      t_rel[i] = r_from[3 * 0 + i] * d[0] + r_from[3 * 1 + i] * d[1] + r_from[3 * 2 + i] * d[2];
+    // measured^-1 * (R, t): R_m t_rel + t_m
+    for (int i = 0; i < 3; ++i) {
+      residual[i] = w_err[i] * inv_sigma_rad;
+      T t = T(measured_inverse[3 + i]);
+      for (int k = 0; k < 3; ++k) t += r_m[3 * i + k] * t_rel[k];
+      residual[3 + i] = t * inv_sigma_m;
+    }
+    return true;
+  }
+  double measured_inverse[6];
+  double inv_sigma_m, inv_sigma_rad;
+};
+
 }  // namespace
 
 bool ProjectToPair(const RectifiedRig& rig, const Rigid& object_from_camera, const Eigen::Vector3d& xyz_object,
@@ -124,6 +170,13 @@ BundleResult SolveBundle(BundleProblem* problem, const RectifiedRig& rig, int co
           new ceres::AutoDiffCostFunction<PointPrior, 3, 3>(new PointPrior(p.prior_xyz, p.prior_cov)), nullptr,
           point_params[k].data());
     if (p.fixed) ceres_problem.SetParameterBlockConstant(point_params[k].data());
+  }
+  for (const BundleMotion& m : problem->motions) {
+    if (m.from_pose < 0 || m.to_pose < 0 || m.from_pose >= static_cast<int>(n_poses) ||
+        m.to_pose >= static_cast<int>(n_poses) || !pose_used[m.from_pose] || !pose_used[m.to_pose])
+      continue;
+    ceres_problem.AddResidualBlock(new ceres::AutoDiffCostFunction<MotionPrior, 6, 6, 6>(new MotionPrior(m)), nullptr,
+                                   pose_params[m.from_pose].data(), pose_params[m.to_pose].data());
   }
   for (size_t k = 0; k < n_poses; ++k)
     if (pose_used[k] && k < problem->pose_fixed.size() && problem->pose_fixed[k])

@@ -31,11 +31,20 @@ struct BundlePoint {
   bool fixed = false;
 };
 
+// The vehicle's own measure of how the rig moved between two pairs (its
+// navigation: DVL and INS), as a prior on their relative pose.
+struct BundleMotion {
+  int from_pose = -1, to_pose = -1;
+  Rigid from_camera_from_to_camera = Rigid::Identity();
+  double sigma_m = 0.002, sigma_rad = 0.0003;  // per axis
+};
+
 struct BundleProblem {
   std::vector<Rigid> poses;  // object_from_camera (updated)
   std::vector<bool> pose_fixed;
   std::vector<BundlePoint> points;
   std::vector<BundleObservation> observations;
+  std::vector<BundleMotion> motions;
   double sigma_px = 0.3;
 };
 

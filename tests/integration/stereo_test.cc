@@ -226,6 +226,41 @@ TEST(Stereo, OneViewAndThreeViewsLocateTheObjectWithinThePapersErrors) {
   EXPECT_NEAR(PoseError(s, untied), e1, 1e-6);
 }
 
+TEST(Stereo, TheRigsMotionFromNavigationHoldsThePairsTogether) {
+  const Scene& s = SharedScene();
+  const std::string motion = s.root + "/motion.json";  // the true path, 1 mm and 0.01 degree off per axis
+  const auto held = Locate(s, "--views 3 --motion " + motion);
+  ASSERT_TRUE(held["found"].get<bool>()) << held.dump(2);
+  EXPECT_EQ(held["views"].size(), 3u);
+  const double e = PoseError(s, held);
+  std::printf("check-point error, three views held to the rig's motion: %.3f mm\n", 1000 * e);
+  EXPECT_LT(e, 0.0028);
+  EXPECT_LT(e, 4 * held["uncertainty"]["point_sigma_m"].get<double>() + 0.0003);
+
+  // Pairs that no tie point joins still join when the motion holds them.
+  const auto untied = Locate(s, "--views 3 --min-tie-points 1000000 --motion " + motion);
+  ASSERT_TRUE(untied["found"].get<bool>()) << untied.dump(2);
+  EXPECT_EQ(untied["views"].size(), 3u);
+
+  // A motion file that is not one is refused, naming what is wrong.
+  testing::TempDir dir;
+  const std::string base = "stereo-locate --calib " + s.calib + " --model " + s.model + " --pairs " + s.root +
+                           "/approach --views 3 --out " + (dir / "p.json").string() + " --motion ";
+  std::string log;
+  EXPECT_EQ(Seamap(base + (dir / "none.json").string(), &log), 2);
+  EXPECT_NE(log.find("--motion"), std::string::npos) << log;
+  nlohmann::json bad = ReadJson(motion);
+  bad["world_from_camera"]["ap_002"][0][0] = 3.0;
+  testing::WriteFile(dir / "bad.json", bad.dump());
+  EXPECT_EQ(Seamap(base + (dir / "bad.json").string(), &log), 2);
+  EXPECT_NE(log.find("world_from_camera.ap_002"), std::string::npos) << log;
+  bad = ReadJson(motion);
+  bad["sigma_m"] = -1;
+  testing::WriteFile(dir / "sigma.json", bad.dump());
+  EXPECT_EQ(Seamap(base + (dir / "sigma.json").string(), &log), 2);
+  EXPECT_NE(log.find("sigma_m"), std::string::npos) << log;
+}
+
 TEST(Stereo, ObjectFrameFromDrawingPointsGivesPosesInTheDrawingFrame) {
   const Scene& s = SharedScene();
   testing::TempDir dir;

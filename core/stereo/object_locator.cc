@@ -203,8 +203,9 @@ LocateResult LocateObject(const ObjectModel& model, const StereoCalibration& cal
       m.from_pose = 0;
       m.to_pose = static_cast<int>(a);
       m.from_camera_from_to_camera = first_pose->second.inverse() * pose->second;
-      m.sigma_m = options.motion.sigma_m;
-      m.sigma_rad = options.motion.sigma_deg * M_PI / 180;
+      // Two poses, each off by sigma: their relative pose by sqrt(2) sigma.
+      m.sigma_m = std::sqrt(2.0) * options.motion.sigma_m;
+      m.sigma_rad = std::sqrt(2.0) * options.motion.sigma_deg * M_PI / 180;
       problem.motions.push_back(m);
       moved_with_first[a] = true;
     }

@@ -24,7 +24,7 @@ namespace seamap {
 // pose per pair in any fixed frame, and how well each relative pose is known.
 struct RigMotion {
   std::map<std::string, Rigid> world_from_camera;  // by pair name
-  double sigma_m = 0.002, sigma_deg = 0.02;        // per axis, of a pair's pose relative to another's
+  double sigma_m = 0.002, sigma_deg = 0.02;        // per axis, of each pair's pose (independent errors)
 };
 
 // Reads motion.json: {"world_from_camera": {pair: 4x4}, "sigma_m": s, "sigma_deg": s};

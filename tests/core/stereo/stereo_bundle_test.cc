@@ -7,24 +7,23 @@
 namespace seamap {
 namespace {
 
-Rigid Pose(double rx, double ry, double rz, double tx, double ty, double tz) {
-  Eigen::Matrix<double, 6, 1> v;
-  v << rx, ry, rz, tx, ty, tz;
-  return RigidFromVector(v);
-}
+// Poses as rotation vector (rad) and translation (m).
+using V6 = Eigen::Matrix<double, 6, 1>;
 
 // Pair 0 sees 5 points, pair 1 sees 400: alone, pair 0's pose is poor; held
 // to the rig's measured motion from pair 1 it inherits pair 1's precision.
 TEST(StereoBundle, TheRigsMotionCarriesOnePairsPrecisionToAnother) {
   RectifiedRig rig;  // the paper's: f 1040 px, 0.25 m baseline, 1200 x 900
   rig.f = 1040, rig.cx = 600, rig.cy = 450, rig.baseline_m = 0.25;
-  const Rigid truth0 = Pose(M_PI, 0.05, 0.1, 0.2, -0.1, 3.6), truth1 = truth0 * Pose(0.02, -0.03, 0.1, 0.5, 0.2, 0.05);
+  const Rigid truth0 = RigidFromVector((V6() << M_PI, 0.05, 0.1, 0.2, -0.1, 3.6).finished()),
+              truth1 = truth0 * RigidFromVector((V6() << 0.02, -0.03, 0.1, 0.5, 0.2, 0.05).finished());
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(-1.2, 1.2);
   std::normal_distribution<double> pixel_noise(0, 0.3);
   const auto solve = [&](bool with_motion) {
     BundleProblem problem;
-    problem.poses = {truth0 * Pose(0.01, -0.01, 0.02, 0.03, -0.02, 0.02), truth1 * Pose(0.004, 0, 0, 0, 0.01, 0)};
+    problem.poses = {truth0 * RigidFromVector((V6() << 0.01, -0.01, 0.02, 0.03, -0.02, 0.02).finished()),
+                     truth1 * RigidFromVector((V6() << 0.004, 0, 0, 0, 0.01, 0).finished())};
     problem.pose_fixed = {false, false};
     problem.sigma_px = 0.3;
     for (int k = 0; k < 405; ++k) {

@@ -155,6 +155,30 @@ TEST(Catalogue, EachMissionHasItsOwnReadOnlyApiAndConsole) {
   EXPECT_EQ(bare->status, 302);
   EXPECT_EQ(bare->get_header_value("Location"), "/missions/dive_a/");
   EXPECT_EQ(GetJson(api, "/missions/nope/", 404).is_object(), true);
+
+  // Another process stores a detection in an open mission (stereo-locate --map,
+  // seamap detect): the catalogue serves it within a few seconds.
+  {
+    auto writer = OpenExistingMap((folder / "dive_b.mbtiles").string(), true);
+    Detection d;
+    d.id = 1;
+    d.seq = 1;
+    d.class_name = "wellhead";
+    d.source = "stereo";
+    d.position = {43.1, 131.9};
+    d.heading_deg = 75;
+    writer->PutDetection(d);
+    writer->Flush();
+  }
+  nlohmann::json served;
+  for (int tries = 0; tries < 60 && served.empty(); ++tries) {
+    served = GetJson(api, "/missions/dive_b/api/detections")["features"];
+    if (served.empty()) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  ASSERT_EQ(served.size(), 1u) << "the catalogue never showed the detection another process stored";
+  EXPECT_EQ(served[0]["properties"]["class"], "wellhead");
+  EXPECT_EQ(served[0]["properties"]["heading_deg"], 75);
+  EXPECT_TRUE(GetJson(api, "/missions/dive_a/api/detections")["features"].empty());
 }
 
 }  // namespace

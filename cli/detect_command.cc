@@ -99,10 +99,9 @@ int RunDetect(int argc, char** argv, int first) {
   settings.min_score = min_score.value_or(model->min_score);
   settings.tile_size = meta.count("seamap_tile_size") ? MetaInt(meta, "seamap_tile_size", path) : 256;
   const int min_zoom = MetaInt(meta, "minzoom", path), base_zoom = MetaInt(meta, "maxzoom", path);
-  const std::optional<LatLon> origin = MissionOrigin(meta);
-  if (!origin) throw InputError(path, 0, "seamap_origin", "the map's metadata has no mission origin (lat,lon)");
-  settings.origin = *origin;
-  settings.zooms = ChooseZooms(requested, "--zooms", min_zoom, base_zoom, origin->lat, settings.tile_size, *model);
+  settings.origin = RequireMissionOrigin(meta, path);
+  settings.zooms =
+      ChooseZooms(requested, "--zooms", min_zoom, base_zoom, settings.origin.lat, settings.tile_size, *model);
 
   cv::setNumThreads(1);  // as in a build: ms per window on one thread
   const std::vector<WindowKey> windows = MapWindows(tiles, settings.zooms, settings.tile_size);

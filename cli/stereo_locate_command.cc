@@ -57,13 +57,6 @@ RigMount ReadRigMount(Args& args) {
   return mount;
 }
 
-// The mission's origin, for local navigation and the detection's position_m.
-LatLon MapOrigin(const TileStore& store, const std::string& path) {
-  const std::optional<LatLon> origin = MissionOrigin(store.Metadata());
-  if (!origin) throw InputError(path, 0, "seamap_origin", "the map's metadata has no mission origin (lat,lon)");
-  return *origin;
-}
-
 }  // namespace
 
 int RunStereoLocate(int argc, char** argv, int first) {
@@ -116,11 +109,14 @@ int RunStereoLocate(int argc, char** argv, int first) {
 
   // Where the vehicle was, before the (slow) search: bad navigation is reported first.
   std::unique_ptr<TileStore> store = map_path ? OpenExistingMap(*map_path, /*writable=*/true) : nullptr;
+  // The mission's origin: the navigation's local frame, and so the detection's position_m, is the mission's.
+  const std::optional<LatLon> origin =
+      store ? std::optional<LatLon>(RequireMissionOrigin(store->Metadata(), *map_path)) : std::nullopt;
   std::optional<VehiclePose> vehicle;
   std::optional<LocalFrame> frame;
   if (nav_path) {
     NavReadOptions nav_options;
-    if (store) nav_options.origin = MapOrigin(*store, *map_path);
+    nav_options.origin = origin;
     const NavTable nav = ReadNavigation(*nav_path, nav_options);
     if (!nav.has_times)
       throw InputError(*nav_path, 0, "time_s", "the navigation has no times to interpolate at --time");
@@ -164,8 +160,7 @@ int RunStereoLocate(int argc, char** argv, int first) {
       d.model = std::filesystem::path(model_path).filename().string();
       d.score = 1;
       d.position = placed->position;
-      const LocalXY in_mission = LocalFrame(MapOrigin(*store, *map_path)).FromLatLon(placed->position);
-      d.position_m = std::array<double, 2>{in_mission.east, in_mission.north};
+      d.position_m = std::array<double, 2>{placed->local.east, placed->local.north};  // the mission's frame
       d.heading_deg = placed->heading_deg;
       d.depth_m = placed->depth_m;
       d.time_s = time_s;

@@ -62,7 +62,8 @@ for variant in variants:
         model = os.path.join(model_dir, "object.json")
         rc, log, _ = (0, "", 0) if model in built else run(
             ["stereo-model", "--calib", model_dir + "/stereo.yaml", "--pairs", model_dir + "/overview", "--out", model])
-        built.add(model)
+        if rc == 0:
+            built.add(model)
         if rc:
             for views in (1, 2, 3):
                 rows.setdefault((variant, "features", views), []).append(None)

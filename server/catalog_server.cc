@@ -96,38 +96,46 @@ std::vector<CatalogEntry> CatalogServer::Missions() {
   return listing_;
 }
 
-std::pair<CatalogEntry, std::shared_ptr<TileSource>> CatalogServer::Mission(const std::string& id) {
-  Refresh();
-  std::lock_guard<std::mutex> lock(mutex_);  // a tile request copies one entry, not the listing
+const CatalogEntry& CatalogServer::MissionLocked(const std::string& id) {
   for (const CatalogEntry& e : listing_) {
     if (e.id != id) continue;
     if (!e.available) throw ApiError(404, "mission '" + id + "' is unavailable: " + e.reason);
     auto& source = sources_[e.path];
     if (!source) source = std::make_shared<TileSource>(e.path, 4, 16u << 20);
     source->SetExternalWriter(e.state == "building");  // tiles still change: short cache
-    return {e, source};
+    return e;
   }
   throw ApiError(404, "no mission '" + id + "' in " + catalog_.folder());
 }
 
+std::pair<CatalogEntry, std::shared_ptr<TileSource>> CatalogServer::Mission(const std::string& id) {
+  Refresh();
+  std::lock_guard<std::mutex> lock(mutex_);
+  const CatalogEntry& e = MissionLocked(id);
+  return {e, sources_[e.path]};
+}
+
 std::optional<TileAnswer> CatalogServer::AnswerMissionTile(const std::string& id, const std::string& path,
                                                            const std::optional<std::string>& if_none_match) {
-  std::pair<CatalogEntry, std::shared_ptr<TileSource>> mission;
+  std::shared_ptr<TileSource> source;
+  bool building = false;
   try {
-    mission = Mission(id);
-  } catch (const ApiError&) {
-    return std::nullopt;  // unknown or unavailable: httplib's route answers why
+    Refresh();
+    std::lock_guard<std::mutex> lock(mutex_);  // a tile request copies no entry, only its source
+    const CatalogEntry& e = MissionLocked(id);
+    source = sources_[e.path];
+    building = e.state == "building";
+  } catch (const std::exception&) {
+    return std::nullopt;  // unknown, unavailable or unreadable: httplib's route answers why
   }
-  return AnswerTile(*mission.second, mission.first.state == "building", path, if_none_match);
+  return AnswerTile(*source, building, path, if_none_match);
 }
 
 MissionServices CatalogServer::Services(const std::string& id) {
-  std::shared_ptr<TileSource> tiles = Mission(id).second;  // 404 for an unknown or unavailable id
+  Refresh();
   std::lock_guard<std::mutex> lock(mutex_);
-  const CatalogEntry* entry = nullptr;
-  for (const CatalogEntry& e : listing_)
-    if (e.id == id) entry = &e;
-  if (!entry) throw ApiError(404, "no mission '" + id + "' in " + catalog_.folder());
+  const CatalogEntry* entry = &MissionLocked(id);  // 404 for an unknown or unavailable id
+  const std::shared_ptr<TileSource>& tiles = sources_[entry->path];
   std::unique_ptr<OpenMission>& open = open_[entry->path];
   if (!open) {
     auto m = std::make_unique<OpenMission>();
@@ -154,16 +162,22 @@ MissionServices CatalogServer::Services(const std::string& id) {
 
 void CatalogServer::Follow() {
   Refresh();
-  std::lock_guard<std::mutex> lock(mutex_);
-  for (const CatalogEntry& e : listing_) {
-    auto it = open_.find(e.path);
-    if (it == open_.end() || !e.available) continue;
-    OpenMission& m = *it->second;
+  // Which open missions to follow, under the lock; their files are read outside
+  // it, so tile requests do not wait on SQLite (open missions are never closed).
+  std::vector<std::pair<OpenMission*, CatalogEntry>> follow;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (const CatalogEntry& e : listing_) {
+      auto it = open_.find(e.path);
+      if (it != open_.end() && e.available) follow.push_back({it->second.get(), e});
+    }
+  }
+  for (auto& [m, e] : follow) {
     try {
-      m.detections->Refresh(*m.records);
-      if (e.state != "building" && m.state != "building") continue;
-      FollowRecords(m.mission, m.events, *m.records, e.state, "");
-      m.state = e.state;
+      m->detections->Refresh(*m->records);
+      if (e.state != "building" && m->state != "building") continue;
+      FollowRecords(m->mission, m->events, *m->records, e.state, "");
+      m->state = e.state;  // only this thread changes it after the mission is opened
     } catch (const std::exception& ex) {
       std::fprintf(stderr, "warning: cannot follow %s: %s\n", e.path.c_str(), ex.what());
     }

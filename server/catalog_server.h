@@ -74,6 +74,8 @@ class CatalogServer {
   void Refresh();
   // The mission's tiles; throws ApiError 404 for an unknown or unavailable id.
   std::pair<CatalogEntry, std::shared_ptr<TileSource>> Mission(const std::string& id);
+  // The listing's entry for id, its tile source made if new; throws like Mission(). Call with mutex_ held.
+  const CatalogEntry& MissionLocked(const std::string& id);
 
   ServerOptions options_;
   MapCatalog catalog_;

@@ -65,7 +65,7 @@ void AddMissionApi(httplib::Server& s, const std::string& prefix, int prefix_gro
           const MissionServices m = resolve(req);
           SendJson(res, m.mission->KeyframesJson());
         }));
-  s.Get(P + "/api/track", Guard([resolve, k](const httplib::Request& req, httplib::Response& res) {
+  s.Get(P + "/api/track", Guard([resolve](const httplib::Request& req, httplib::Response& res) {
           const MissionServices m = resolve(req);
           const TrackSource source = ParseTrackSource(Param(req, "source"));
           int since = 0;
@@ -82,7 +82,7 @@ void AddMissionApi(httplib::Server& s, const std::string& prefix, int prefix_gro
                                      m.mission->TrajectoryCorrected()));
         }));
 
-  s.Get(P + "/api/frames", Guard([resolve, k](const httplib::Request& req, httplib::Response& res) {
+  s.Get(P + "/api/frames", Guard([resolve](const httplib::Request& req, httplib::Response& res) {
           const MissionServices m = resolve(req);
           const double lat = ParseCoordinate(req, "lat", -90, 90);
           const double lon = ParseCoordinate(req, "lon", -180, 180);
@@ -94,7 +94,7 @@ void AddMissionApi(httplib::Server& s, const std::string& prefix, int prefix_gro
           SendJson(res, {{"frames", frames}});
         }));
 
-  s.Get(P + "/api/footprints", Guard([resolve, k](const httplib::Request& req, httplib::Response& res) {
+  s.Get(P + "/api/footprints", Guard([resolve](const httplib::Request& req, httplib::Response& res) {
           const MissionServices m = resolve(req);
           auto bbox = Param(req, "bbox");
           if (!bbox) throw ApiError(400, "parameter 'bbox' is required (west,south,east,north)");
@@ -180,7 +180,7 @@ void AddMissionApi(httplib::Server& s, const std::string& prefix, int prefix_gro
           res.set_header("Cache-Control", "no-store");
           if (require_token(req, res)) res.status = 204;
         }));
-  s.Post(P + "/api/detections", Guard([resolve, k, require_token](const httplib::Request& req, httplib::Response& res) {
+  s.Post(P + "/api/detections", Guard([resolve, require_token](const httplib::Request& req, httplib::Response& res) {
            const MissionServices m = resolve(req);
            if (!require_token(req, res)) return;
            nlohmann::json feature = m.detections->Create(ParseBody(req));

@@ -44,10 +44,10 @@ constexpr size_t kMaxTrackPoints = 20000;
 
 nlohmann::json TrackGeoJson(const std::vector<TrackPoint>& track) {
   nlohmann::json coordinates = nlohmann::json::array();
-  const size_t stride = (track.size() + kMaxTrackPoints - 1) / kMaxTrackPoints;
-  for (size_t i = 0; i < track.size(); i += std::max<size_t>(1, stride))
+  const size_t stride = std::max<size_t>(1, (track.size() + kMaxTrackPoints - 1) / kMaxTrackPoints);
+  for (size_t i = 0; i < track.size(); i += stride)
     coordinates.push_back({track[i].position.lon, track[i].position.lat});
-  if (!track.empty() && (track.size() - 1) % std::max<size_t>(1, stride) != 0)
+  if (!track.empty() && (track.size() - 1) % stride != 0)
     coordinates.push_back({track.back().position.lon, track.back().position.lat});
   return {{"type", "Feature"},
           {"geometry", {{"type", "LineString"}, {"coordinates", coordinates}}},

@@ -96,11 +96,11 @@ IcpRegistration RegisterIcp(const std::vector<Eigen::Vector3d>& model_all,
     r.object_from_camera = camera_from_object.inverse();
     r.structure = static_cast<int>(scene_structure.size());
     double sum = 0;
+    std::vector<float> query(3), d2(1);
+    std::vector<int> idx(1);
     for (const Eigen::Vector3d& p : scene_structure) {
       const Eigen::Vector3f q = (r.object_from_camera * p).cast<float>();
-      std::vector<float> query{q.x(), q.y(), q.z()};
-      std::vector<int> idx(1);
-      std::vector<float> d2(1);
+      query = {q.x(), q.y(), q.z()};
       index.knnSearch(query, idx, d2, 1, cv::flann::SearchParams(32));
       if (d2[0] <= options.near_m * options.near_m) sum += d2[0], ++r.near;
     }

@@ -165,8 +165,6 @@ LocateResult LocateObject(const ObjectModel& model, const StereoCalibration& cal
   std::sort(accepted.begin(), accepted.end());
 
   const auto t_joint = std::chrono::steady_clock::now();
-  std::vector<Eigen::Vector3d> model_xyz;
-  for (const ModelPoint& p : model.points) model_xyz.push_back(p.xyz);
   // Each round either ends or drops at least one pair.
   for (size_t round = 0; round <= pairs.size(); ++round) {
     // One pose per accepted pair; matched model points under their priors; tie points free.
@@ -303,7 +301,6 @@ LocateResult LocateObject(const ObjectModel& model, const StereoCalibration& cal
     }
     for (size_t a = 0; a < accepted.size(); ++a) result.pairs[accepted[a]].object_from_camera = problem.poses[a];
     result.object_from_camera = problem.poses[0];
-    result.point_sigma_m = PointSigmaM(result.object_from_camera, result.covariance, model_xyz);
     if (!solved.has_covariance) {
       result.reason = "the joint problem is rank deficient (no covariance)";
       result.found = false;
@@ -328,6 +325,11 @@ LocateResult LocateObject(const ObjectModel& model, const StereoCalibration& cal
     dropped.accepted = false;
     dropped.reason = "its own pose disagrees with the joint solution of the other pairs";
     accepted.erase(accepted.begin() + worst);
+  }
+  if (result.found) {  // the solution's covariance carried to the model's points
+    std::vector<Eigen::Vector3d> model_xyz;
+    for (const ModelPoint& p : model.points) model_xyz.push_back(p.xyz);
+    result.point_sigma_m = PointSigmaM(result.object_from_camera, result.covariance, model_xyz);
   }
   result.joint_s = Seconds(t_joint);
   if (result.found && result.joint_rms_px > options.max_rms_px) {

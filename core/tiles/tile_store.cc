@@ -25,6 +25,12 @@ std::optional<LatLon> MissionOrigin(const std::map<std::string, std::string>& me
   return LatLon{lat, lon};
 }
 
+LatLon RequireMissionOrigin(const std::map<std::string, std::string>& metadata, const std::string& path) {
+  const std::optional<LatLon> origin = MissionOrigin(metadata);
+  if (!origin) throw InputError(path, 0, "seamap_origin", "the map's metadata has no mission origin (lat,lon)");
+  return *origin;
+}
+
 std::unique_ptr<TileStore> OpenExistingMap(const std::string& path, bool writable) {
   if (IsMBTilesPath(path)) {
     if (!std::filesystem::is_regular_file(path))

@@ -9,14 +9,13 @@ import os from 'node:os';
 import path from 'node:path';
 import {Checks, killAll, run, startProcess, stopProcess, waitFor, waitForOutput, testEnvironment, launchChromium} from './harness.mjs';
 
-const {sourceDir, seamap, artifacts} = testEnvironment();
-const seeder = process.env.SEAMAP_SEED_DETECTIONS || path.join(path.dirname(seamap), 'seed_detections');
+const {sourceDir, seamap, artifacts, seeder} = testEnvironment();
 const checks = new Checks();
 const watchdog = setTimeout(() => {
-  console.log('not ok - test finished within 180 s');
+  console.log('not ok - test finished within 140 s');
   killAll();
   process.exit(1);
-}, 180000);
+}, 140000);  // under ctest's TIMEOUT 150, so the children are killed
 
 let browser = null;
 let server = null;

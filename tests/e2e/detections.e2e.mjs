@@ -14,8 +14,7 @@ import os from 'node:os';
 import path from 'node:path';
 import {Checks, killAll, run, startProcess, stopProcess, testEnvironment, waitFor, waitForOutput, launchChromium} from './harness.mjs';
 
-const {sourceDir, seamap, artifacts} = testEnvironment();
-const seeder = process.env.SEAMAP_SEED_DETECTIONS || path.join(path.dirname(seamap), 'seed_detections');
+const {sourceDir, seamap, artifacts, seeder} = testEnvironment();
 const checks = new Checks();
 const watchdog = setTimeout(() => {
   console.log('not ok - test finished within 120 s');

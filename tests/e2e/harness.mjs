@@ -16,7 +16,8 @@ export function testEnvironment(tmpPrefix = 'seamap-e2e-artifacts-') {
   const sourceDir = path.resolve(process.env.SEAMAP_SOURCE_DIR || path.join(here, '..', '..'));
   const seamap = process.env.SEAMAP_BIN || path.join(sourceDir, 'build', 'seamap');
   const artifacts = path.resolve(process.env.SEAMAP_ARTIFACTS || fs.mkdtempSync(path.join(os.tmpdir(), tmpPrefix)));
-  return {sourceDir, seamap, artifacts};
+  const seeder = process.env.SEAMAP_SEED_DETECTIONS || path.join(path.dirname(seamap), 'seed_detections');
+  return {sourceDir, seamap, artifacts, seeder};
 }
 
 export class Checks {

@@ -139,7 +139,7 @@ TEST(Catalogue, EachMissionHasItsOwnReadOnlyApiAndConsole) {
                         "application/json");
   ASSERT_TRUE(write);
   EXPECT_GE(write->status, 400) << write->body;
-  EXPECT_TRUE(records->Detections().empty());  // nothing was written to the file
+  EXPECT_TRUE(OpenExistingMap((folder / "dive_b.mbtiles").string(), false)->Detections().empty());  // nothing written
   // Unknown missions and endpoints are JSON 404s naming what is missing.
   EXPECT_NE(GetJson(api, "/missions/nope/api/status", 404)["error"].get<std::string>().find("no mission 'nope'"),
             std::string::npos);

@@ -132,9 +132,9 @@ TEST(Stereo, ALocatedObjectIsStoredAsADetectionWithPositionHeadingAndDepth) {
   RigMount mount;
   mount.offset_m = {0.8, 0.1, 0.3};
   auto store = OpenExistingMap(map, false);
-  double lat0 = 0, lon0 = 0;  // the mission's origin: local navigation is relative to it
-  ASSERT_EQ(std::sscanf(store->Metadata().at("seamap_origin").c_str(), "%lf,%lf", &lat0, &lon0), 2);
-  const LocalFrame frame(LatLon{lat0, lon0});
+  const std::optional<LatLon> origin = MissionOrigin(store->Metadata());  // local navigation is relative to it
+  ASSERT_TRUE(origin);
+  const LocalFrame frame(*origin);
   const PlacedObject expected = PlaceObject(model_from_camera, mount, vehicle, frame);
 
   std::vector<Detection> stereo;

@@ -12,7 +12,6 @@ const L = window.L;
 
 const escapeClass = name => String(name).toLowerCase().replace(/[^a-z0-9_-]/g, '_');
 
-export {classColour};
 
 // A detector's score as a percentage; operator marks have none.
 const scoreText = p => (p.source === 'operator' || p.score === null || p.score === undefined

@@ -14,30 +14,16 @@
 // SEAMAP_BW_LOW=1 (the console in its low-bandwidth mode).
 
 import fs from 'node:fs';
-import os from 'node:os';
 import path from 'node:path';
-import {Checks, freePort, killAll, linkProxy, run, sleep, startProcess, stopProcess, waitFor, waitForOutput, testEnvironment, launchChromium} from './harness.mjs';
+import {runE2E, freePort, linkProxy, run, sleep, waitFor, waitForOutput} from './harness.mjs';
 
-const {sourceDir, seamap, artifacts} = testEnvironment('seamap-bw-artifacts-');
 const budgetMbps = Number(process.env.SEAMAP_BW_BUDGET_MBPS || 0.3);
 const reportOnly = process.env.SEAMAP_BW_REPORT === '1';
 const FRAMES = 600;          // 120 s of survey: 30 s at 4x, room for a slow start
 const SPEED = '4';
 const WINDOW_MS = 10000;
-const TOTAL_TIMEOUT_MS = 180000;
+const TOTAL_TIMEOUT_MS = 180000;   // under ctest's TIMEOUT 240
 
-const checks = new Checks();
-let browser = null;
-let server = null;
-let proxy = null;
-let work = null;
-
-const watchdog = setTimeout(() => {
-  console.log(`not ok - test finished within ${TOTAL_TIMEOUT_MS / 1000} s`);
-  killAll();
-  process.exit(1);
-}, TOTAL_TIMEOUT_MS);
-process.on('exit', killAll);
 
 // Bytes on the wire per request: streamed chunks as they come, topped up to
 // the request's total (headers included) when it finishes.
@@ -62,21 +48,21 @@ function wireMeter(cdp) {
   return meter;
 }
 
-async function main() {
+await runE2E({name: 'bandwidth', timeoutMs: TOTAL_TIMEOUT_MS, artifactsPrefix: 'seamap-bw-artifacts-'},
+  async ({checks, work, seamap, sourceDir, start, launchBrowser, defer, shot}) => {
   if (!fs.existsSync(seamap)) throw new Error(`no seamap binary at ${seamap}`);
-  fs.mkdirSync(artifacts, {recursive: true});
-  work = fs.mkdtempSync(path.join(os.tmpdir(), 'seamap-bw-'));
   const survey = path.join(work, 'survey');
   await run(seamap, ['simulate', '--out', survey, '--frames', String(FRAMES), '--quiet']);
   const port = await freePort();
-  server = startProcess(seamap, ['replay', survey, '--speed', SPEED, '--out', path.join(work, 'mission.mbtiles'),
+  const server = start(seamap, ['replay', survey, '--speed', SPEED, '--out', path.join(work, 'mission.mbtiles'),
     '--port', String(port), '--web', path.join(sourceDir, 'web'), '--quiet']);
   await waitForOutput(server, new RegExp(`serving http://127\\.0\\.0\\.1:${port}/`), 20000);
   const api = `http://127.0.0.1:${port}/`;
-  proxy = await linkProxy(port);   // the browser's way to the server, which the test can cut
+  const proxy = await linkProxy(port);   // the browser's way to the server, which the test can cut
+  defer(() => proxy.close());
   const base = `http://127.0.0.1:${proxy.port}/`;
 
-  browser = await launchChromium();
+  const browser = await launchBrowser();
   const page = await browser.newPage({viewport: {width: 1280, height: 800}});
   const pageErrors = [];
   page.on('pageerror', error => pageErrors.push(error.message));
@@ -111,7 +97,7 @@ async function main() {
     refreshed: window.seamap.layers ? window.seamap.layers.main.refreshed : 0,
     state: document.querySelector('#progress').dataset.state,
   }));
-  await page.screenshot({path: path.join(artifacts, 'console-bandwidth.png')});
+  await shot(page, 'console-bandwidth');
 
   const mbps = meter.bytes * 8 / (WINDOW_MS / 1000) / 1e6;
   const parts = Object.entries(meter.byType).map(([k, v]) => `${k} ${(v * 8 / (WINDOW_MS / 1000) / 1000).toFixed(0)} kbit/s`).join(', ');
@@ -165,20 +151,4 @@ async function main() {
       return `${mbps.toFixed(3)} Mbit/s`;
     });
   }
-}
-
-try {
-  await main();
-} catch (error) {
-  checks.fail('bandwidth run', error);
-  if (server) console.log(`# server output:\n${server.output.slice(-3000).replace(/^/gm, '# ')}`);
-} finally {
-  if (browser) await browser.close().catch(() => {});
-  proxy?.close();
-  if (server) await stopProcess(server);
-  killAll();
-  if (work) fs.rmSync(work, {recursive: true, force: true});
-  clearTimeout(watchdog);
-}
-checks.summary();
-process.exit(checks.failed ? 1 : 0);
+});

@@ -5,23 +5,11 @@
 // a dive copied in later, and follows a mission another process is building
 // with live events.
 import fs from 'node:fs';
-import os from 'node:os';
 import path from 'node:path';
-import {Checks, killAll, run, startProcess, stopProcess, waitFor, waitForOutput, testEnvironment, launchChromium} from './harness.mjs';
+import {runE2E, run, waitFor, waitForOutput} from './harness.mjs';
 
-const {sourceDir, seamap, artifacts, seeder} = testEnvironment();
-const checks = new Checks();
-const watchdog = setTimeout(() => {
-  console.log('not ok - test finished within 140 s');
-  killAll();
-  process.exit(1);
-}, 140000);  // under ctest's TIMEOUT 150, so the children are killed
-
-let browser = null;
-let server = null;
-let replay = null;
-const work = fs.mkdtempSync(path.join(os.tmpdir(), 'seamap-catalogue-e2e-'));
-try {
+// The watchdog under ctest's TIMEOUT 150, so the children are killed.
+await runE2E({name: 'catalogue', timeoutMs: 140000}, async ({checks, work, seamap, sourceDir, launchBrowser, start, shot, seeder}) => {
   const survey = path.join(work, 'survey');
   const map = path.join(work, 'map.mbtiles');
   const folder = path.join(work, 'missions');
@@ -33,13 +21,13 @@ try {
   await run(seeder, [path.join(folder, 'dive_a.mbtiles'), '--stereo']);  // an object located by stereo, with a heading
   fs.copyFileSync(map, path.join(folder, 'dive_b.mbtiles'));
   fs.writeFileSync(path.join(folder, 'broken.mbtiles'), 'half-copied');
-  server = startProcess(seamap, ['serve', folder, '--host', '127.0.0.1', '--port', '0',
+  const server = start(seamap, ['serve', folder, '--host', '127.0.0.1', '--port', '0',
     '--web', path.join(sourceDir, 'web')]);
   await waitForOutput(server, /serving http:\/\/127\.0\.0\.1:\d+\//, 20000);
   const base = /serving (http:\/\/127\.0\.0\.1:\d+\/)/.exec(server.output)[1];
   checks.ok('catalogue server is listening', base);
 
-  browser = await launchChromium();
+  const browser = await launchBrowser();
   const page = await browser.newPage({viewport: {width: 1100, height: 700}});
   page.setDefaultTimeout(15000);
   const errors = [];
@@ -70,7 +58,7 @@ try {
     const loaded = await page.$$eval('img.leaflet-tile-loaded', imgs => imgs.filter(i => i.naturalWidth === 256).length);
     if (!loaded) throw new Error('no tile drawn');
     if (!page.url().endsWith('#dive_b')) throw new Error(page.url());
-    await page.screenshot({path: path.join(artifacts, 'catalogue-picker.png')});
+    await shot(page, 'catalogue-picker');
     return `${loaded} tiles drawn`;
   });
 
@@ -109,7 +97,7 @@ try {
     await page.evaluate(() => window.seamap.map.closePopup());
     const other = await fetch(new URL('missions/nope/api/status', base));
     if (other.status !== 404) throw new Error(`unknown mission: ${other.status}`);
-    await page.screenshot({path: path.join(artifacts, 'catalogue-console.png')});
+    await shot(page, 'catalogue-console');
     return `${shown} track points, ${apiRequests.length} API requests under the prefix, write refused ${post.status}, ` +
       `stereo mark heading ${heading}`;
   });
@@ -117,7 +105,7 @@ try {
   await checks.run('a mission another process is building keeps its live events', async () => {
     const live = path.join(work, 'live_survey');
     await run(seamap, ['simulate', '--out', live, '--frames', '60', '--line-length', '3', '--seed', '4', '--quiet']);
-    replay = startProcess(seamap, ['replay', live, '--out', path.join(folder, 'live.mbtiles'), '--speed', '1',
+    const replay = start(seamap, ['replay', live, '--out', path.join(folder, 'live.mbtiles'), '--speed', '1',
       '--port', '0', '--host', '127.0.0.1', '--exit-when-done', '--quiet', '--web', path.join(sourceDir, 'web')]);
     await waitFor('live mission listed as building', async () => {
       const missions = await (await fetch(new URL('api/missions', base))).json();
@@ -151,16 +139,4 @@ try {
     if (errors.length) throw new Error(errors.join(' | '));
     return '';
   });
-} catch (error) {
-  checks.fail('catalogue end-to-end run', error);
-  if (server) console.log(`# server output:\n${server.output.slice(-2000).replace(/^/gm, '# ')}`);
-} finally {
-  if (browser) await browser.close().catch(() => {});
-  if (replay) await stopProcess(replay);
-  if (server) await stopProcess(server);
-  killAll();
-  fs.rmSync(work, {recursive: true, force: true});
-  clearTimeout(watchdog);
-}
-checks.summary();
-process.exit(checks.failed ? 1 : 0);
+});

@@ -14,67 +14,30 @@
 
 import fs from 'node:fs';
 import http from 'node:http';
-import os from 'node:os';
 import path from 'node:path';
 import {checkConsoleTools} from './console_tools.mjs';
 import {checkCorrectedTracks} from './corrected_tracks.mjs';
-import {Checks, freePort, killAll, run, sleep, startProcess, stopProcess, waitFor, waitForOutput, testEnvironment, launchChromium} from './harness.mjs';
+import {runE2E, freePort, run, sleep, waitFor, waitForOutput} from './harness.mjs';
 
-const {sourceDir, seamap, artifacts} = testEnvironment();
-const correctedTool = process.env.SEAMAP_CORRECTED_MISSION || path.join(path.dirname(seamap), 'corrected_mission');
 const speed = process.env.SEAMAP_E2E_SPEED || '0.75';
 const FRAMES = 200;   // about 50 s of replay, so the early checks watch it grow
-const TOTAL_TIMEOUT_MS = 200000;   // a hung browser or server never hangs ctest
+const TOTAL_TIMEOUT_MS = 200000;   // a hung browser or server never hangs ctest (TIMEOUT 300)
+const URL_GIVEN = Boolean(process.env.SEAMAP_E2E_URL);   // a server already running: nothing started
 
-const checks = new Checks();
-let browser = null;
-let server = null;
-let work = null;
-
-async function cleanup() {
-  if (browser) await browser.close().catch(() => {});
-  browser = null;
-  if (server) await stopProcess(server);
-  server = null;
-  killAll();
-  if (work) fs.rmSync(work, {recursive: true, force: true});
-  work = null;
-}
-
-const watchdog = setTimeout(async () => {
-  console.log(`not ok - test finished within ${TOTAL_TIMEOUT_MS / 1000} s`);
-  killAll();
-  process.exit(1);
-}, TOTAL_TIMEOUT_MS);
-for (const signal of ['SIGINT', 'SIGTERM']) {
-  process.on(signal, () => {
-    killAll();
-    process.exit(1);
-  });
-}
-process.on('exit', killAll);
-
-async function startServer() {
-  if (process.env.SEAMAP_E2E_URL) {
+async function startServer({seamap, sourceDir, work, start}) {
+  if (URL_GIVEN) {
     return {base: process.env.SEAMAP_E2E_URL.replace(/\/?$/, '/'), token: process.env.SEAMAP_E2E_TOKEN || ''};
   }
-  work = fs.mkdtempSync(path.join(os.tmpdir(), 'seamap-e2e-'));
   const survey = path.join(work, 'survey');
   await run(seamap, ['simulate', '--out', survey, '--frames', String(FRAMES), '--quiet']);
   const port = await freePort();
   const token = `e2e-${process.pid}-${Date.now()}`;
   fs.mkdirSync(path.join(work, 'out'));
-  server = startProcess(seamap, ['replay', survey, '--speed', speed,
+  const server = start(seamap, ['replay', survey, '--speed', speed,
     '--out', path.join(work, 'out', 'mission.mbtiles'), '--port', String(port),
-    '--web', path.join(sourceDir, 'web'), '--token', token]);  // serves on after the replay: cleanup() stops it
+    '--web', path.join(sourceDir, 'web'), '--token', token]);  // serves on after the replay: the runner stops it
   await waitForOutput(server, new RegExp(`serving http://127\\.0\\.0\\.1:${port}/`), 20000);
   return {base: `http://127.0.0.1:${port}/`, token};
-}
-
-async function shot(page, name) {
-  const file = path.join(artifacts, `${name}.png`);
-  await page.screenshot({path: file});
-  return file;
 }
 
 // Pixel statistics of the loaded tiles (same origin, so the canvas is clean).
@@ -121,17 +84,17 @@ function earlyTrackPoint(page) {
   });
 }
 
-async function main() {
-  if (!process.env.SEAMAP_E2E_URL && !fs.existsSync(seamap)) throw new Error(`no seamap binary at ${seamap}`);
+await runE2E({name: 'console', timeoutMs: TOTAL_TIMEOUT_MS}, async t => {
+  const {checks, seamap, sourceDir, work, shot} = t;
+  if (!URL_GIVEN && !fs.existsSync(seamap)) throw new Error(`no seamap binary at ${seamap}`);
   if (!fs.existsSync(path.join(sourceDir, 'web', 'vendor', 'leaflet', 'leaflet.js'))) {
     throw new Error('web/vendor/leaflet is missing: run scripts/setup_web.sh');
   }
-  fs.mkdirSync(artifacts, {recursive: true});
 
-  const {base, token} = await startServer();
+  const {base, token} = await startServer(t);
   checks.ok('server is listening', base);
 
-  browser = await launchChromium();
+  const browser = await t.launchBrowser();
   const page = await browser.newPage({viewport: {width: 1280, height: 800}});
   page.setDefaultTimeout(10000);
   const pageErrors = [];
@@ -397,20 +360,9 @@ async function main() {
     return '';
   });
 
-  if (work) await checkCorrectedTracks({browser, checks, seamap, tool: correctedTool, work, sourceDir, shot});
-}
+  if (!URL_GIVEN) {
+    const tool = process.env.SEAMAP_CORRECTED_MISSION || path.join(path.dirname(seamap), 'corrected_mission');
+    await checkCorrectedTracks({browser, checks, seamap, tool, work, sourceDir, shot});
+  }
+});
 
-let exitCode = 0;
-try {
-  await main();
-} catch (error) {
-  checks.fail('end-to-end run', error);
-  if (server) console.log(`# server output:\n${server.output.slice(-3000).replace(/^/gm, '# ')}`);
-} finally {
-  await cleanup();
-  clearTimeout(watchdog);
-}
-checks.summary();
-console.log(`# screenshots in ${artifacts}`);
-if (checks.failed) exitCode = 1;
-process.exit(exitCode);

@@ -9,23 +9,10 @@
 //
 // Environment: SEAMAP_BIN, SEAMAP_SEED_DETECTIONS (default build/seed_detections),
 // SEAMAP_SOURCE_DIR, SEAMAP_ARTIFACTS (screenshots).
-import fs from 'node:fs';
-import os from 'node:os';
 import path from 'node:path';
-import {Checks, killAll, run, startProcess, stopProcess, testEnvironment, waitFor, waitForOutput, launchChromium} from './harness.mjs';
+import {runE2E, run, waitFor, waitForOutput} from './harness.mjs';
 
-const {sourceDir, seamap, artifacts, seeder} = testEnvironment();
-const checks = new Checks();
-const watchdog = setTimeout(() => {
-  console.log('not ok - test finished within 120 s');
-  killAll();
-  process.exit(1);
-}, 120000);
-
-let browser = null;
-let server = null;
-const work = fs.mkdtempSync(path.join(os.tmpdir(), 'seamap-detections-e2e-'));
-try {
+await runE2E({name: 'detections', timeoutMs: 120000}, async ({checks, work, seamap, sourceDir, launchBrowser, start, shot, seeder}) => {
   const survey = path.join(work, 'survey');
   const map = path.join(work, 'map.mbtiles');
   await run(seamap, ['simulate', '--out', survey, '--frames', '24', '--line-length', '3', '--seed', '3', '--quiet']);
@@ -36,7 +23,7 @@ try {
   if (ids.length !== 5) throw new Error(`seed_detections printed ${JSON.stringify(String(seeded))}`);
   checks.ok('five recogniser detections published into the mission', ids.join(' '));
   const token = `e2e-${process.pid}`;
-  server = startProcess(seamap, ['serve', map, '--host', '127.0.0.1', '--port', '0',
+  const server = start(seamap, ['serve', map, '--host', '127.0.0.1', '--port', '0',
     '--web', path.join(sourceDir, 'web'), '--token', token]);
   await waitForOutput(server, /serving http:\/\/127\.0\.0\.1:\d+\//, 20000);
   const base = /serving (http:\/\/127\.0\.0\.1:\d+\/)/.exec(server.output)[1];
@@ -53,7 +40,7 @@ try {
     properties: {class: 'tyre', note: 'seen by the diver'}});
   const markId = String(mark.id);
 
-  browser = await launchChromium();
+  const browser = await launchBrowser();
   const page = await browser.newPage({viewport: {width: 1200, height: 760}});
   page.setDefaultTimeout(10000);
   const errors = [];
@@ -145,7 +132,7 @@ try {
     const patched = await fetch(new URL(`api/detections/${pipe}`, base), {method: 'PATCH',
       headers: {'Content-Type': 'application/json', Authorization: `Bearer ${token}`}, body: '{"class":"rock"}'});
     if (patched.status !== 403) throw new Error(`changing a recogniser's class answered ${patched.status}`);
-    await page.screenshot({path: path.join(artifacts, 'detections-review.png')});
+    await shot(page, 'detections-review');
     return `crate ${crate} rejected, pipe ${pipe} confirmed`;
   });
 
@@ -163,7 +150,7 @@ try {
     if (!src.endsWith(`/api/frames/${expected[1]}/image`)) throw new Error(`viewer shows ${src}`);
     await page.click('#photo-next');
     await page.waitForFunction(want => document.querySelector('#photo-full').src.endsWith(want), `/api/frames/${expected[2]}/image`);
-    await page.screenshot({path: path.join(artifacts, 'detections-photo.png')});
+    await shot(page, 'detections-photo');
     await page.click('#photo-viewer-close');
     return `frames ${frames.join(', ')}`;
   });
@@ -184,15 +171,4 @@ try {
     if (errors.length) throw new Error(errors.join(' | '));
     return '';
   });
-} catch (error) {
-  checks.fail('detections end-to-end run', error);
-  if (server) console.log(`# server output:\n${server.output.slice(-2000).replace(/^/gm, '# ')}`);
-} finally {
-  if (browser) await browser.close().catch(() => {});
-  if (server) await stopProcess(server);
-  killAll();
-  fs.rmSync(work, {recursive: true, force: true});
-  clearTimeout(watchdog);
-}
-checks.summary();
-process.exit(checks.failed ? 1 : 0);
+});

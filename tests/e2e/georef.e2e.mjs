@@ -2,23 +2,10 @@
 // headless Chromium: `seamap serve MAP --buoy buoy.csv --georef-nav nav.csv`;
 // the buoy's track beside the vehicle's, the keyframes used in the fit and
 // those dropped as dots, all named in the legend and each hidden by it.
-import fs from 'node:fs';
-import os from 'node:os';
 import path from 'node:path';
-import {Checks, killAll, run, startProcess, stopProcess, waitFor, waitForOutput, testEnvironment, launchChromium} from './harness.mjs';
+import {runE2E, run, waitFor, waitForOutput} from './harness.mjs';
 
-const {sourceDir, seamap, artifacts} = testEnvironment();
-const checks = new Checks();
-const watchdog = setTimeout(() => {
-  console.log('not ok - test finished within 120 s');
-  killAll();
-  process.exit(1);
-}, 120000);
-
-let browser = null;
-let server = null;
-const work = fs.mkdtempSync(path.join(os.tmpdir(), 'seamap-georef-e2e-'));
-try {
+await runE2E({name: 'georef', timeoutMs: 120000}, async ({checks, work, seamap, sourceDir, launchBrowser, start, shot}) => {
   const survey = path.join(work, 'survey');
   const buoy = path.join(work, 'buoy');
   const map = path.join(work, 'map.mbtiles');
@@ -29,7 +16,7 @@ try {
   await run(seamap, ['simulate-buoy', '--out', buoy, '--origin', '43.1,131.9', '--lines', '2', '--line-length', '120']);
   await run(seamap, ['georef', '--keyframes', path.join(buoy, 'keyframes.txt'), '--buoy', path.join(buoy, 'buoy.csv'),
     '--tether-length', '30', '--depth-csv', path.join(buoy, 'depth.csv'), '--out', nav]);
-  server = startProcess(seamap, ['serve', map, '--host', '127.0.0.1', '--port', '0', '--web', path.join(sourceDir, 'web'),
+  const server = start(seamap, ['serve', map, '--host', '127.0.0.1', '--port', '0', '--web', path.join(sourceDir, 'web'),
     '--buoy', path.join(buoy, 'buoy.csv'), '--georef-nav', nav]);
   await waitForOutput(server, /serving http:\/\/127\.0\.0\.1:\d+\//, 20000);
   const base = /serving (http:\/\/127\.0\.0\.1:\d+\/)/.exec(server.output)[1];
@@ -38,7 +25,7 @@ try {
   const keyframes = (await api('api/keyframes')).features;
   const good = keyframes.filter(f => f.properties.good).length;
 
-  browser = await launchChromium();
+  const browser = await launchBrowser();
   const page = await browser.newPage({viewport: {width: 1100, height: 700}});
   page.setDefaultTimeout(10000);
   const errors = [];
@@ -70,7 +57,7 @@ try {
       const {map, tracks} = window.seamap;
       map.fitBounds(tracks.buoy.line.getBounds(), {padding: [20, 20], animate: false});
     });
-    await page.screenshot({path: path.join(artifacts, 'console-georef.png')});
+    await shot(page, 'console-georef');
     return `${d.good} used, ${d.dropped} dropped`;
   });
 
@@ -94,13 +81,4 @@ try {
     if (errors.length) throw new Error(errors.join('; '));
     return 'none';
   });
-} catch (error) {
-  checks.fail('georef console test ran to the end', error);
-} finally {
-  if (browser) await browser.close().catch(() => {});
-  await stopProcess(server);
-  fs.rmSync(work, {recursive: true, force: true});
-  clearTimeout(watchdog);
-}
-checks.summary();
-process.exit(checks.failed ? 1 : 0);
+});

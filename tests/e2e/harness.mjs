@@ -1,5 +1,6 @@
-// Helpers for the console's end-to-end test: TAP-like check lines, child
-// processes that are always ended, free ports, waiting on conditions.
+// Helpers for the browser end-to-end tests: the runner every *.e2e.mjs
+// goes through (runE2E), TAP-like check lines, child processes that are
+// always ended, free ports, waiting on conditions.
 
 import {spawn} from 'node:child_process';
 import fs from 'node:fs';
@@ -186,4 +187,89 @@ export async function launchChromium() {
     executablePath: process.env.SEAMAP_CHROMIUM || '/usr/bin/chromium',
     args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-background-networking'],
   });
+}
+
+// Runs one end-to-end test: `body(t)` does the work and the checks, the
+// runner everything around it, the same for every test:
+//   - a watchdog: past `timeoutMs` (keep it under ctest's TIMEOUT, which
+//     would kill this process and leave its children running) the children
+//     are killed, the test fails and the process exits;
+//   - t.work, a fresh folder (prefix `seamap-NAME-e2e-`), removed at the end;
+//   - cleanup on success, failure, the watchdog and SIGINT/SIGTERM: browsers
+//     from t.launchBrowser() closed, t.defer(fn) steps run (last first), the
+//     children from t.start() stopped (last first), any other child killed;
+//   - a body that throws fails the check `NAME end-to-end run`, with the end
+//     of each t.start() child's output;
+//   - the summary: 'N passed, N failed', where the screenshots are, and the
+//     exit status (1 when a check failed).
+// t also carries checks, artifacts (created), sourceDir, seamap, seeder and
+// shot(page, name) (a screenshot into artifacts, its path answered).
+export async function runE2E({name, timeoutMs, artifactsPrefix}, body) {
+  const environment = testEnvironment(artifactsPrefix);
+  fs.mkdirSync(environment.artifacts, {recursive: true});
+  const work = fs.mkdtempSync(path.join(os.tmpdir(), `seamap-${name}-e2e-`));
+  const checks = new Checks();
+  const browsers = [];
+  const deferred = [];
+  const started = [];
+  const removeWork = () => fs.rmSync(work, {recursive: true, force: true});
+  // Playwright kills the browsers it launched when this process exits.
+  const abandon = code => {
+    killAll();
+    removeWork();
+    process.exit(code);
+  };
+  const watchdog = setTimeout(() => {
+    checks.failed++;
+    console.log(`not ok - test finished within ${timeoutMs / 1000} s`);
+    checks.summary();
+    abandon(1);
+  }, timeoutMs);
+  const onSignal = signal => {
+    console.log(`# stopped by ${signal}`);
+    abandon(1);
+  };
+  for (const signal of ['SIGINT', 'SIGTERM']) process.on(signal, onSignal);
+  process.on('exit', killAll);
+
+  const t = {
+    ...environment, checks, work,
+    start(command, args, options) {
+      const child = startProcess(command, args, options);
+      started.push(child);
+      return child;
+    },
+    async launchBrowser() {
+      const browser = await launchChromium();
+      browsers.push(browser);
+      return browser;
+    },
+    defer(step) {
+      deferred.push(step);
+    },
+    async shot(page, shotName) {
+      const file = path.join(environment.artifacts, `${shotName}.png`);
+      await page.screenshot({path: file});
+      return file;
+    },
+  };
+  try {
+    await body(t);
+  } catch (error) {
+    checks.fail(`${name} end-to-end run`, error);
+    for (const child of started) {
+      const what = `${path.basename(child.spawnfile)} ${child.spawnargs[1] ?? ''}`.trim();
+      console.log(`# ${what} output:\n${child.output.slice(-3000).replace(/^/gm, '# ')}`);
+    }
+  } finally {
+    for (const browser of browsers) await browser.close().catch(() => {});
+    for (const step of deferred.reverse()) await Promise.resolve().then(step).catch(() => {});
+    for (const child of started.reverse()) await stopProcess(child);
+    killAll();
+    removeWork();
+    clearTimeout(watchdog);
+  }
+  checks.summary();
+  console.log(`# screenshots in ${environment.artifacts}`);
+  process.exit(checks.failed ? 1 : 0);
 }

@@ -5,17 +5,8 @@
 // equal the map's own tile.
 import fs from 'node:fs';
 import http from 'node:http';
-import os from 'node:os';
 import path from 'node:path';
-import {Checks, killAll, run, testEnvironment, launchChromium} from './harness.mjs';
-
-const {sourceDir, seamap, artifacts} = testEnvironment();
-const checks = new Checks();
-const watchdog = setTimeout(() => {
-  console.log('not ok - test finished within 120 s');
-  killAll();
-  process.exit(1);
-}, 120000);
+import {runE2E, run} from './harness.mjs';
 
 const TYPES = {'.html': 'text/html', '.js': 'text/javascript', '.css': 'text/css', '.png': 'image/png'};
 
@@ -60,10 +51,7 @@ function tilesOf(folder) {
   return tiles;
 }
 
-let browser = null;
-let site = null;
-const work = fs.mkdtempSync(path.join(os.tmpdir(), 'seamap-pmtiles-e2e-'));
-try {
+await runE2E({name: 'pmtiles', timeoutMs: 120000}, async ({checks, defer, work, seamap, sourceDir, launchBrowser, shot}) => {
   const survey = path.join(work, 'survey');
   const map = path.join(work, 'map.mbtiles');
   const folder = path.join(work, 'folder');
@@ -82,10 +70,11 @@ try {
   if (!fs.existsSync(path.join(root, 'vendor', 'pmtiles', 'pmtiles.js'))) {
     throw new Error('web/vendor/pmtiles is missing: run scripts/setup_web.sh');
   }
-  site = await staticServer(root);
+  const site = await staticServer(root);
+  defer(() => site.server.close());
   checks.ok('mission exported and served by a plain static server', `port ${site.port}`);
 
-  browser = await launchChromium();
+  const browser = await launchBrowser();
   const page = await browser.newPage({viewport: {width: 1024, height: 700}});
   page.setDefaultTimeout(15000);
   const errors = [];
@@ -103,7 +92,7 @@ try {
     const sizes = await page.$$eval('img.leaflet-tile-loaded',
       imgs => imgs.filter(i => i.style.display !== 'none').map(i => i.naturalWidth));
     if (!sizes.length || sizes.some(w => w !== 256)) throw new Error(`tile widths ${sizes}`);
-    await page.screenshot({path: path.join(artifacts, 'pmtiles-viewer.png')});
+    await shot(page, 'pmtiles-viewer');
     return `${sizes.length} tiles drawn, title "${await page.textContent('#title')}"`;
   });
 
@@ -154,14 +143,4 @@ try {
     if (real.length) throw new Error(real.join(' | '));
     return '';
   });
-} catch (error) {
-  checks.fail('pmtiles end-to-end run', error);
-} finally {
-  if (browser) await browser.close().catch(() => {});
-  if (site) site.server.close();
-  killAll();
-  fs.rmSync(work, {recursive: true, force: true});
-  clearTimeout(watchdog);
-}
-checks.summary();
-process.exit(checks.failed ? 1 : 0);
+});

@@ -3,17 +3,8 @@
 // a divider the operator drags; the cut follows the divider and the map's
 // pans, and the live stream asks for both layers' tiles.
 import fs from 'node:fs';
-import os from 'node:os';
 import path from 'node:path';
-import {Checks, killAll, run, sleep, startProcess, stopProcess, waitFor, waitForOutput, testEnvironment, launchChromium} from './harness.mjs';
-
-const {sourceDir, seamap, artifacts} = testEnvironment();
-const checks = new Checks();
-const watchdog = setTimeout(() => {
-  console.log('not ok - test finished within 120 s');
-  killAll();
-  process.exit(1);
-}, 120000);
+import {runE2E, run, sleep, waitFor, waitForOutput} from './harness.mjs';
 
 // Where the compare layer's cut is, in page pixels, and where the divider is.
 const cutAndDivider = page => page.evaluate(() => {
@@ -25,10 +16,7 @@ const cutAndDivider = page => page.evaluate(() => {
     mapLeft: box.left, width: box.width, top: box.top, height: box.height};
 });
 
-let browser = null;
-let server = null;
-const work = fs.mkdtempSync(path.join(os.tmpdir(), 'seamap-swipe-e2e-'));
-try {
+await runE2E({name: 'swipe', timeoutMs: 120000}, async ({checks, work, seamap, sourceDir, launchBrowser, start, shot}) => {
   const survey = path.join(work, 'survey');
   const map = path.join(work, 'map.mbtiles');
   const config = path.join(work, 'both.json');
@@ -36,11 +24,11 @@ try {
   await run(seamap, ['simulate', '--out', survey, '--frames', '16', '--line-length', '2', '--seed', '3', '--quiet']);
   await run(seamap, ['build', '--images', path.join(survey, 'photo'), '--nav', path.join(survey, 'nav.csv'),
     '--camera', path.join(survey, 'camera.json'), '--origin', '43.1,131.9', '--quiet', '--config', config, '--out', map]);
-  server = startProcess(seamap, ['serve', map, '--host', '127.0.0.1', '--port', '0', '--web', path.join(sourceDir, 'web')]);
+  const server = start(seamap, ['serve', map, '--host', '127.0.0.1', '--port', '0', '--web', path.join(sourceDir, 'web')]);
   await waitForOutput(server, /serving http:\/\/127\.0\.0\.1:\d+\//, 20000);
   const base = /serving (http:\/\/127\.0\.0\.1:\d+\/)/.exec(server.output)[1];
 
-  browser = await launchChromium();
+  const browser = await launchBrowser();
   const page = await browser.newPage({viewport: {width: 1100, height: 700}});
   page.setDefaultTimeout(10000);
   const errors = [];
@@ -91,7 +79,7 @@ try {
     }
     if (Math.abs(after.cut - after.divider) > 1) throw new Error(`cut at ${after.cut} px, divider at ${after.divider} px`);
     if (moved > 0.001) throw new Error(`the map moved ${moved.toFixed(3)} m`);
-    await page.screenshot({path: path.join(artifacts, 'console-swipe.png')});
+    await shot(page, 'console-swipe');
     return `divider at ${((after.divider - after.mapLeft) / after.width * 100).toFixed(0)} % of the map`;
   });
 
@@ -131,13 +119,4 @@ try {
     if (errors.length) throw new Error(errors.join('; '));
     return 'none';
   });
-} catch (error) {
-  checks.fail('swipe test ran to the end', error);
-} finally {
-  if (browser) await browser.close().catch(() => {});
-  await stopProcess(server);
-  fs.rmSync(work, {recursive: true, force: true});
-  clearTimeout(watchdog);
-}
-checks.summary();
-process.exit(checks.failed ? 1 : 0);
+});

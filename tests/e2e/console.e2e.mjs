@@ -102,6 +102,22 @@ await runE2E({name: 'console', timeoutMs: TOTAL_TIMEOUT_MS}, async t => {
   page.on('console', message => {
     if (message.type() === 'error') pageErrors.push(`console: ${message.text()}`);
   });
+  // Every interval the page starts, with where it was started, until it is
+  // cleared: a layer taken off the map must leave none running.
+  await page.addInitScript(() => {
+    const running = new Map();
+    const {setInterval: start, clearInterval: clear} = window;
+    window.setInterval = (...args) => {
+      const id = start(...args);
+      running.set(id, new Error().stack || '');
+      return id;
+    };
+    window.clearInterval = id => {
+      running.delete(id);
+      clear(id);
+    };
+    window.__e2eIntervalsFrom = file => [...running.values()].filter(stack => stack.includes(file)).length;
+  });
   checks.diagnose = () => page.evaluate(() => {
     const popups = [...document.querySelectorAll('.leaflet-popup')].map(p =>
       `popup opacity ${getComputedStyle(p).opacity}: ${p.textContent.replace(/\s+/g, ' ').slice(0, 80)}`);
@@ -173,6 +189,57 @@ await runE2E({name: 'console', timeoutMs: TOTAL_TIMEOUT_MS}, async t => {
     if (!found.samePage) throw new Error('the page was reloaded');
     const short = url => url.replace(/^https?:\/\/[^/]+/, '');
     return `${short(found.before)} -> ${short(found.after)}`;
+  });
+
+  await checks.run('the tile layer stops its timer when removed, and refreshes tiles again when added back', async () => {
+    await page.uncheck('#follow');   // the view holds still: the tile picked stays on screen
+    const counts = await page.evaluate(() => {
+      const {map, layers} = window.seamap;
+      const layersOnMap = () => {
+        let n = 0;
+        map.eachLayer(layer => { if (layer instanceof layers.main.constructor) n++; });
+        return n;
+      };
+      const running = () => window.__e2eIntervalsFrom('/js/tile_layer.js');
+      const before = {layers: layersOnMap(), intervals: running()};
+      map.removeLayer(layers.main);
+      const removed = {layers: layersOnMap(), intervals: running()};
+      // Count Leaflet's tileload per tile: one more on a refresh would fade it in from transparent.
+      layers.main.on('tileload', event => { event.tile.__e2eLoads = (event.tile.__e2eLoads || 0) + 1; });
+      layers.main.addTo(map);
+      const added = {layers: layersOnMap(), intervals: running()};
+      return {before, removed, added};
+    });
+    const say = ({layers, intervals}) => `${layers} layers, ${intervals} intervals`;
+    if (counts.before.intervals !== counts.before.layers || counts.removed.intervals !== counts.removed.layers ||
+        counts.added.intervals !== counts.added.layers) {
+      throw new Error(`before ${say(counts.before)}; removed ${say(counts.removed)}; added back ${say(counts.added)}`);
+    }
+    // A tile of the layer added back, loaded and well inside the view, gets a
+    // new version as a tile event would bring it: its image is swapped in place.
+    const picked = await waitFor('a loaded tile on screen', () => page.evaluate(() => {
+      const {map, layers} = window.seamap;
+      const box = map.getContainer().getBoundingClientRect();
+      for (const img of layers.main.getContainer().querySelectorAll('img.leaflet-tile-loaded')) {
+        const r = img.getBoundingClientRect();
+        if (r.left < box.left || r.right > box.right || r.top < box.top || r.bottom > box.bottom) continue;
+        const [z, x, y] = img.dataset.tile.split('/').map(Number);
+        if (z !== layers.main.tileZoom()) continue;   // a tile of the level zoomed from, about to go
+        img.__e2ePicked = {src: img.src, refreshed: Number(img.dataset.refreshed || 0)};
+        layers.main.refreshTile({layer: '', z, x, y, version: `e2e-${Date.now()}`});
+        return img.dataset.tile;
+      }
+      return null;
+    }), {timeoutMs: 10000});
+    const swapped = await waitFor(`tile ${picked} swapped`, () => page.evaluate(tile => {
+      const img = window.seamap.layers.main.getContainer().querySelector(`img[data-tile="${tile}"]`);
+      if (!img || !img.__e2ePicked) throw Object.assign(new Error(`tile ${tile} left the page`), {fatal: true});
+      if (Number(img.dataset.refreshed || 0) <= img.__e2ePicked.refreshed || img.src === img.__e2ePicked.src) return null;
+      return {loads: img.__e2eLoads || 0, src: img.src, version: img.dataset.version};
+    }, picked), {timeoutMs: 15000});
+    if (swapped.loads > 1) throw new Error(`tile ${picked} was faded in again on its refresh (${swapped.loads} tileload events)`);
+    if (!swapped.src.includes(`v=${swapped.version}`)) throw new Error(`tile ${picked} shows ${swapped.src}, version ${swapped.version}`);
+    return `${say(counts.before)}, ${say(counts.removed)} after removal; ${picked} -> v=${swapped.version}`;
   });
 
   await checks.run('tiles load and are not blank', async () => {

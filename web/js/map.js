@@ -94,10 +94,7 @@ export async function addPhotoLayers(map) {
   map.on('baselayerchange', event => { result.active = event.layer; });
   // The operator switched lossless tiles on or off: reload in the other format.
   link.onModeChange(() => {
-    for (const layer of new Set(layers.values())) {
-      const url = tileUrl(layer.tilejson);
-      if (url !== layer._url) layer.setUrl(url);
-    }
+    for (const layer of new Set(layers.values())) layer.setUrl(tileUrl(layer.tilejson));  // redraws only a changed URL
   });
   return result;
 }
@@ -110,7 +107,7 @@ export function viewScope(map, photoLayers) {
   const layer = photoLayers.active;
   // Comparing by swipe: the other layer's tiles are on screen too.
   const shown = [layer, ...(photoLayers.compare ? [photoLayers.compare] : [])];
-  const zoom = layer._tileZoom ?? Math.round(Math.max(layer.options.minNativeZoom ?? 0,
+  const zoom = layer.tileZoom() ?? Math.round(Math.max(layer.options.minNativeZoom ?? 0,
     Math.min(layer.options.maxNativeZoom ?? 22, map.getZoom())));
   const b = map.getBounds();
   const view = [b.getWest(), b.getSouth(), b.getEast(), b.getNorth()];

@@ -213,22 +213,21 @@ export async function runE2E({name, timeoutMs, artifactsPrefix}, body) {
   const deferred = [];
   const started = [];
   const removeWork = () => fs.rmSync(work, {recursive: true, force: true});
-  // Playwright kills the browsers it launched when this process exits.
+  // The watchdog and signals cannot wait for browsers to close: Playwright
+  // kills the ones it launched when this process exits.
   const abandon = code => {
     killAll();
     removeWork();
     process.exit(code);
   };
-  const watchdog = setTimeout(() => {
+  const giveUp = why => {
     checks.failed++;
-    console.log(`not ok - test finished within ${timeoutMs / 1000} s`);
+    console.log(`not ok - ${why}`);
     checks.summary();
     abandon(1);
-  }, timeoutMs);
-  const onSignal = signal => {
-    console.log(`# stopped by ${signal}`);
-    abandon(1);
   };
+  const watchdog = setTimeout(() => giveUp(`test finished within ${timeoutMs / 1000} s`), timeoutMs);
+  const onSignal = signal => giveUp(`test ran to the end (stopped by ${signal})`);
   for (const signal of ['SIGINT', 'SIGTERM']) process.on(signal, onSignal);
   process.on('exit', killAll);
 

@@ -24,7 +24,6 @@ const SPEED = '4';
 const WINDOW_MS = 10000;
 const TOTAL_TIMEOUT_MS = 180000;   // under ctest's TIMEOUT 240
 
-
 // Bytes on the wire per request: streamed chunks as they come, topped up to
 // the request's total (headers included) when it finishes.
 function wireMeter(cdp) {

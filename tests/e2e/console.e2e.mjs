@@ -17,7 +17,7 @@ import http from 'node:http';
 import path from 'node:path';
 import {checkConsoleTools} from './console_tools.mjs';
 import {checkCorrectedTracks} from './corrected_tracks.mjs';
-import {runE2E, freePort, run, sleep, waitFor, waitForOutput} from './harness.mjs';
+import {runE2E, freePort, run, sleep, waitFor, waitForOutput, watchIntervals} from './harness.mjs';
 
 const speed = process.env.SEAMAP_E2E_SPEED || '0.75';
 const FRAMES = 200;   // about 50 s of replay, so the early checks watch it grow
@@ -102,22 +102,7 @@ await runE2E({name: 'console', timeoutMs: TOTAL_TIMEOUT_MS}, async t => {
   page.on('console', message => {
     if (message.type() === 'error') pageErrors.push(`console: ${message.text()}`);
   });
-  // Every interval the page starts, with where it was started, until it is
-  // cleared: a layer taken off the map must leave none running.
-  await page.addInitScript(() => {
-    const running = new Map();
-    const {setInterval: start, clearInterval: clear} = window;
-    window.setInterval = (...args) => {
-      const id = start(...args);
-      running.set(id, new Error().stack || '');
-      return id;
-    };
-    window.clearInterval = id => {
-      running.delete(id);
-      clear(id);
-    };
-    window.__e2eIntervalsFrom = file => [...running.values()].filter(stack => stack.includes(file)).length;
-  });
+  await watchIntervals(page);   // a layer taken off the map must leave no interval running
   checks.diagnose = () => page.evaluate(() => {
     const popups = [...document.querySelectorAll('.leaflet-popup')].map(p =>
       `popup opacity ${getComputedStyle(p).opacity}: ${p.textContent.replace(/\s+/g, ' ').slice(0, 80)}`);

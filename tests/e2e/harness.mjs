@@ -180,6 +180,26 @@ export async function linkProxy(targetPort) {
   };
 }
 
+// Keeps, in the page, every interval started and not yet cleared with the
+// stack that started it; window.__e2eIntervalsFrom(file) counts those
+// started from a script whose URL contains `file`. Call before page.goto.
+export function watchIntervals(page) {
+  return page.addInitScript(() => {
+    const running = new Map();
+    const {setInterval: start, clearInterval: clear} = window;
+    window.setInterval = (...args) => {
+      const id = start(...args);
+      running.set(id, new Error().stack || '');
+      return id;
+    };
+    window.clearInterval = id => {
+      running.delete(id);
+      clear(id);
+    };
+    window.__e2eIntervalsFrom = file => [...running.values()].filter(stack => stack.includes(file)).length;
+  });
+}
+
 // Debian's Chromium, headless, as every browser test runs it (SEAMAP_CHROMIUM: another binary).
 export async function launchChromium() {
   const {chromium} = await import('playwright-core');

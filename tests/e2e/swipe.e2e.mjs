@@ -4,7 +4,7 @@
 // pans, and the live stream asks for both layers' tiles.
 import fs from 'node:fs';
 import path from 'node:path';
-import {runE2E, run, sleep, waitFor, waitForOutput} from './harness.mjs';
+import {runE2E, run, sleep, waitFor, waitForOutput, watchIntervals} from './harness.mjs';
 
 // Where the compare layer's cut is, in page pixels, and where the divider is.
 const cutAndDivider = page => page.evaluate(() => {
@@ -33,6 +33,7 @@ await runE2E({name: 'swipe', timeoutMs: 120000}, async ({checks, work, seamap, s
   page.setDefaultTimeout(10000);
   const errors = [];
   page.on('pageerror', e => errors.push(e.message));
+  await watchIntervals(page);
   await page.goto(base);
   await page.waitForSelector('body[data-ready="true"]');
 
@@ -113,6 +114,22 @@ await runE2E({name: 'swipe', timeoutMs: 120000}, async ({checks, work, seamap, s
     const one = await asked();
     if (one !== '') throw new Error(`layers "${one}" after switching off`);
     return `"${both}" then "${one}"`;
+  });
+
+  await checks.run('switched on and off twice: only the tile layers on the map keep a timer', async () => {
+    for (let i = 0; i < 2; ++i) {
+      await page.check('#swipe');
+      await page.waitForSelector('.swipe-divider');
+      await page.uncheck('#swipe');
+    }
+    const state = await page.evaluate(() => {
+      const {map, layers} = window.seamap;
+      let onMap = 0;
+      map.eachLayer(layer => { if (layer instanceof layers.main.constructor) onMap++; });
+      return {onMap, intervals: window.__e2eIntervalsFrom('/js/tile_layer.js')};
+    });
+    if (state.intervals !== state.onMap) throw new Error(`${state.onMap} tile layers on the map, ${state.intervals} intervals running`);
+    return `${state.onMap} on the map, ${state.intervals} running`;
   });
 
   await checks.run('no script errors on the page', async () => {

@@ -15,8 +15,8 @@ struct MissionRegistry::Followed {
            TileSource& t)
       : path(std::move(map_path)),
         follower(path,
-                 [&t] {  // through the tile source, which re-reads the metadata of a map being written
-                   auto metadata = t.Metadata("");
+                 [source = &t] {  // through the tile source, which re-reads the metadata of a map being written
+                   auto metadata = source->Metadata("");
                    return metadata.count("seamap_state") ? metadata["seamap_state"] : std::string();
                  }),
         records(map_records),

@@ -3,6 +3,7 @@
 #include <condition_variable>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <mutex>
 
 #include "cli/args.h"
@@ -12,12 +13,9 @@
 #include "cli/shutdown_signal.h"
 #include "core/georef/georef_inputs.h"
 #include "core/mosaic/build_config.h"
-#include "core/tiles/build_state.h"
 #include "core/tiles/tile_store.h"
 #include "core/util/error.h"
-#include "server/catalog_server.h"
 #include "server/http_server.h"
-#include "server/mission_follow.h"
 
 namespace seamap::cli {
 namespace fs = std::filesystem;
@@ -47,30 +45,22 @@ std::unique_ptr<TileStore> OpenForMarks(const std::string& path) {
   }
 }
 
-// `seamap serve FOLDER`: the catalogue until Ctrl-C.
-int ServeCatalogue(const std::string& folder, const server::ServerOptions& options, ShutdownSignal& shutdown) {
-  server::CatalogServer http(options, folder);
-  http.Bind();
+// Serves until Ctrl-C or SIGTERM, following every two seconds the maps
+// another process is writing (server::HttpServer::Follow). `started` runs
+// once the server answers (it tells the operator where to look).
+void ServeUntilStopped(server::HttpServer& http, ShutdownSignal& shutdown, const std::function<void()>& started) {
   std::mutex mutex;
   std::condition_variable stopped;
   bool stop = false;
-  StopSignalsOnExit stop_signals{shutdown};
+  StopSignalsOnExit stop_signals{shutdown};  // the callback uses the three above
   shutdown.OnSignal([&] {
     std::lock_guard<std::mutex> lock(mutex);
     stop = true;
     stopped.notify_all();
   });
   http.Start();
-  const auto missions = http.Missions();
-  size_t available = 0;
-  for (const auto& m : missions) {
-    available += m.available;
-    if (!m.available) std::fprintf(stderr, "warning: %s is unavailable: %s\n", m.path.c_str(), m.reason.c_str());
-  }
-  std::printf("serving %s (catalogue of %s: %zu missions, %zu available)\n", ServerUrl(options, http.port()).c_str(),
-              folder.c_str(), missions.size(), available);
-  std::fflush(stdout);
-  {  // missions still being built are followed every two seconds
+  started();
+  {
     std::unique_lock<std::mutex> lock(mutex);
     while (!stopped.wait_for(lock, std::chrono::seconds(2), [&] { return stop; })) {
       lock.unlock();
@@ -80,6 +70,23 @@ int ServeCatalogue(const std::string& folder, const server::ServerOptions& optio
   }
   std::fprintf(stderr, "seamap serve: stopping\n");
   http.Stop();
+}
+
+// `seamap serve FOLDER`: the catalogue until Ctrl-C.
+int ServeCatalogue(const std::string& folder, const server::ServerOptions& options, ShutdownSignal& shutdown) {
+  server::HttpServer http(options, folder);
+  http.Bind();
+  ServeUntilStopped(http, shutdown, [&] {
+    const auto missions = http.Missions();
+    size_t available = 0;
+    for (const auto& m : missions) {
+      available += m.available;
+      if (!m.available) std::fprintf(stderr, "warning: %s is unavailable: %s\n", m.path.c_str(), m.reason.c_str());
+    }
+    std::printf("serving %s (catalogue of %s: %zu missions, %zu available)\n", ServerUrl(options, http.port()).c_str(),
+                folder.c_str(), missions.size(), available);
+    std::fflush(stdout);
+  });
   return 0;
 }
 
@@ -127,68 +134,22 @@ int RunServe(int argc, char** argv, int first) {
   mission.Load(records);
   mission.SetLayers(tiles.Layers(), tiles.Format());
   overlays.ApplyTo(mission);
-  // The state as recorded, a build still running (it holds MAP.lock) or
-  // interrupted: the server says which, and how an interrupted one goes on.
-  auto recorded_state = [&tiles] {
-    auto now = tiles.Metadata("");
-    return now.count("seamap_state") ? now["seamap_state"] : std::string();
-  };
-  const MapBuildState state = ReadBuildState(path, recorded_state, records);
-  auto publish_state = [&](const MapBuildState& s) {
-    server::Progress p = mission.progress();
-    if (s.state == "building" || s.state == "interrupted") p.state = s.state;
-    p.state_detail = s.Explanation();
-    mission.SetProgress(p);
-    // Another process may still be writing it: tiles must not be cached for long.
-    tiles.SetExternalWriter(s.state == "building");
-    if (s.state == "interrupted") std::fprintf(stderr, "seamap serve: %s: %s\n", path.c_str(), s.Explanation().c_str());
-  };
-  publish_state(state);
   server::DetectionRegistry detections(writer.get(), &events);
   detections.Load(records);
 
   server::HttpServer http(options, &tiles, &mission, &detections, &events);
+  // The state as recorded, a build still running (it holds MAP.lock) or
+  // interrupted: the server says which, and how an interrupted one goes on.
+  // A map another process is still building is followed (frames, track,
+  // state), and detections another process adds to any map, too.
+  http.FollowMap(path, records);
   http.Bind();
-  std::mutex mutex;
-  std::condition_variable stopped;
-  bool stop = false;
-  StopSignalsOnExit stop_signals{shutdown};  // the callback uses the three above
-  shutdown.OnSignal([&] {
-    std::lock_guard<std::mutex> lock(mutex);
-    stop = true;
-    stopped.notify_all();
+  ServeUntilStopped(http, shutdown, [&] {
+    std::printf("serving %s (%s, %zu frames, %zu track points)\n", ServerUrl(options, http.port()).c_str(),
+                path.c_str(), static_cast<size_t>(mission.progress().frames_done),
+                static_cast<size_t>(mission.TrackSize()));
+    std::fflush(stdout);
   });
-  http.Start();
-  std::printf("serving %s (%s, %zu frames, %zu track points)\n", ServerUrl(options, http.port()).c_str(), path.c_str(),
-              static_cast<size_t>(mission.progress().frames_done), static_cast<size_t>(mission.TrackSize()));
-  std::fflush(stdout);
-  // A map another process is still building: follow it every two seconds
-  // (frames, track, state) and tell the browsers; detections another process
-  // adds to any map, too.
-  std::string state_seen = state.state;
-  {
-    std::unique_lock<std::mutex> lock(mutex);
-    while (!stopped.wait_for(lock, std::chrono::seconds(2), [&] { return stop; })) {
-      lock.unlock();
-      try {
-        const MapBuildState now = ReadBuildState(path, recorded_state, records);
-        if (now.state == "building" || state_seen == "building") {
-          if (now.state != state_seen) publish_state(now);
-          server::FollowRecords(
-              mission, events, records,
-              now.state == "building" || now.state == "complete" || now.state == "interrupted" ? now.state : "stopped",
-              now.Explanation());
-        }
-        state_seen = now.state;
-        detections.Refresh(records);  // another process's stereo-locate --map or detect
-      } catch (const std::exception& e) {
-        std::fprintf(stderr, "warning: cannot follow %s: %s\n", path.c_str(), e.what());
-      }
-      lock.lock();
-    }
-  }
-  std::fprintf(stderr, "seamap serve: stopping\n");
-  http.Stop();
   if (writer) writer->Flush();
   return 0;
 }

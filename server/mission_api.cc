@@ -9,8 +9,8 @@
 #include <thread>
 
 #include "server/event_filter.h"
-#include "server/gzip_stream.h"
-#include "server/http_util.h"
+#include "server/http/gzip_stream.h"
+#include "server/http/http_util.h"
 #include "server/photo_preview.h"
 #include "server/track_feature.h"
 

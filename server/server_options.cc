@@ -6,7 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/util/error.h"
-#include "server/origin_policy.h"
+#include "server/http/origin_policy.h"
 
 namespace seamap::server {
 namespace {

@@ -2,7 +2,6 @@
 // sites' pages (Origin), --allow-origin and CORS, the token check the
 // console makes, symbolic links out of web/, bodies that are not UTF-8 and
 // chunked bodies over the limit.
-#include "server/catalog_server.h"
 #include "tests/server/http_test_fixture.h"
 #include "tests/server/raw_http.h"
 
@@ -236,7 +235,7 @@ TEST_F(HttpServerTest, SymbolicLinksOutOfTheWebFolderAreNotFollowed) {
 TEST_F(HttpServerTest, ACatalogueDoesNotFollowLinksOutOfTheWebFolderEither) {
   std::filesystem::create_symlink(dir_ / "secret.txt", web_ / "leak.txt");
   std::filesystem::create_directories(dir_ / "maps");
-  CatalogServer catalogue(Options(), (dir_ / "maps").string());
+  HttpServer catalogue(Options(), (dir_ / "maps").string());
   catalogue.Bind();
   catalogue.Start();
   httplib::Client client("127.0.0.1", catalogue.port());

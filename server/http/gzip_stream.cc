@@ -1,4 +1,4 @@
-#include "server/gzip_stream.h"
+#include "server/http/gzip_stream.h"
 
 #include <zlib.h>
 

@@ -1,10 +1,10 @@
-#include "server/response_framer.h"
+#include "server/http/response_framer.h"
 
 #include <algorithm>
 #include <cctype>
 #include <optional>
 
-#include "server/http_tokens.h"
+#include "server/http/http_tokens.h"
 
 namespace seamap::server {
 namespace {

@@ -1,4 +1,4 @@
-#include "server/http_util.h"
+#include "server/http/http_util.h"
 
 #include <gtest/gtest.h>
 

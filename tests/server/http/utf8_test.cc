@@ -1,5 +1,5 @@
 // FirstInvalidUtf8: well-formed UTF-8 as RFC 3629 defines it.
-#include "server/utf8.h"
+#include "server/http/utf8.h"
 
 #include <gtest/gtest.h>
 

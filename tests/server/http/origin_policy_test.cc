@@ -1,5 +1,5 @@
 // OriginPolicy: which browser pages may write, from Origin and Sec-Fetch-Site.
-#include "server/origin_policy.h"
+#include "server/http/origin_policy.h"
 
 #include <gtest/gtest.h>
 

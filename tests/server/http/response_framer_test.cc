@@ -1,5 +1,5 @@
 // ResponseFramer: where one of httplib's answers ends, however its bytes arrive.
-#include "server/response_framer.h"
+#include "server/http/response_framer.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "server/web_root.h"
+#include "server/http/web_root.h"
 
 #include <string>
 #include <system_error>

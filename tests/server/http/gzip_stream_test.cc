@@ -1,5 +1,5 @@
 // The event stream's gzip: every piece decodable as soon as it is written.
-#include "server/gzip_stream.h"
+#include "server/http/gzip_stream.h"
 
 #include <zlib.h>
 

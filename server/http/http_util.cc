@@ -1,10 +1,10 @@
-#include "server/http_util.h"
+#include "server/http/http_util.h"
 
 #include <sys/socket.h>
 
 #include <cstdio>
 
-#include "server/utf8.h"
+#include "server/http/utf8.h"
 
 namespace seamap::server {
 

@@ -1,10 +1,10 @@
-#include "server/origin_policy.h"
+#include "server/http/origin_policy.h"
 
 #include <algorithm>
 #include <cctype>
 
 #include "core/util/error.h"
-#include "server/http_tokens.h"
+#include "server/http/http_tokens.h"
 
 namespace seamap::server {
 namespace {

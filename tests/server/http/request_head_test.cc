@@ -1,6 +1,6 @@
 // ParseRequestHead: what the tile front end answers itself, what it waits
 // for, what it relays to the backend, and what it refuses.
-#include "server/request_head.h"
+#include "server/http/request_head.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // ChunkedRequestBody: where a client's chunked body ends, what it decodes
 // to, and what is refused (400 malformed, 413 over the limit) as soon as the
 // bytes show it.
-#include "server/chunked_request.h"
+#include "server/http/chunked_request.h"
 
 #include <gtest/gtest.h>
 

@@ -1,10 +1,10 @@
-#include "server/request_head.h"
+#include "server/http/request_head.h"
 
 #include <algorithm>
 #include <cctype>
 #include <utility>
 
-#include "server/http_tokens.h"
+#include "server/http/http_tokens.h"
 
 namespace seamap::server {
 namespace {

@@ -6,14 +6,14 @@
 #include <nlohmann/json.hpp>
 
 #include "server/api_error.h"
-#include "server/chunked_request.h"
-#include "server/http_tokens.h"
-#include "server/origin_policy.h"
-#include "server/request_head.h"
-#include "server/response_framer.h"
+#include "server/http/chunked_request.h"
+#include "server/http/http_tokens.h"
+#include "server/http/origin_policy.h"
+#include "server/http/request_head.h"
+#include "server/http/response_framer.h"
+#include "server/http/utf8.h"
 #include "server/tile_path.h"
-#include "server/utf8.h"
-#include "tests/server/fuzz.h"
+#include "tests/server/http/fuzz.h"
 #include "tests/server/http_test_fixture.h"
 #include "tests/server/raw_http.h"
 

@@ -1,4 +1,4 @@
-#include "server/http_tokens.h"
+#include "server/http/http_tokens.h"
 
 #include <algorithm>
 #include <cctype>

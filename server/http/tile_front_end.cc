@@ -1,4 +1,4 @@
-#include "server/tile_front_end.h"
+#include "server/http/tile_front_end.h"
 
 #include <arpa/inet.h>
 #include <event2/buffer.h>
@@ -23,9 +23,9 @@
 #include <vector>
 
 #include "core/util/error.h"
-#include "server/chunked_request.h"
-#include "server/request_head.h"
-#include "server/response_framer.h"
+#include "server/http/chunked_request.h"
+#include "server/http/request_head.h"
+#include "server/http/response_framer.h"
 #include "server/tile_answer.h"
 
 namespace seamap::server {

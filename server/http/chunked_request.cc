@@ -1,4 +1,4 @@
-#include "server/chunked_request.h"
+#include "server/http/chunked_request.h"
 
 #include <algorithm>
 

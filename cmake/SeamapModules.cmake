@@ -6,7 +6,8 @@
 #    every `#include "dir/x.h"` (or <dir/x.h>) of its sources and of the headers
 #    in its folders, and fails naming the file, its line, the include and the
 #    missing dependency when the included header's folder belongs to a module
-#    that is neither the target's own nor one it declares;
+#    that is neither the target's own nor one it declares; and, tests aside,
+#    when it declares a module none of its files includes;
 #  - include path: a target does not see the repository root; its include path
 #    is build/include/<target>/, a folder of symlinks to its own folders and to
 #    those of every module it depends on, directly or not (a header may include
@@ -39,7 +40,7 @@ function(_seamap_write_module_map)
   string(APPEND text "set(SEAMAP_SOURCE_DIR \"${CMAKE_SOURCE_DIR}\")\n")
   string(APPEND text "set(SEAMAP_TARGETS \"${targets}\")\n")
   foreach(t IN LISTS targets)
-    foreach(field DIRS SEES FILES)
+    foreach(field DIRS DEPS SEES FILES)
       get_property(value GLOBAL PROPERTY SEAMAP_${field}_${t})
       string(APPEND text "set(SEAMAP_${field}_${t} \"${value}\")\n")
     endforeach()
@@ -62,11 +63,15 @@ function(seamap_declare target)
   # The modules it may include: itself and the declared ones. Its include path:
   # those and everything they depend on.
   set(sees ${target})
+  set(module_deps)
   set(closure ${ARG_DIRS})
   foreach(dep IN LISTS ARG_DEPS ARG_SEES)
     get_property(declared GLOBAL PROPERTY SEAMAP_DIRS_${dep} SET)
     if(declared)
       list(APPEND sees ${dep})
+      if(dep IN_LIST ARG_DEPS)
+        list(APPEND module_deps ${dep})
+      endif()
       get_property(dep_closure GLOBAL PROPERTY SEAMAP_CLOSURE_${dep})
       list(APPEND closure ${dep_closure})
     elseif(dep MATCHES "^seamap_")
@@ -92,6 +97,7 @@ function(seamap_declare target)
 
   set_property(GLOBAL APPEND PROPERTY SEAMAP_TARGETS ${target})
   set_property(GLOBAL PROPERTY SEAMAP_DIRS_${target} ${ARG_DIRS})
+  set_property(GLOBAL PROPERTY SEAMAP_DEPS_${target} ${module_deps})
   set_property(GLOBAL PROPERTY SEAMAP_SEES_${target} ${sees})
   set_property(GLOBAL PROPERTY SEAMAP_FILES_${target} ${files})
   set_property(GLOBAL PROPERTY SEAMAP_CLOSURE_${target} ${closure})

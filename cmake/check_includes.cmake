@@ -2,7 +2,9 @@
 #   cmake -DMAP=build/seamap_modules.cmake -DMODULE=seamap_detect [-DSTAMP=file] -P cmake/check_includes.cmake
 # MAP (written by cmake/SeamapModules.cmake) sets SEAMAP_SOURCE_DIR, SEAMAP_TARGETS
 # and, per target T, SEAMAP_DIRS_T (the folders it owns), SEAMAP_SEES_T (the
-# modules it may include: itself and its declared ones) and SEAMAP_FILES_T
+# modules it may include: itself and its declared ones), SEAMAP_DEPS_T (the
+# modules in its DEPS: one of its files must include each, except in targets
+# named *_tests, whose DEPS carry test helpers) and SEAMAP_FILES_T
 # (the files to read: its sources and the headers in its folders).
 # An include is checked when its first folder is the first folder of some
 # module (core/, server/, cli/, tests/...); its module is the one owning the
@@ -30,6 +32,7 @@ list(REMOVE_DUPLICATES roots)
 
 set(include_regex "^[ \t]*#[ \t]*include[ \t]*[<\"]([^\">]+)[\">]")
 set(problems "")
+set(used "")
 foreach(file IN LISTS SEAMAP_FILES_${MODULE})
   file(STRINGS ${file} include_lines REGEX "${include_regex}")
   foreach(line IN LISTS include_lines)
@@ -41,6 +44,7 @@ foreach(file IN LISTS SEAMAP_FILES_${MODULE})
     endif()
     get_filename_component(header_dir "${header}" DIRECTORY)
     set(owner "${owner_${header_dir}}")
+    list(APPEND used ${owner})
     if(owner AND owner IN_LIST SEAMAP_SEES_${MODULE})
       continue()
     endif()
@@ -64,10 +68,19 @@ foreach(file IN LISTS SEAMAP_FILES_${MODULE})
   endforeach()
 endforeach()
 
+if(NOT MODULE MATCHES "_tests$")
+  foreach(dep IN LISTS SEAMAP_DEPS_${MODULE})
+    if(NOT dep IN_LIST used)
+      string(APPEND problems "${MODULE} declares ${dep} in its DEPS but none of its files includes a header of it: "
+                             "drop ${dep} from its DEPS in CMakeLists.txt\n")
+    endif()
+  endforeach()
+endif()
+
 if(problems)
   # NOTICE prints the lines as they are (an error's text would be rewrapped).
   message(NOTICE "${problems}")
-  message(FATAL_ERROR "${MODULE} includes headers of modules it does not declare (above)")
+  message(FATAL_ERROR "${MODULE}'s includes and its declared module dependencies disagree (above)")
 endif()
 if(DEFINED STAMP)
   get_filename_component(stamp_dir ${STAMP} DIRECTORY)

@@ -22,7 +22,7 @@ const char* kUsage =
     "  enhance-report  measure what enhancement chains do to features and matches\n"
     "  serve           serve a built map: tiles, REST API, live events, operator console\n"
     "  replay          build a map while serving it, frames at their recorded pace (or --watch a folder)\n"
-    "  export          copy a map between MBTiles and a tile folder\n"
+    "  export          copy a map between MBTiles and a tile folder, or write it as PMTiles or a GeoTIFF\n"
     "  trajectory      estimate a survey's trajectory from its photos (refine, vo, ekf)\n"
     "  trajectory-eval compare a trajectory with ground truth: ATE, drift, cross-pass seams\n"
     "  simulate-stereo render a stereo scene of a subsea object with exact truth\n"

@@ -13,6 +13,7 @@ packages=(
   gdal-bin   # tests open our MBTiles with gdalinfo
   libgdal-dev   # Cloud-Optimised GeoTIFF export (core/export)
   python3-onnx   # tests/fixtures/make_yolo_fixtures.py (the recogniser's tiny test models)
+  clang-format   # scripts/check_format.sh (CI: .ci/run)
 )
 command -v npm >/dev/null 2>&1 || packages+=(nodejs npm)  # the console's Leaflet and the browser test
 if [[ "${SEAMAP_BENCH:-0}" == 1 ]]; then

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds, runs every test and prints a summary.
+#   SEAMAP_WERROR=1 scripts/test.sh     compiler warnings are errors (scripts/build.sh; CI: .ci/run)
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${SEAMAP_BUILD_DIR:-$root/build}"

@@ -26,8 +26,9 @@ struct BundleObservation {
 struct BundlePoint {
   Eigen::Vector3d xyz;     // object frame (updated)
   bool has_prior = false;  // prior on xyz: prior_xyz with prior_cov
-  Eigen::Vector3d prior_xyz;
-  Eigen::Matrix3d prior_cov;
+  // Zero without a prior, so copying such a point reads no unset values.
+  Eigen::Vector3d prior_xyz = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d prior_cov = Eigen::Matrix3d::Zero();
   bool fixed = false;
 };
 

@@ -17,6 +17,7 @@ std::vector<Keyframe> LPath() {
     Keyframe f;
     f.time_s = 1000 + t;
     f.position_slam = 0.07 * axes * p;
+    f.world_from_cam = Eigen::Quaterniond::Identity();  // unused here; set, so copies read no unset values
     f.line = line++;
     k.push_back(f);
   };
@@ -37,7 +38,9 @@ TEST(SlamPath, FindsTheTurnAndTwoLegs) {
   EXPECT_GT(path.legs()[1].start_s, 1000 + 109);
   // 10 s into the second leg, the time since the turn counts from its end.
   for (size_t i = 0; i < path.size(); ++i)
-    if (std::fabs(path.time(i) - 1130) < 1e-9) EXPECT_NEAR(path.SinceTurn(i), 1130 - path.legs()[1].start_s + 0.5, 1.0);
+    if (std::fabs(path.time(i) - 1130) < 1e-9) {
+      EXPECT_NEAR(path.SinceTurn(i), 1130 - path.legs()[1].start_s + 0.5, 1.0);
+    }
 }
 
 TEST(SlamPath, StraightnessAndSteadinessAreScaleFree) {

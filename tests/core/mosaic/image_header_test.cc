@@ -38,7 +38,9 @@ TEST(ImageHeader, SaysWhatDecodingGives) {
       const cv::Mat decoded = cv::imread(path, cv::IMREAD_UNCHANGED);
       EXPECT_EQ(header->width, decoded.cols) << path;
       EXPECT_EQ(header->height, decoded.rows) << path;
-      if (header->channels != 0) EXPECT_EQ(header->channels, decoded.channels()) << path;
+      if (header->channels != 0) {
+        EXPECT_EQ(header->channels, decoded.channels()) << path;
+      }
       EXPECT_NE(header->format, "") << path;
       ++checked;
     }

@@ -81,7 +81,9 @@ TEST(NavFuzz, HostileNavigationIsReadOrRefusedByName) {
         EXPECT_TRUE(std::isfinite(p.heading_deg)) << p.heading_deg;
         EXPECT_LT(std::fabs(p.pitch_deg), nav_limits::kMaxAttitudeDeg);
         EXPECT_LT(std::fabs(p.roll_deg), nav_limits::kMaxAttitudeDeg);
-        if (r.time_s) EXPECT_LE(std::fabs(*r.time_s), nav_limits::kMaxAbsTimeS);
+        if (r.time_s) {
+          EXPECT_LE(std::fabs(*r.time_s), nav_limits::kMaxAbsTimeS);
+        }
         EXPECT_LE(r.image.size(), kMaxFieldBytes);
         EXPECT_GT(r.line, 1);
       }
@@ -132,7 +134,9 @@ TEST(NavFuzz, CsvLinesAndFieldsStayBounded) {
       size_t bytes = 0;
       for (const auto& h : table.header) EXPECT_LE(h.size(), kMaxFieldBytes);
       for (const CsvRow& row : table.rows) {
-        if (!row.problem.empty()) EXPECT_TRUE(row.fields.empty());
+        if (!row.problem.empty()) {
+          EXPECT_TRUE(row.fields.empty());
+        }
         for (const auto& f : row.fields) {
           EXPECT_LE(f.size(), kMaxFieldBytes);
           bytes += f.size();

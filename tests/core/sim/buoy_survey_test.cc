@@ -105,8 +105,12 @@ TEST_F(BuoySurveyTest, TautSelectionSkipsTurnsAndTheSlackAfterThem) {
   const double leg = 120 / 0.6, turn = M_PI * 7.5 / 0.6;
   for (const auto& k : s.keyframes) {
     const double t = k.time_s - t0;
-    if (t > leg + turn + 10 && t < leg + turn + 30) EXPECT_FALSE(k.good) << t << " " << k.reason;
-    if (t > leg + turn / 2 && t < leg + turn) EXPECT_FALSE(k.good) << t << " " << k.reason;
+    if (t > leg + turn + 10 && t < leg + turn + 30) {
+      EXPECT_FALSE(k.good) << t << " " << k.reason;
+    }
+    if (t > leg + turn / 2 && t < leg + turn) {
+      EXPECT_FALSE(k.good) << t << " " << k.reason;
+    }
   }
   EXPECT_GT(s.rejected.count("turning") ? s.rejected.at("turning") : 0, 100);
   EXPECT_GT(s.rejected.count("slack") ? s.rejected.at("slack") : 0, 50);

@@ -168,7 +168,9 @@ TEST(Fuzz, ChunkedRequestBodies) {
     const ChunkVerdict whole = FeedChunks(bytes, max, bytes.size() + 1);
     ASSERT_LE(whole.used, bytes.size()) << fz.Where();
     ASSERT_LE(whole.body, max) << fz.Where() << ": read past the limit";
-    if (whole.refused) ASSERT_TRUE(whole.status == 400 || whole.status == 413) << fz.Where();
+    if (whole.refused) {
+      ASSERT_TRUE(whole.status == 400 || whole.status == 413) << fz.Where();
+    }
     if (bytes == valid + next) {
       if (body <= max) {
         ASSERT_TRUE(whole.done) << fz.Where();
@@ -275,7 +277,9 @@ TEST(Fuzz, HttpTokensAndOrigins) {
       ASSERT_EQ(NormalizeOrigin(*n), n) << fz.Where() << ": not idempotent for " << Show(origin);
       for (char c : *n) ASSERT_FALSE(std::isupper(static_cast<unsigned char>(c))) << fz.Where();
       const std::string host = n->substr(n->find("://") + 3);
-      if (n->rfind("http://", 0) == 0) ASSERT_FALSE(policy.RefuseWrite(host, origin, "cross-site")) << fz.Where();
+      if (n->rfind("http://", 0) == 0) {
+        ASSERT_FALSE(policy.RefuseWrite(host, origin, "cross-site")) << fz.Where();
+      }
     } else if (!NormalizeOrigin(TrimSpace(origin))) {
       ASSERT_TRUE(policy.RefuseWrite("127.0.0.1:8080", origin, std::nullopt)) << fz.Where() << ": " << Show(origin);
     }
@@ -297,7 +301,9 @@ TEST(Fuzz, Utf8AgreesWithTheJsonParser) {
     const bool json_ok = nlohmann::json::accept("\"" + s + "\"");
     const auto bad = FirstInvalidUtf8(s);
     ASSERT_EQ(!bad, json_ok) << fz.Where() << ": " << Show(s);
-    if (bad) ASSERT_FALSE(FirstInvalidUtf8(s.substr(0, *bad))) << fz.Where() << ": the text before is UTF-8";
+    if (bad) {
+      ASSERT_FALSE(FirstInvalidUtf8(s.substr(0, *bad))) << fz.Where() << ": the text before is UTF-8";
+    }
   }
 }
 

@@ -127,6 +127,33 @@ void WaitForFirstFrame(const std::string& nav, const std::string& images, const 
   }
 }
 
+// SURVEY or --watch DIR, whose files are the build options' defaults; returns --watch's folder.
+std::optional<std::string> ReadSurveyFolder(Args& args) {
+  const std::optional<std::string> watch = args.Get("watch");
+  if (watch) {
+    if (!args.positionals().empty()) throw InputError("", 0, "--watch", "takes the folder; give no SURVEY as well");
+    SurveyDefaults(args, *watch);
+  } else {
+    if (args.positionals().size() != 1)
+      throw InputError("", 0, "SURVEY", "expected one survey folder (photo/, nav.csv, camera.json) or --watch DIR");
+    if (!fs::is_directory(args.positionals()[0]))
+      throw InputError(args.positionals()[0], 0, "SURVEY", "is not a folder");
+    SurveyDefaults(args, args.positionals()[0]);
+  }
+  return watch;
+}
+
+// --nav-mode vo|ekf: the navigation filter online (nav, or none: the navigation as given).
+PoseSourceOptions ReadNavMode(Args& args, const BuildInputs& in) {
+  PoseSourceOptions poses;
+  if (auto mode = args.Get("nav-mode"); mode && *mode != "nav") {
+    poses.mode = PoseMode::kFilter;
+    poses.filter =
+        EstimatorOptionsFrom(*mode, ReadRefineOptions(args, in.config.navigation, in.config.threads), "--nav-mode");
+  }
+  return poses;
+}
+
 // The feed of frames: the recorded survey at its pace, or the watched folder.
 std::unique_ptr<FrameFeed> OpenFeed(const std::optional<std::string>& watch, Args& args, const BuildInputs& in,
                                     double speed, double idle_timeout) {
@@ -262,17 +289,7 @@ int RunReplay(int argc, char** argv, int first) {
     std::printf("%s%s%s", kHelp, kGeorefOverlayHelp, kServerOptionsHelp);
     return 0;
   }
-  const std::optional<std::string> watch = args.Get("watch");
-  if (watch) {
-    if (!args.positionals().empty()) throw InputError("", 0, "--watch", "takes the folder; give no SURVEY as well");
-    SurveyDefaults(args, *watch);
-  } else {
-    if (args.positionals().size() != 1)
-      throw InputError("", 0, "SURVEY", "expected one survey folder (photo/, nav.csv, camera.json) or --watch DIR");
-    if (!fs::is_directory(args.positionals()[0]))
-      throw InputError(args.positionals()[0], 0, "SURVEY", "is not a folder");
-    SurveyDefaults(args, args.positionals()[0]);
-  }
+  const std::optional<std::string> watch = ReadSurveyFolder(args);
   const double speed = ParseSpeed(args.GetOr("speed", "1"));
   const double idle_timeout = args.GetDouble("idle-timeout", 0);
   const bool exit_when_done = args.Flag("exit-when-done"), quiet = args.Flag("quiet");
@@ -297,12 +314,7 @@ int RunReplay(int argc, char** argv, int first) {
   BuildInputs in = ReadBuildInputs(args);
   server::ServerOptions options = ReadServerOptions(args, in.config.server, in.config_source);
   options.photo_dir = args.GetOr("images", "");
-  PoseSourceOptions poses;
-  if (auto mode = args.Get("nav-mode"); mode && *mode != "nav") {
-    poses.mode = PoseMode::kFilter;
-    poses.filter =
-        EstimatorOptionsFrom(*mode, ReadRefineOptions(args, in.config.navigation, in.config.threads), "--nav-mode");
-  }
+  const PoseSourceOptions poses = ReadNavMode(args, in);
   const GeorefOverlays overlays = ReadGeorefOverlays(args);  // before the map is touched
   const auto detect_model = LiveDetectArgs(args);            // checked before the map is opened
   args.RejectUnknown();

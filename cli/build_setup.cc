@@ -3,11 +3,8 @@
 #include <algorithm>
 #include <filesystem>
 
-#include <opencv2/imgcodecs.hpp>
-
+#include "cli/detect_setup.h"
 #include "core/enhance/enhance_chain.h"
-#include "core/mosaic/frame_image.h"
-#include "core/mosaic/mosaic_plan.h"
 #include "core/mosaic/survey_channels.h"
 #include "core/nav/nav_reader.h"
 #include "core/util/error.h"
@@ -65,36 +62,28 @@ BuildInputs ReadBuildInputs(Args& args) {
   return in;
 }
 
-void CheckMemoryFits(const BuildInputs& in) {
-  const MosaicPlan plan = PlanMosaic(in.config.map, in.camera, in.frame, in.frames.frames, in.channels);
-  int cap_mb = in.config.buffer.memory_cap_mb;
-  if (in.config.layers == "both" && in.config.enhance) cap_mb = std::max(16, cap_mb / 2);  // two builders share it
-  CheckPlanFitsMemory(plan, in.camera, in.config.map.tile_size, cap_mb,
-                      in.config_source == "build config" ? "" : in.config_source);
+MissionBuildOptions MissionOptions(BuildInputs in) {
+  MissionBuildOptions o;
+  o.config = std::move(in.config);
+  o.config_source = std::move(in.config_source);
+  o.camera = std::move(in.camera);
+  o.frame = in.frame;
+  o.survey = std::move(in.frames);
+  o.channels = in.channels;
+  return o;
 }
 
-BuildHooks MakeHooks(const BuildInputs& in) {
-  BuildHooks hooks;
-  if (!in.config.enhance || in.config.layers == "raw") return hooks;
-  auto chain = std::make_shared<EnhanceChain>(EnhanceChain::FromJson(*in.config.enhance, in.config_source));
-  // Stateful ops (the flat field) learn from the survey's first frames.
-  std::vector<cv::Mat> samples;
-  for (const auto& f : in.frames.frames) {
-    if (static_cast<int>(samples.size()) >= chain->SeedFrames()) break;
-    // Read as the build reads frames: FIFOs and oversized images are left out.
-    std::string problem;
-    auto image = FrameImage::Read(f.image_path, in.channels, in.config.frames.sixteen_bit_white, &problem,
-                                  in.config.frames.max_image_pixels);
-    if (image && image->width() == in.camera.width && image->height() == in.camera.height) {
-      try {
-        samples.push_back(image->Full().clone());
-      } catch (const InputError&) {  // broken JPEG data: the build reports it
-      }
-    }
-  }
-  if (!samples.empty()) chain->Seed(samples);
-  hooks.preprocess = [chain](const cv::Mat& frame) { return chain->Apply(frame); };
-  return hooks;
+void HookUpDetector(std::shared_ptr<const YoloModelInfo> model, MissionBuildOptions* options) {
+  if (!model) return;
+  const MissionBuildOptions& o = *options;
+  options->start_detector = [model, tile_size = o.config.map.tile_size, origin = o.frame.origin(),
+                             detect = o.config.detect,
+                             source = o.config_source](const MosaicPlan& plan, const TileStore* store) {
+    return StartLiveDetector(model, plan, tile_size, origin, store, detect, source);
+  };
+  options->finish_detector = [](LiveDetector& detector, TileStore& store, const LiveDetector::Found& publish) {
+    FinishLiveDetector(detector, store, publish);
+  };
 }
 
 }  // namespace seamap::cli

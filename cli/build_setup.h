@@ -1,12 +1,14 @@
 #pragma once
 // What `build` and `replay` read before the first frame: config, camera,
-// navigation, frame list (the output map: cli/build_output.h).
+// navigation, frame list (what they run: core/controllers/mission_build.h).
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "cli/args.h"
 #include "core/camera/camera_model.h"
+#include "core/controllers/mission_build.h"
+#include "core/detect/yolo_model.h"
 #include "core/geo/local_frame.h"
 #include "core/mosaic/build_config.h"
 #include "core/mosaic/mosaic_builder.h"
@@ -29,11 +31,12 @@ struct BuildInputs {
 // setting overrides (--tile-format, --tile-size, --base-zoom, ...).
 BuildInputs ReadBuildInputs(Args& args);
 
-// Refuses (InputError naming base_zoom and the memory needed) settings whose
-// tile buffer cannot hold one frame of the survey, before anything is written.
-void CheckMemoryFits(const BuildInputs& inputs);
+// The controller's options for these inputs (the map and what paints it
+// are the caller's to add).
+MissionBuildOptions MissionOptions(BuildInputs in);
 
-// Hooks for the configured enhancement chain (seeded from the first frames).
-BuildHooks MakeHooks(const BuildInputs& inputs);
+// --detect: the recogniser of cli/detect_setup.h hooked up to the mission
+// (`model` null: none).
+void HookUpDetector(std::shared_ptr<const YoloModelInfo> model, MissionBuildOptions* options);
 
 }  // namespace seamap::cli

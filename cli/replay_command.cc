@@ -13,7 +13,6 @@
 #include <thread>
 
 #include "cli/args.h"
-#include "cli/build_output.h"
 #include "cli/build_setup.h"
 #include "cli/commands.h"
 #include "cli/detect_setup.h"
@@ -21,10 +20,10 @@
 #include "cli/server_setup.h"
 #include "cli/shutdown_signal.h"
 #include "cli/trajectory_setup.h"
+#include "core/controllers/mission_build.h"
 #include "core/detect/detection_record.h"
-#include "core/mosaic/mosaic_builder.h"
 #include "core/nav/frame_feed.h"
-#include "core/tiles/observed_store.h"
+#include "core/tiles/tile_codec.h"
 #include "core/tiles/tile_version.h"
 #include "core/util/error.h"
 #include "server/http_server.h"
@@ -128,14 +127,8 @@ void WaitForFirstFrame(const std::string& nav, const std::string& images, const 
   }
 }
 
-}  // namespace
-
-int RunReplay(int argc, char** argv, int first) {
-  Args args(argc, argv, first, {"append", "overwrite", "quiet", "exit-when-done", "detect", "help"});
-  if (args.Flag("help")) {
-    std::printf("%s%s%s", kHelp, kGeorefOverlayHelp, kServerOptionsHelp);
-    return 0;
-  }
+// SURVEY or --watch DIR, whose files are the build options' defaults; returns --watch's folder.
+std::optional<std::string> ReadSurveyFolder(Args& args) {
   const std::optional<std::string> watch = args.Get("watch");
   if (watch) {
     if (!args.positionals().empty()) throw InputError("", 0, "--watch", "takes the folder; give no SURVEY as well");
@@ -147,6 +140,156 @@ int RunReplay(int argc, char** argv, int first) {
       throw InputError(args.positionals()[0], 0, "SURVEY", "is not a folder");
     SurveyDefaults(args, args.positionals()[0]);
   }
+  return watch;
+}
+
+// --nav-mode vo|ekf: the navigation filter online (nav, or none: the navigation as given).
+PoseSourceOptions ReadNavMode(Args& args, const BuildInputs& in) {
+  PoseSourceOptions poses;
+  if (auto mode = args.Get("nav-mode"); mode && *mode != "nav") {
+    poses.mode = PoseMode::kFilter;
+    poses.filter =
+        EstimatorOptionsFrom(*mode, ReadRefineOptions(args, in.config.navigation, in.config.threads), "--nav-mode");
+  }
+  return poses;
+}
+
+// The feed of frames: the recorded survey at its pace, or the watched folder.
+std::unique_ptr<FrameFeed> OpenFeed(const std::optional<std::string>& watch, Args& args, const BuildInputs& in,
+                                    double speed, double idle_timeout) {
+  if (!watch) return std::make_unique<RecordedFeed>(in.frames, speed);
+  NavReadOptions nav_options = in.config.nav;
+  nav_options.origin = in.frame.origin();
+  return std::make_unique<FolderWatchFeed>(args.GetOr("nav", ""), args.GetOr("images", ""), nav_options, idle_timeout);
+}
+
+// The server's side of a replay: the mission's state, events, tiles and
+// detections, fed by the controller's hooks (MissionObserver).
+class LiveMission {
+ public:
+  LiveMission(bool quiet, const FrameFeed* feed) : quiet_(quiet), feed_(feed) {}
+
+  MissionObserver Observer(const std::shared_ptr<const YoloModelInfo>& detect_model) {
+    MissionObserver o;
+    o.on_tiles_committed = [this](const std::string& layer, const std::vector<CommittedTile>& done) {
+      for (const auto& t : done) {
+        if (tiles) tiles->Invalidate(layer, t.id);
+        events.Publish(
+            "tile",
+            nlohmann::json{
+                {"layer", layer}, {"z", t.id.z}, {"x", t.id.x}, {"y", t.id.y}, {"version", TileVersionHex(t.version)}}
+                .dump());
+      }
+    };
+    o.on_frame_placed = [this](const FrameRecord& record, const TrackPoint& point) {
+      mission.AddFrame(record, point);
+      if (record.status == "used") events.Publish("pose", server::PoseJson(record).dump());
+      events.Publish("track", server::TrackPointJson(point).dump());
+    };
+    o.on_progress = [this](const BuildStats& s) { PublishProgress(s, "building", false); };
+    if (detect_model)  // what is found so far goes through the registry (SSE `detection` events)
+      o.on_objects_found = [this, model = detect_model](const std::vector<RecognisedObject>& objects) {
+        std::vector<Detection> batch;
+        for (const RecognisedObject& obj : objects) batch.push_back(ToDetection(obj));
+        server::PublishOptions options;
+        options.model_classes = model->class_names;
+        options.replace_model = model->name;
+        detections->Publish(std::move(batch), options);
+      };
+    return o;
+  }
+
+  // Once the map is open, before its layers are built.
+  void Attach(const MissionBuild& build, const GeorefOverlays& overlays) {
+    const MissionBuildOptions& o = build.options();
+    overlays.ApplyTo(mission);
+    tiles = std::make_unique<server::TileSource>(o.out, 8, 64u << 20, build.store());
+    mission.Load(*build.store());  // an appended mission keeps its frames and track
+    mission.SetName(o.config.map.name);
+    mission.SetReplay(true);
+    mission.SetLayers(build.layers(), TileExtension(o.config.map.encoding.format));
+    mission.SetOrigin(o.frame.origin().lat, o.frame.origin().lon);
+    detections = std::make_unique<server::DetectionRegistry>(build.store(), &events);
+    detections->Load(*build.store());
+  }
+
+  // The mission's progress to the server and, unless quiet, to stderr; at
+  // most every half second unless forced.
+  void PublishProgress(const BuildStats& s, const std::string& state, bool force) {
+    const auto now = Clock::now();
+    if (!force && now - last_progress_ < std::chrono::milliseconds(500)) return;
+    last_progress_ = now;
+    server::Progress p;
+    p.state = state;
+    p.frames_done = s.frames_seen;
+    p.frames_total = feed_->Total();
+    p.frames_rejected = static_cast<int>(s.rejections.size());
+    p.tiles_written = s.tiles_written;
+    const double seconds = std::chrono::duration<double>(now - start_).count();
+    p.frames_per_s = seconds > 0 ? s.frames_seen / seconds : 0;
+    mission.SetProgress(p);
+    events.Publish("progress", mission.StatusJson().dump());
+    if (!quiet_) {
+      std::fprintf(stderr, "\rreplay: %d%s frames, %lld tile writes, %.1f frames/s   ", p.frames_done,
+                   p.frames_total ? (" / " + std::to_string(p.frames_total)).c_str() : "",
+                   static_cast<long long>(p.tiles_written), p.frames_per_s);
+      std::fflush(stderr);
+    }
+  }
+  // From now on frames per second count (the server is up).
+  void StartClock() { start_ = Clock::now(), last_progress_ = start_ - std::chrono::seconds(1); }
+
+  server::EventHub events;
+  server::MissionState mission;
+  std::unique_ptr<server::TileSource> tiles;
+  std::unique_ptr<server::DetectionRegistry> detections;
+
+ private:
+  bool quiet_;
+  const FrameFeed* feed_;
+  Clock::time_point start_ = Clock::now(), last_progress_ = start_ - std::chrono::seconds(1);
+};
+
+// Runs the feed through the build; its end (complete, stopped, failed) told
+// to the map, the server and the terminal. Returns the exit code so far.
+int ReplayFeed(MissionBuild& build, FrameFeed& feed, LiveMission& live, bool quiet,
+               const std::atomic<bool>& interrupted) {
+  live.StartClock();
+  live.PublishProgress(build.stats(), "building", true);
+  int exit_code = 0;
+  try {
+    build.Run(feed);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "\nseamap replay: failed: %s\n", e.what());
+    exit_code = 1;
+  }
+  const bool complete = !interrupted && exit_code == 0;
+  try {
+    build.Conclude(complete);
+  } catch (const std::exception& e) {  // e.g. the disk is still full: say so, keep serving what is there
+    std::fprintf(stderr, "seamap replay: cannot mark the mission stopped: %s\n", e.what());
+    exit_code = 1;
+  }
+  live.PublishProgress(build.stats(), complete ? "complete" : "stopped", true);
+  if (!quiet) std::fprintf(stderr, "\n");
+  const BuildStats& s = build.stats();
+  std::printf("replay %s: frames used %d, rejected %zu; %lld tile writes\n", complete ? "complete" : "stopped",
+              s.frames_used, s.rejections.size(), static_cast<long long>(s.tiles_written));
+  for (const auto& r : s.rejections) std::fprintf(stderr, "skipped: %s\n", r.Message().c_str());
+  std::fflush(stdout);
+  if (exit_code == 0 && !complete) exit_code = 130;  // stopped by Ctrl-C before the end
+  return exit_code;
+}
+
+}  // namespace
+
+int RunReplay(int argc, char** argv, int first) {
+  Args args(argc, argv, first, {"append", "overwrite", "quiet", "exit-when-done", "detect", "help"});
+  if (args.Flag("help")) {
+    std::printf("%s%s%s", kHelp, kGeorefOverlayHelp, kServerOptionsHelp);
+    return 0;
+  }
+  const std::optional<std::string> watch = ReadSurveyFolder(args);
   const double speed = ParseSpeed(args.GetOr("speed", "1"));
   const double idle_timeout = args.GetDouble("idle-timeout", 0);
   const bool exit_when_done = args.Flag("exit-when-done"), quiet = args.Flag("quiet");
@@ -171,118 +314,33 @@ int RunReplay(int argc, char** argv, int first) {
   BuildInputs in = ReadBuildInputs(args);
   server::ServerOptions options = ReadServerOptions(args, in.config.server, in.config_source);
   options.photo_dir = args.GetOr("images", "");
-  std::unique_ptr<TrajectoryEstimator> estimator;
-  if (auto mode = args.Get("nav-mode")) {
-    if (*mode != "nav") {
-      const RefineOptions stated = ReadRefineOptions(args, in.config.navigation, in.config.threads);
-      estimator = std::make_unique<TrajectoryEstimator>(in.camera, EstimatorOptionsFrom(*mode, stated, "--nav-mode"));
-    }
-  }
+  const PoseSourceOptions poses = ReadNavMode(args, in);
   const GeorefOverlays overlays = ReadGeorefOverlays(args);  // before the map is touched
   const auto detect_model = LiveDetectArgs(args);            // checked before the map is opened
   args.RejectUnknown();
 
-  std::unique_ptr<FrameFeed> feed;
+  std::unique_ptr<FrameFeed> feed = OpenFeed(watch, args, in, speed, idle_timeout);
   StopSignalsOnExit stop_signals{shutdown};  // ... and the feed
-  if (watch) {
-    NavReadOptions nav_options = in.config.nav;
-    nav_options.origin = in.frame.origin();
-    feed =
-        std::make_unique<FolderWatchFeed>(args.GetOr("nav", ""), args.GetOr("images", ""), nav_options, idle_timeout);
-  } else {
-    feed = std::make_unique<RecordedFeed>(in.frames, speed);
-  }
   {
     std::lock_guard<std::mutex> lock(mutex);
     feed_ptr = feed.get();
     if (interrupted) feed->Stop();
   }
+  const std::vector<std::string> warnings = in.warnings;
+  MissionBuildOptions build_options = MissionOptions(std::move(in));
+  build_options.out = out;
+  build_options.append = append, build_options.overwrite = overwrite;
+  build_options.live = true;
+  build_options.poses = poses;
+  HookUpDetector(detect_model, &build_options);
+  LiveMission live(quiet, feed.get());
+  MissionBuild build(std::move(build_options), live.Observer(detect_model));
+  build.Open();
+  for (const auto& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  live.Attach(build, overlays);
+  build.Start();
 
-  // A live map: publish tiles every few frames (a build batches 25 for speed).
-  in.config.buffer.batch_frames = std::min(in.config.buffer.batch_frames, 5);
-  in.config.buffer.live_tiles = true;
-  CheckMemoryFits(in);  // before the map is created
-  BuildOutput output = OpenOutput(out, in.config, {append, overwrite, false});
-  std::unique_ptr<TileStore>& store = output.store;
-  MosaicPlan plan = PlanMosaic(in.config.map, in.camera, in.frame, in.frames.frames, in.channels);
-  for (const auto& w : in.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-
-  server::EventHub events;
-  server::MissionState mission;
-  overlays.ApplyTo(mission);
-  BuildHooks enhance = MakeHooks(in);
-  const bool both = in.config.layers == "both" && enhance.preprocess;
-  const std::vector<std::string> layers = both ? std::vector<std::string>{"raw", "enhanced"}
-                                               : std::vector<std::string>{enhance.preprocess ? "enhanced" : "raw"};
-  std::string layer_list;
-  for (const auto& l : layers) layer_list += (layer_list.empty() ? "" : ",") + l;
-  const std::string format = TileExtension(in.config.map.encoding.format);
-  // What a client needs before the first batch lands.
-  store->SetMetadata("name", in.config.map.name);
-  store->SetMetadata("format", format);
-  store->SetMetadata("seamap_layers", layer_list);
-  store->SetMetadata("minzoom", std::to_string(plan.min_zoom));
-  store->SetMetadata("maxzoom", std::to_string(plan.base_zoom));
-  store->SetMetadata("seamap_state", "building");
-  if (estimator) store->SetMetadata("seamap_trajectory", nlohmann::json{{"mode", args.GetOr("nav-mode", "")}}.dump());
-  store->SetMetadata("seamap_origin", Degrees(in.frame.origin().lat) + "," + Degrees(in.frame.origin().lon));
-  store->Flush();
-
-  std::unique_ptr<server::TileSource> tiles;
-  ObservedStore observed(store.get(), [&](const std::string& layer, const std::vector<CommittedTile>& done) {
-    for (const auto& t : done) {
-      if (tiles) tiles->Invalidate(layer, t.id);
-      events.Publish(
-          "tile",
-          nlohmann::json{
-              {"layer", layer}, {"z", t.id.z}, {"x", t.id.x}, {"y", t.id.y}, {"version", TileVersionHex(t.version)}}
-              .dump());
-    }
-  });
-  tiles = std::make_unique<server::TileSource>(out, 8, 64u << 20, &observed);
-  mission.Load(*store);  // an appended mission keeps its frames and track
-  mission.SetName(in.config.map.name);
-  mission.SetReplay(true);
-  mission.SetLayers(layers, format);
-  mission.SetOrigin(in.frame.origin().lat, in.frame.origin().lon);
-  server::DetectionRegistry detections(&observed, &events);
-  detections.Load(*store);
-
-  BuildHooks hooks = both ? BuildHooks{} : enhance;
-  hooks.on_frame = [&](const FrameRecord& record, const TrackPoint& point) {
-    mission.AddFrame(record, point);
-    if (record.status == "used") events.Publish("pose", server::PoseJson(record).dump());
-    events.Publish("track", server::TrackPointJson(point).dump());
-  };
-  if (both) in.config.buffer.memory_cap_mb = std::max(16, in.config.buffer.memory_cap_mb / 2);
-  std::unique_ptr<LiveDetector> detector;  // searches the main layer's finished tiles
-  LiveDetector::Found publish_found;
-  if (detect_model) {
-    detector = StartLiveDetector(detect_model, plan, in.config.map.tile_size, in.frame.origin(), store.get(),
-                                 in.config.detect, in.config_source);
-    hooks.tile_consumers.push_back(detector.get());
-    // Live: what is found so far goes through the registry every second (SSE
-    // `detection` events: the console shows objects as they are found).
-    publish_found = [&detections, model = detector->model()](const std::vector<RecognisedObject>& objects) {
-      std::vector<Detection> batch;
-      for (const RecognisedObject& o : objects) batch.push_back(ToDetection(o));
-      server::PublishOptions options;
-      options.model_classes = model.class_names;
-      options.replace_model = model.name;
-      detections.Publish(std::move(batch), options);
-    };
-    detector->OnFound(
-        publish_found, [&store] { return store->Frames(); }, std::chrono::seconds(1));
-  }
-  MosaicBuilder builder(in.config, in.camera, in.frame, plan, &observed, hooks);
-  std::unique_ptr<TileStore> enhanced_store;
-  std::unique_ptr<MosaicBuilder> enhanced;
-  if (both) {
-    enhanced_store = observed.OpenLayer("enhanced");
-    enhanced = std::make_unique<MosaicBuilder>(in.config, in.camera, in.frame, plan, enhanced_store.get(), enhance);
-  }
-
-  server::HttpServer http(options, tiles.get(), &mission, &detections, &events);
+  server::HttpServer http(options, live.tiles.get(), &live.mission, live.detections.get(), &live.events);
   http.Bind();
   http.Start();
   const std::string url = ServerUrl(options, http.port());
@@ -291,69 +349,7 @@ int RunReplay(int argc, char** argv, int first) {
               speed > 0 ? (std::to_string(speed).substr(0, 4) + "x").c_str() : "full speed", out.c_str());
   std::fflush(stdout);
 
-  const Clock::time_point start = Clock::now();
-  Clock::time_point last_progress = start - std::chrono::seconds(1);
-  auto publish_progress = [&](const std::string& state, bool force) {
-    const auto now = Clock::now();
-    if (!force && now - last_progress < std::chrono::milliseconds(500)) return;
-    last_progress = now;
-    const BuildStats& s = builder.stats();
-    server::Progress p;
-    p.state = state;
-    p.frames_done = s.frames_seen;
-    p.frames_total = feed->Total();
-    p.frames_rejected = static_cast<int>(s.rejections.size());
-    p.tiles_written = s.tiles_written;
-    const double seconds = std::chrono::duration<double>(now - start).count();
-    p.frames_per_s = seconds > 0 ? s.frames_seen / seconds : 0;
-    mission.SetProgress(p);
-    events.Publish("progress", mission.StatusJson().dump());
-    if (!quiet) {
-      std::fprintf(stderr, "\rreplay: %d%s frames, %lld tile writes, %.1f frames/s   ", p.frames_done,
-                   p.frames_total ? (" / " + std::to_string(p.frames_total)).c_str() : "",
-                   static_cast<long long>(p.tiles_written), p.frames_per_s);
-      std::fflush(stderr);
-    }
-  };
-  publish_progress("building", true);
-
-  int exit_code = 0;
-  try {
-    while (auto item = feed->Next()) {
-      if (item->rejection) {
-        builder.Reject(*item->rejection);
-        if (enhanced) enhanced->Reject(*item->rejection);
-      } else {
-        FrameSpec frame = *item->frame;
-        if (estimator) EstimatePose(estimator.get(), in.camera, &frame);
-        builder.Push(frame);
-        if (enhanced) enhanced->Push(frame);
-      }
-      publish_progress("building", false);
-    }
-    if (enhanced) enhanced->Finish();
-    builder.Finish();
-    if (detector) FinishLiveDetector(*detector, *store, publish_found);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "\nseamap replay: failed: %s\n", e.what());
-    exit_code = 1;
-  }
-  const bool complete = !interrupted && exit_code == 0;
-  try {
-    if (!complete) store->SetMetadata("seamap_state", "stopped");
-    store->Flush();
-  } catch (const std::exception& e) {  // e.g. the disk is still full: say so, keep serving what is there
-    std::fprintf(stderr, "seamap replay: cannot mark the mission stopped: %s\n", e.what());
-    exit_code = 1;
-  }
-  publish_progress(complete ? "complete" : "stopped", true);
-  if (!quiet) std::fprintf(stderr, "\n");
-  const BuildStats& s = builder.stats();
-  std::printf("replay %s: frames used %d, rejected %zu; %lld tile writes\n", complete ? "complete" : "stopped",
-              s.frames_used, s.rejections.size(), static_cast<long long>(s.tiles_written));
-  for (const auto& r : s.rejections) std::fprintf(stderr, "skipped: %s\n", r.Message().c_str());
-  std::fflush(stdout);
-
+  const int exit_code = ReplayFeed(build, *feed, live, quiet, interrupted);
   if (!exit_when_done && !interrupted) {
     std::printf("still serving %s (Ctrl-C to stop)\n", url.c_str());
     std::fflush(stdout);
@@ -361,7 +357,6 @@ int RunReplay(int argc, char** argv, int first) {
     woken.wait(lock, [&] { return interrupted.load(); });
   }
   http.Stop();
-  if (exit_code == 0 && !complete) exit_code = 130;  // stopped by Ctrl-C before the end
   return exit_code;
 }
 

@@ -1,89 +1,21 @@
 // seamap trajectory: a survey's trajectory estimated from its photos.
-#include <chrono>
-#include <cmath>
 #include <cstdio>
-#include <deque>
-#include <future>
-
 #include <filesystem>
 #include <fstream>
-#include <opencv2/imgcodecs.hpp>
-#include <set>
 
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "cli/trajectory_setup.h"
 #include "core/camera/camera_model.h"
+#include "core/controllers/pose_source.h"
 #include "core/mosaic/build_config.h"
 #include "core/nav/frame_list.h"
 #include "core/nav/nav_reader.h"
 #include "core/trajectory/trajectory_csv.h"
-#include "core/trajectory/trajectory_estimator.h"
 #include "core/util/error.h"
-#include "core/util/progress.h"
-#include "core/util/thread_pool.h"
 
 namespace seamap::cli {
 namespace {
-
-// Features on the pool, a bounded stretch ahead; the filter in order.
-nlohmann::json EstimateFrames(const std::vector<FrameSpec>& frames, const CameraModel& camera,
-                              const EstimatorOptions& options, int threads, bool quiet,
-                              std::vector<TrajectoryRow>* rows) {
-  for (const FrameSpec& f : frames)
-    if (!f.time_s) throw InputError(f.image_path, f.nav_line, "time_s", "vo and ekf need the navigation's times");
-  ThreadPool pool(threads);
-  TrajectoryEstimator estimator(camera, options);
-  ProgressBar progress("frames", static_cast<long>(frames.size()), !quiet);
-  std::deque<std::future<std::optional<FrameFeatures>>> ahead;
-  size_t next = 0;
-  const size_t depth = 4 * static_cast<size_t>(pool.size());
-  const auto start = std::chrono::steady_clock::now();
-  int unreadable = 0;
-  for (size_t i = 0; i < frames.size(); ++i) {
-    for (; next < frames.size() && next < i + depth; ++next)
-      ahead.push_back(pool.Submit([&, next]() -> std::optional<FrameFeatures> {
-        const cv::Mat image = ReadFrameForFeatures(frames[next].image_path);
-        if (image.empty()) return std::nullopt;
-        return DetectFeatures(image, camera, options.vo.features);
-      }));
-    const std::optional<FrameFeatures> features = ahead.front().get();
-    ahead.pop_front();
-    unreadable += !features;
-    const VehiclePose pose = estimator.Add(features ? &*features : nullptr, *frames[i].time_s, frames[i].pose);
-    rows->push_back({frames[i].image, frames[i].time_s, pose, features ? "" : "no_image"});
-    progress.Update(static_cast<long>(i + 1));
-  }
-  progress.Finish();
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  const auto& vo = estimator.vo_counts();
-  const auto& filter = estimator.filter_counts();
-  std::fprintf(stderr,
-               "%s: %d VO measurements (%d homography, %d essential, %d hover), %d pairs failed, %d low-texture "
-               "frames; filter took %d, gated %d VO updates (mean NIS %.2f), %d re-acquisitions; %.1f frames/s\n",
-               options.mode == EstimatorMode::kVo ? "vo" : "ekf", vo.measurements, vo.homography, vo.essential,
-               vo.hover, vo.failed_pairs, vo.low_texture, filter.velocity_accepted, filter.velocity_rejected,
-               filter.velocity_accepted ? filter.velocity_nis_sum / filter.velocity_accepted : 0.0,
-               filter.reacquisitions, frames.size() / std::max(seconds, 1e-9));
-  return {{"frames", frames.size()},
-          {"unreadable_frames", unreadable},
-          {"vo_measurements", vo.measurements},
-          {"homography", vo.homography},
-          {"essential", vo.essential},
-          {"hover", vo.hover},
-          {"failed_pairs", vo.failed_pairs},
-          {"low_texture_frames", vo.low_texture},
-          {"missing_altitude", vo.missing_altitude},
-          {"velocity_accepted", filter.velocity_accepted},
-          {"velocity_rejected", filter.velocity_rejected},
-          {"mean_vo_nis", filter.velocity_accepted ? filter.velocity_nis_sum / filter.velocity_accepted : 0.0},
-          {"depth_rejected", filter.depth_rejected},
-          {"position_accepted", filter.position_accepted},
-          {"position_rejected", filter.position_rejected},
-          {"reacquisitions", filter.reacquisitions},
-          {"seconds", seconds},
-          {"frames_per_s", frames.size() / std::max(seconds, 1e-9)}};
-}
 
 const char* kHelp =
     "usage: seamap trajectory --images DIR --nav FILE --camera FILE --mode vo|ekf|refine --out trajectory.csv\n"
@@ -136,18 +68,19 @@ int RunTrajectory(int argc, char** argv, int first) {
   if (frames.frames.size() < 2)
     throw InputError(nav.source, 0, "", "fewer than two frames to estimate a trajectory from");
 
-  nlohmann::json report;
+  PoseSourceOptions poses;
+  poses.mode = mode == "refine" ? PoseMode::kRefine : PoseMode::kFilter;
+  poses.refine = options;
+  if (mode != "refine") poses.filter = EstimatorOptionsFrom(mode, options, "--mode");
+  poses.threads = threads;
+  poses.quiet = quiet;
+  std::vector<std::string> flags;
+  nlohmann::json report = PoseSource(camera, poses).PlaceSurvey(&frames.frames, &flags);
   const LocalFrame frame(nav.origin);
   std::vector<TrajectoryRow> rows;
-  if (mode == "refine") {
-    report = RefineFrames(&frames.frames, camera, options, quiet);
-    std::set<std::string> nav_only;
-    for (const auto& image : report["nav_only"]) nav_only.insert(image.get<std::string>());
-    for (const FrameSpec& f : frames.frames)
-      rows.push_back({f.image, f.time_s, f.pose, nav_only.count(f.image) ? "nav_only" : ""});
-  } else {
-    report =
-        EstimateFrames(frames.frames, camera, EstimatorOptionsFrom(mode, options, "--mode"), threads, quiet, &rows);
+  for (size_t i = 0; i < frames.frames.size(); ++i) {
+    const FrameSpec& f = frames.frames[i];
+    rows.push_back({f.image, f.time_s, f.pose, flags[i]});
   }
   WriteTrajectoryCsv(out, rows, frame);
   std::printf("trajectory (%s): %zu frames -> %s\n", mode.c_str(), rows.size(), out.c_str());

@@ -60,7 +60,14 @@ FramePipeline::~FramePipeline() {
     if (q->warp.valid()) q->warp.wait();
 }
 
-FramePipeline::Loaded FramePipeline::Load(const FrameSpec& spec) const {
+bool UsesDecoded(const ImageHeader& header, const cv::Mat& decoded, int channels) {
+  if (decoded.empty() || decoded.cols != header.width || decoded.rows != header.height) return false;
+  // libjpeg-turbo decodes a JPEG the same for both, but to gray it gives the
+  // luma where cv::imread gives colour (then converted by other weights).
+  return header.format != "jpeg" || decoded.channels() == channels;
+}
+
+FramePipeline::Loaded FramePipeline::Load(const FrameSpec& spec, const cv::Mat& decoded) const {
   Loaded l;
   PlacedFrame& p = l.placed;
   p.spec = spec;
@@ -85,8 +92,12 @@ FramePipeline::Loaded FramePipeline::Load(const FrameSpec& spec) const {
   if (header->width > 0 && header->pixels() <= options_.max_image_pixels &&
       (header->width != camera.width || header->height != camera.height))
     return wrong_size(header->width, header->height);
-  auto image = FrameImage::Read(spec.image_path, *header, options_.channels, options_.sixteen_bit_white, &problem,
-                                options_.max_image_pixels);
+  std::optional<FrameImage> image;
+  if (!TooLargeToDecode(*header, options_.max_image_pixels) && UsesDecoded(*header, decoded, options_.channels))
+    image = FrameImage::FromMat(decoded, options_.channels, options_.sixteen_bit_white);
+  else
+    image = FrameImage::Read(spec.image_path, *header, options_.channels, options_.sixteen_bit_white, &problem,
+                             options_.max_image_pixels);
   if (!image) return reject("image", problem);
   if (image->width() != camera.width || image->height() != camera.height)
     return wrong_size(image->width(), image->height());
@@ -108,8 +119,8 @@ FramePipeline::Loaded FramePipeline::Load(const FrameSpec& spec) const {
   return l;
 }
 
-void FramePipeline::Push(const FrameSpec& spec) {
-  loading_.push_back(pool_->Submit([this, spec] { return Load(spec); }));
+void FramePipeline::Push(const FrameSpec& spec, const cv::Mat& decoded) {
+  loading_.push_back(pool_->Submit([this, spec, decoded] { return Load(spec, decoded); }));
   // Keep the pool busy: take finished loads (starting their neighbours'
   // warps) and deliver finished warps as they come; block only when the
   // pipeline is full, on its oldest frame.

@@ -60,6 +60,12 @@ std::optional<std::string> TooSteep(const CameraModel& camera, const VehiclePose
 std::optional<std::string> TooLargeToPaint(const SeabedProjection& projection, const VehiclePose& pose, int channels,
                                            double max_paint_bytes);
 
+// Whether a photo with this header, decoded whole by cv::imread as
+// `decoded`, gives the pixels FrameImage::Read would for a map of `channels`:
+// not for a JPEG whose colour a gray map takes as libjpeg's luma (FrameImage
+// decodes JPEGs itself, by rows), nor for an empty or mis-sized image.
+bool UsesDecoded(const ImageHeader& header, const cv::Mat& decoded, int channels);
+
 class FramePipeline {
  public:
   using Deliver = std::function<void(PlacedFrame)>;
@@ -68,8 +74,11 @@ class FramePipeline {
   ~FramePipeline();  // waits for the jobs in flight
 
   // Queues a frame (frames come in acquisition order) and delivers those
-  // ready; blocks while the pipeline is full.
-  void Push(const FrameSpec& frame);
+  // ready; blocks while the pipeline is full. `decoded`: the photo as
+  // cv::imread decodes it unchanged, read already by the caller (the online
+  // navigation filter): used instead of reading the file again where it
+  // gives the very pixels the pipeline's own read would (UsesDecoded).
+  void Push(const FrameSpec& frame, const cv::Mat& decoded = cv::Mat());
   // Delivers every frame still in the pipeline.
   void Finish();
 
@@ -88,7 +97,7 @@ class FramePipeline {
     bool Usable() const { return !loaded.image.empty(); }
   };
 
-  Loaded Load(const FrameSpec& spec) const;
+  Loaded Load(const FrameSpec& spec, const cv::Mat& decoded) const;
   void TakeLoaded();  // oldest load -> queued_ (waits for it); starts the previous usable frame's warp
   void StartWarp(const std::shared_ptr<Queued>& q);
   // Delivers queued frames, oldest first, while their warps are done; with

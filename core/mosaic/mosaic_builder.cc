@@ -239,8 +239,8 @@ void MosaicBuilder::Foresee(const std::vector<FrameSpec>& frames) {
   }
 }
 
-void MosaicBuilder::Push(const FrameSpec& frame) {
-  if (frame.index >= prime_from_) pipeline_->Push(frame);
+void MosaicBuilder::Push(const FrameSpec& frame, const cv::Mat& decoded) {
+  if (frame.index >= prime_from_) pipeline_->Push(frame, decoded);
 }
 
 void MosaicBuilder::Reject(const Rejection& rejection) {

@@ -95,7 +95,9 @@ class MosaicBuilder {
   void Foresee(const std::vector<FrameSpec>& frames);
   // Queues a frame; blocks while the pipeline is full. Frames must come in
   // acquisition order. A resumed builder passes over those done before.
-  void Push(const FrameSpec& frame);
+  // `decoded`: the frame's photo already decoded (cv::imread, unchanged) by
+  // whoever placed it; painted from instead of the file (FramePipeline::Push).
+  void Push(const FrameSpec& frame, const cv::Mat& decoded = cv::Mat());
   // Rejects a frame before it enters the pipeline (e.g. navigation problems).
   void Reject(const Rejection& rejection);
   // Blends everything queued, writes all tiles, overviews and metadata, commits.

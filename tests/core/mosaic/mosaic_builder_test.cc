@@ -96,6 +96,72 @@ TEST_F(MosaicBuilderTest, ColourMapOfGrayLookingFramesReadsTilesBack) {
   EXPECT_NEAR(tile.at<cv::Vec4b>(px)[1], 150, 3);
 }
 
+TEST_F(MosaicBuilderTest, PaintsFromThePhotoItIsHandedDecoded) {
+  // The online navigation filter decoded the photo already: the builder
+  // paints from those pixels and does not read the file again.
+  auto store = OpenTileStore((dir_ / "m.mbtiles").string(), "png", true);
+  std::vector<FrameSpec> frames{Frame(0, 0, 0, 100)};
+  MosaicPlan plan = PlanMosaic(config_.map, camera_, frame_, frames, 1);
+  MosaicBuilder builder(config_, camera_, frame_, plan, store.get());
+  builder.Push(frames[0], cv::Mat(camera_.height, camera_.width, CV_8UC1, cv::Scalar(40)));
+  builder.Finish();
+  EXPECT_EQ(builder.stats().frames_used, 1);
+  auto [id, px] = TileAt(0, 0);
+  EXPECT_NEAR(DecodeTile(*store->GetTile(id)).at<cv::Vec2b>(px)[0], 40, 1);
+}
+
+TEST_F(MosaicBuilderTest, ReadsAColourJpegForAGrayMapItselfEvenWhenHandedItDecoded) {
+  // libjpeg's luma, not OpenCV's colour conversion: the map stays what it was.
+  const std::string path = (dir_ / "c.jpg").string();
+  cv::imwrite(path, cv::Mat(camera_.height, camera_.width, CV_8UC3, cv::Scalar(100, 100, 100)));
+  FrameSpec f = Frame(0, 0, 0, 0);
+  f.image_path = path;
+  auto store = OpenTileStore((dir_ / "m.mbtiles").string(), "png", true);
+  MosaicPlan plan = PlanMosaic(config_.map, camera_, frame_, {f}, 1);
+  MosaicBuilder builder(config_, camera_, frame_, plan, store.get());
+  builder.Push(f, cv::Mat(camera_.height, camera_.width, CV_8UC3, cv::Scalar(40, 40, 40)));
+  builder.Finish();
+  auto [id, px] = TileAt(0, 0);
+  EXPECT_NEAR(DecodeTile(*store->GetTile(id)).at<cv::Vec2b>(px)[0], 100, 2);
+}
+
+TEST(UsesDecodedTest, OnlyWhereTheDecodedPixelsAreThoseTheMapWouldRead) {
+  ImageHeader png{"png", 160, 120, 3, 1000};
+  const cv::Mat colour(120, 160, CV_8UC3), gray(120, 160, CV_8UC1);
+  EXPECT_TRUE(UsesDecoded(png, colour, 1));
+  EXPECT_TRUE(UsesDecoded(png, gray, 3));
+  EXPECT_FALSE(UsesDecoded(png, cv::Mat(), 1));
+  EXPECT_FALSE(UsesDecoded(png, cv::Mat(60, 80, CV_8UC3), 3));  // not the photo the header describes
+  ImageHeader jpeg{"jpeg", 160, 120, 3, 1000};
+  EXPECT_TRUE(UsesDecoded(jpeg, colour, 3));
+  EXPECT_TRUE(UsesDecoded(jpeg, gray, 1));
+  EXPECT_FALSE(UsesDecoded(jpeg, colour, 1));  // libjpeg's luma differs from OpenCV's gray
+  EXPECT_FALSE(UsesDecoded(jpeg, gray, 3));
+  ImageHeader unknown{"", 0, 0, 0, 1000};  // decoded to learn its size: read by the pipeline
+  EXPECT_FALSE(UsesDecoded(unknown, colour, 3));
+}
+
+TEST(UsesDecodedTest, AJpegItUsesDecodesAsTheRowDecoderDoes) {
+  testing::TempDir dir;
+  cv::Mat noise(120, 160, CV_8UC3);
+  cv::randu(noise, 0, 255);
+  for (int channels : {1, 3}) {
+    const std::string path = (dir / ("f" + std::to_string(channels) + ".jpg")).string();
+    cv::Mat photo = noise;
+    if (channels == 1) cv::extractChannel(noise, photo, 1);
+    ASSERT_TRUE(cv::imwrite(path, photo));
+    const cv::Mat decoded = cv::imread(path, cv::IMREAD_UNCHANGED);
+    std::string problem;
+    const auto header = ReadImageHeader(path, &problem);
+    ASSERT_TRUE(header) << problem;
+    ASSERT_TRUE(UsesDecoded(*header, decoded, channels));
+    auto rows = FrameImage::Read(path, channels, 65535, &problem);
+    ASSERT_TRUE(rows) << problem;
+    FrameImage handed = FrameImage::FromMat(decoded, channels, 65535);
+    EXPECT_EQ(cv::norm(rows->Full(), handed.Full(), cv::NORM_INF), 0) << channels << " channels";
+  }
+}
+
 TEST_F(MosaicBuilderTest, TileIsWrittenOnceTheFrameMovesOn) {
   auto store = OpenTileStore((dir_ / "m.mbtiles").string(), "png", true);
   std::vector<FrameSpec> frames{Frame(0, 0, 0, 90), Frame(1, 10, 0, 90)};

@@ -1,11 +1,11 @@
-#include "cli/build_output.h"
+#include "core/controllers/map_output.h"
 
 #include <filesystem>
 #include <set>
 
 #include "core/util/error.h"
 
-namespace seamap::cli {
+namespace seamap {
 namespace fs = std::filesystem;
 
 namespace {
@@ -18,10 +18,10 @@ std::string StateOf(const TileStore& store) {
 
 }  // namespace
 
-BuildOutput OpenOutput(const std::string& path, const BuildConfig& config, const OutputChoice& choice) {
+MapOutput OpenOutput(const std::string& path, const BuildConfig& config, const OutputChoice& choice) {
   if (choice.append && choice.overwrite) throw InputError("", 0, "--append", "cannot be combined with --overwrite");
   if (choice.resume && choice.overwrite) throw InputError("", 0, "--resume", "cannot be combined with --overwrite");
-  BuildOutput out;
+  MapOutput out;
   out.lock = MapLock::Acquire(path, "--out");  // from here on no other process writes it
   std::error_code ec;
   const bool mbtiles = IsMBTilesPath(path);
@@ -109,4 +109,4 @@ void CheckSameSurvey(const TileStore& store, const BuildProgress& checkpoint, co
   }
 }
 
-}  // namespace seamap::cli
+}  // namespace seamap

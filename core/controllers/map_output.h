@@ -13,13 +13,13 @@
 #include "core/tiles/map_lock.h"
 #include "core/tiles/tile_store.h"
 
-namespace seamap::cli {
+namespace seamap {
 
 struct OutputChoice {
   bool append = false, overwrite = false, resume = false;
 };
 
-struct BuildOutput {
+struct MapOutput {
   MapLock lock;  // released after the store is closed
   std::unique_ptr<TileStore> store;
   std::optional<BuildProgress> checkpoint;  // --resume: the main layer's
@@ -29,7 +29,7 @@ struct BuildOutput {
 // --overwrite; --resume needs an interrupted MBTiles map with a checkpoint;
 // an interrupted map is appended to only through --resume. InputErrors
 // name the option.
-BuildOutput OpenOutput(const std::string& path, const BuildConfig& config, const OutputChoice& choice);
+MapOutput OpenOutput(const std::string& path, const BuildConfig& config, const OutputChoice& choice);
 
 // --append: drops the frames whose image is already in the map (recorded
 // before `checkpoint` when resuming an append) and numbers the rest from 0.
@@ -41,4 +41,4 @@ std::vector<std::string> SkipFramesInMap(const TileStore& store, const std::opti
 // ones, image for image; InputError naming --nav (or --images) otherwise.
 void CheckSameSurvey(const TileStore& store, const BuildProgress& checkpoint, const std::vector<FrameSpec>& frames);
 
-}  // namespace seamap::cli
+}  // namespace seamap

@@ -1,0 +1,52 @@
+#pragma once
+// SLAM keyframes (and their point cloud) put into real-world coordinates
+// from the GPS fixes of a buoy towed on a tether: what `seamap georef` runs.
+// Reads the keyframes, buoy, depth and altitude logs, fits each sub-map
+// (core/georef/georeferencer.h), and writes nav.csv, the report and the
+// georeferenced cloud.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/geo/lat_lon.h"
+#include "core/geo/utm.h"
+#include "core/georef/georef_options.h"
+
+namespace seamap {
+
+struct BuoyGeorefOptions {
+  std::vector<std::string> keyframe_files;  // TUM trajectories, one per sub-map
+  std::string buoy_file;
+  double tether_length_m = 0;
+  std::optional<double> depth_m;   // constant depth, or ...
+  std::string depth_file;          // ... a depth log
+  std::string out;                 // nav.csv
+  std::string report;              // "": none
+  std::string points, points_out;  // the PLY cloud in and georeferenced out ("": none)
+  GeorefOptions georef;
+  std::optional<LatLon> origin;  // the working frame's centre (the cloud in local metres about it)
+  std::optional<UtmZoneId> utm_zone;
+  std::string altitude_file;         // altitude log for nav.csv's altitude_m, or ...
+  bool altitude_from_cloud = false;  // ... altitude from the cloud below each keyframe
+  bool quiet = false;                // only degenerate sub-maps' summaries
+  // InputError naming the option that does not fit.
+  void Check() const;
+};
+
+struct BuoyGeorefResult {
+  int keyframes = 0, good = 0;
+  int submaps = 0;
+};
+
+class BuoyGeoref {
+ public:
+  explicit BuoyGeoref(BuoyGeorefOptions options);
+  // Warnings, skipped lines and sub-map summaries go to stderr. InputError
+  // for bad input and for a sub-map that cannot be georeferenced.
+  BuoyGeorefResult Run();
+
+ private:
+  BuoyGeorefOptions options_;
+};
+
+}  // namespace seamap

@@ -1,0 +1,205 @@
+#include "core/controllers/pose_source.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <deque>
+#include <future>
+#include <set>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "core/util/error.h"
+#include "core/util/progress.h"
+#include "core/util/thread_pool.h"
+
+namespace seamap {
+
+void PoseSourceOptions::Check() const {
+  if (mode == PoseMode::kFilter) filter.Check();
+  if (mode == PoseMode::kRefine) refine.Check();
+}
+
+EstimatorOptions EstimatorOptionsFrom(const std::string& mode, const RefineOptions& stated, const std::string& option) {
+  EstimatorOptions o;
+  o.mode = ParseEstimatorMode(mode, option);
+  // Floors keep exact navigation from dividing by zero.
+  o.nav_sigma_m = std::max(stated.nav_noise_m, 1e-3);
+  o.filter.position_sigma_m = o.nav_sigma_m;
+  o.filter.heading_noise_rad = std::max(stated.heading_noise_deg, 0.01) * M_PI / 180;
+  return o;
+}
+
+cv::Mat ReadPhotoForFeatures(const std::string& path, int64_t max_pixels) {
+  std::string problem;
+  const auto header = ReadImageHeader(path, &problem);
+  if (!header || TooLargeToDecode(*header, max_pixels)) return cv::Mat();
+  try {
+    return cv::imread(path, cv::IMREAD_UNCHANGED);
+  } catch (const cv::Exception&) {
+    return cv::Mat();
+  }
+}
+
+PoseSource::PoseSource(const CameraModel& camera, PoseSourceOptions options)
+    : camera_(camera), options_(std::move(options)) {
+  options_.Check();
+  if (options_.mode == PoseMode::kFilter) live_ = std::make_unique<TrajectoryEstimator>(camera_, options_.filter);
+}
+
+PoseSource::~PoseSource() = default;
+
+std::string PoseSource::name() const {
+  switch (options_.mode) {
+    case PoseMode::kNavigation:
+      return "nav";
+    case PoseMode::kRefine:
+      return "refine";
+    case PoseMode::kFilter:
+      break;
+  }
+  return options_.filter.mode == EstimatorMode::kVo ? "vo" : "ekf";
+}
+
+nlohmann::json PoseSource::PlaceSurvey(std::vector<FrameSpec>* frames, std::vector<std::string>* flags) {
+  if (flags) flags->assign(frames->size(), "");
+  if (options_.mode == PoseMode::kRefine) return Refine(frames, flags);
+  if (options_.mode == PoseMode::kFilter) return Filter(frames, flags);
+  return nullptr;
+}
+
+cv::Mat PoseSource::Place(FrameSpec* frame) {
+  if (options_.mode != PoseMode::kFilter) return cv::Mat();
+  if (!frame->time_s)
+    throw InputError(frame->image_path, frame->nav_line, "time_s", "the navigation filter needs the frames' times");
+  cv::Mat image = ReadPhotoForFeatures(frame->image_path);
+  std::optional<FrameFeatures> features;
+  // The replay's filter has always detected with the default feature settings.
+  if (!image.empty()) features = DetectFeatures(image, camera_, VoOptions{}.features);
+  frame->nav_pose = frame->pose;
+  frame->pose = live_->Add(features ? &*features : nullptr, *frame->time_s, frame->pose);
+  return image;
+}
+
+nlohmann::json PoseSource::Refine(std::vector<FrameSpec>* frames, std::vector<std::string>* flags) {
+  std::fprintf(stderr, "refining the navigation of %zu frames from the photos\n", frames->size());
+  ProgressBar features("frames", static_cast<long>(frames->size()), !options_.quiet);
+  std::unique_ptr<ProgressBar> pairs;
+  RefineReport report;
+  const std::vector<RefinedFrame> refined =
+      RefineSurvey(*frames, camera_, options_.refine, &report, [&](const std::string& now, int done, int total) {
+        if (now == "features") {
+          features.Update(done);
+        } else if (now == "pairs") {
+          if (!pairs) {
+            features.Finish();
+            pairs = std::make_unique<ProgressBar>("pairs", total, !options_.quiet);
+          }
+          pairs->Update(done);
+        }
+      });
+  if (pairs) pairs->Finish();
+  for (size_t i = 0; i < frames->size(); ++i) {
+    FrameSpec& f = (*frames)[i];
+    f.nav_pose = f.pose;
+    f.pose = refined[i].pose;
+  }
+  nlohmann::json failures = nlohmann::json::object();
+  for (const auto& [reason, count] : report.failures) failures[reason] = count;
+  std::fprintf(stderr,
+               "refine: %d of %d along-track and %d of %d cross-line pairs registered (median %.0f inliers), %d "
+               "dropped by the pose graph; pair residual RMS %.1f mm -> %.1f mm; %d frames on navigation only; "
+               "%.1f + %.1f + %.1f s\n",
+               report.registered_along, report.pairs_along, report.registered_cross, report.pairs_cross,
+               report.median_inliers, report.rejected_by_graph, report.residual_before_mm, report.residual_after_mm,
+               report.nav_only, report.seconds_features, report.seconds_pairs, report.seconds_solve);
+  nlohmann::json nav_only = nlohmann::json::array();
+  std::set<std::string> nav_only_images;  // flagged by name, as the report lists them
+  for (size_t i = 0; i < refined.size(); ++i)
+    if (refined[i].nav_only) {
+      nav_only.push_back((*frames)[i].image);
+      nav_only_images.insert((*frames)[i].image);
+    }
+  if (flags)
+    for (size_t i = 0; i < frames->size(); ++i)
+      if (nav_only_images.count((*frames)[i].image)) (*flags)[i] = "nav_only";
+  return {{"frames", report.frames},
+          {"frames_without_features", report.frames_without_features},
+          {"pairs_along_track", report.pairs_along},
+          {"pairs_cross_line", report.pairs_cross},
+          {"registered_along_track", report.registered_along},
+          {"registered_cross_line", report.registered_cross},
+          {"rejected_by_pose_graph", report.rejected_by_graph},
+          {"median_inliers", report.median_inliers},
+          {"residual_before_mm", report.residual_before_mm},
+          {"residual_after_mm", report.residual_after_mm},
+          {"nav_only_frames", report.nav_only},
+          {"nav_only", nav_only},
+          {"registration_failures", failures},
+          {"seconds",
+           {{"features", report.seconds_features}, {"pairs", report.seconds_pairs}, {"solve", report.seconds_solve}}}};
+}
+
+// Features on the pool, a bounded stretch ahead; the filter in order.
+nlohmann::json PoseSource::Filter(std::vector<FrameSpec>* frames_in, std::vector<std::string>* flags) {
+  std::vector<FrameSpec>& frames = *frames_in;
+  for (const FrameSpec& f : frames)
+    if (!f.time_s) throw InputError(f.image_path, f.nav_line, "time_s", "vo and ekf need the navigation's times");
+  const EstimatorOptions& options = options_.filter;
+  ThreadPool pool(options_.threads);
+  TrajectoryEstimator estimator(camera_, options);
+  ProgressBar progress("frames", static_cast<long>(frames.size()), !options_.quiet);
+  std::deque<std::future<std::optional<FrameFeatures>>> ahead;
+  size_t next = 0;
+  const size_t depth = 4 * static_cast<size_t>(pool.size());
+  const auto start = std::chrono::steady_clock::now();
+  int unreadable = 0;
+  for (size_t i = 0; i < frames.size(); ++i) {
+    for (; next < frames.size() && next < i + depth; ++next)
+      ahead.push_back(pool.Submit([&, next]() -> std::optional<FrameFeatures> {
+        const cv::Mat image = ReadPhotoForFeatures(frames[next].image_path);
+        if (image.empty()) return std::nullopt;
+        return DetectFeatures(image, camera_, options.vo.features);
+      }));
+    const std::optional<FrameFeatures> features = ahead.front().get();
+    ahead.pop_front();
+    unreadable += !features;
+    const VehiclePose pose = estimator.Add(features ? &*features : nullptr, *frames[i].time_s, frames[i].pose);
+    frames[i].nav_pose = frames[i].pose;
+    frames[i].pose = pose;
+    if (flags && !features) (*flags)[i] = "no_image";
+    progress.Update(static_cast<long>(i + 1));
+  }
+  progress.Finish();
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const auto& vo = estimator.vo_counts();
+  const auto& filter = estimator.filter_counts();
+  std::fprintf(stderr,
+               "%s: %d VO measurements (%d homography, %d essential, %d hover), %d pairs failed, %d low-texture "
+               "frames; filter took %d, gated %d VO updates (mean NIS %.2f), %d re-acquisitions; %.1f frames/s\n",
+               options.mode == EstimatorMode::kVo ? "vo" : "ekf", vo.measurements, vo.homography, vo.essential,
+               vo.hover, vo.failed_pairs, vo.low_texture, filter.velocity_accepted, filter.velocity_rejected,
+               filter.velocity_accepted ? filter.velocity_nis_sum / filter.velocity_accepted : 0.0,
+               filter.reacquisitions, frames.size() / std::max(seconds, 1e-9));
+  return {{"frames", frames.size()},
+          {"unreadable_frames", unreadable},
+          {"vo_measurements", vo.measurements},
+          {"homography", vo.homography},
+          {"essential", vo.essential},
+          {"hover", vo.hover},
+          {"failed_pairs", vo.failed_pairs},
+          {"low_texture_frames", vo.low_texture},
+          {"missing_altitude", vo.missing_altitude},
+          {"velocity_accepted", filter.velocity_accepted},
+          {"velocity_rejected", filter.velocity_rejected},
+          {"mean_vo_nis", filter.velocity_accepted ? filter.velocity_nis_sum / filter.velocity_accepted : 0.0},
+          {"depth_rejected", filter.depth_rejected},
+          {"position_accepted", filter.position_accepted},
+          {"position_rejected", filter.position_rejected},
+          {"reacquisitions", filter.reacquisitions},
+          {"seconds", seconds},
+          {"frames_per_s", frames.size() / std::max(seconds, 1e-9)}};
+}
+
+}  // namespace seamap

@@ -1,0 +1,77 @@
+#pragma once
+// Where each frame is placed before it is painted (FrameSpec::pose): the
+// navigation as given; filtered from the photos as they arrive
+// (TrajectoryEstimator, vo|ekf); or refined over the whole survey at once
+// (RefineSurvey). A corrected pose keeps the navigation's in
+// FrameSpec::nav_pose, so the mission keeps both tracks.
+//
+// The filter needs each photo decoded for its features. Live (Place), the
+// decoded photo is handed back so the builder paints from it instead of
+// reading the file again (MosaicBuilder::Push).
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+
+#include "core/camera/camera_model.h"
+#include "core/mosaic/image_header.h"
+#include "core/nav/frame_list.h"
+#include "core/trajectory/survey_refiner.h"
+#include "core/trajectory/trajectory_estimator.h"
+
+namespace seamap {
+
+enum class PoseMode { kNavigation, kFilter, kRefine };
+
+struct PoseSourceOptions {
+  PoseMode mode = PoseMode::kNavigation;
+  EstimatorOptions filter;  // kFilter
+  RefineOptions refine;     // kRefine
+  int threads = 0;          // feature detection of a whole survey (0: one per core)
+  bool quiet = false;       // no progress bars
+  void Check() const;
+};
+
+// The navigation filter's options for `mode` ("vo" or "ekf"; InputError naming
+// `option` otherwise), with the navigation's stated noise.
+EstimatorOptions EstimatorOptionsFrom(const std::string& mode, const RefineOptions& stated, const std::string& option);
+
+// The photo decoded whole for feature detection, or empty when it is missing,
+// not a regular file, over max_pixels by its header, or unreadable.
+cv::Mat ReadPhotoForFeatures(const std::string& path, int64_t max_pixels = kDefaultMaxImagePixels);
+
+class PoseSource {
+ public:
+  PoseSource(const CameraModel& camera, PoseSourceOptions options);
+  ~PoseSource();
+
+  // "nav", "vo", "ekf" or "refine".
+  std::string name() const;
+  PoseMode mode() const { return options_.mode; }
+
+  // The whole survey at once (build --refine-nav, seamap trajectory): places
+  // every frame, with a progress bar and a summary line on stderr. Returns
+  // the run's report as JSON (null for the navigation); `flags` gets, frame
+  // by frame, "" or why the frame kept the navigation's pose ("nav_only":
+  // refine found no pair for it, "no_image": the filter could not read it).
+  nlohmann::json PlaceSurvey(std::vector<FrameSpec>* frames, std::vector<std::string>* flags = nullptr);
+
+  // One frame as it arrives (replay --nav-mode): places it where the filter
+  // says (a frame whose photo cannot be read: the filter's prediction).
+  // Returns the photo when it was decoded for that (empty otherwise).
+  // InputError naming the frame's time_s when it has none.
+  cv::Mat Place(FrameSpec* frame);
+
+ private:
+  nlohmann::json Refine(std::vector<FrameSpec>* frames, std::vector<std::string>* flags);
+  nlohmann::json Filter(std::vector<FrameSpec>* frames, std::vector<std::string>* flags);
+
+  CameraModel camera_;
+  PoseSourceOptions options_;
+  std::unique_ptr<TrajectoryEstimator> live_;  // Place's filter
+};
+
+}  // namespace seamap

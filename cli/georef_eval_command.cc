@@ -18,6 +18,8 @@
 #include "core/nav/csv_numbers.h"
 #include "core/nav/nav_values.h"
 #include "core/util/error.h"
+#include "core/util/json_file.h"
+#include "core/util/statistics.h"
 
 namespace seamap::cli {
 namespace {
@@ -32,26 +34,10 @@ with --report, the scale and rotation errors of each sub-map against DIR/truth.j
 
 using Row = CsvNumbers;
 
-nlohmann::json ReadJson(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path, 0, "", "cannot open the file");
-  try {
-    return nlohmann::json::parse(in);
-  } catch (const std::exception& e) {
-    throw InputError(path, 0, "", std::string("not JSON: ") + e.what());
-  }
-}
-
 Eigen::Matrix3d Rotation(const nlohmann::json& values) {
   Eigen::Matrix3d r;
   for (int k = 0; k < 9; ++k) r(k / 3, k % 3) = values.at(k).get<double>();
   return r;
-}
-
-double Percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<size_t>(std::ceil(p * v.size())) - 1)];
 }
 
 double Rms(const std::vector<double>& v) {
@@ -73,7 +59,7 @@ int RunGeorefEval(int argc, char** argv, int first) {
   const std::string json_path = args.GetOr("json", "");
   args.RejectUnknown();
 
-  const nlohmann::json truth_json = ReadJson(truth_dir + "/truth.json");
+  const nlohmann::json truth_json = ReadJsonFile(truth_dir + "/truth.json", "ground truth");
   const LatLon origin{truth_json.at("origin").at("lat").get<double>(), truth_json.at("origin").at("lon").get<double>()};
   const LocalFrame frame(origin);
   const auto nav = ReadCsvNumbers(nav_path, {"time_s", "lat", "lon", "depth_m", "heading_deg", "good"});
@@ -111,7 +97,7 @@ int RunGeorefEval(int argc, char** argv, int first) {
   std::string text = line;
 
   if (!report_path.empty()) {
-    const nlohmann::json report = ReadJson(report_path);
+    const nlohmann::json report = ReadJsonFile(report_path, "georeferencing report");
     const auto& fitted = report.at("submaps");
     const auto& true_maps = truth_json.at("submaps");
     nlohmann::json per = nlohmann::json::array();

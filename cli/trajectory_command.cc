@@ -43,7 +43,8 @@ nlohmann::json EstimateFrames(const std::vector<FrameSpec>& frames, const Camera
   for (size_t i = 0; i < frames.size(); ++i) {
     for (; next < frames.size() && next < i + depth; ++next)
       ahead.push_back(pool.Submit([&, next]() -> std::optional<FrameFeatures> {
-        const cv::Mat image = ReadFrameForFeatures(frames[next].image_path);
+        std::string problem;
+        const cv::Mat image = ReadGuardedImage(frames[next].image_path, &problem);
         if (image.empty()) return std::nullopt;
         return DetectFeatures(image, camera, options.vo.features);
       }));

@@ -5,8 +5,6 @@
 #include <cstdio>
 #include <memory>
 
-#include <opencv2/imgcodecs.hpp>
-
 #include "core/util/error.h"
 #include "core/util/progress.h"
 
@@ -92,21 +90,11 @@ EstimatorOptions EstimatorOptionsFrom(const std::string& mode, const RefineOptio
   return o;
 }
 
-cv::Mat ReadFrameForFeatures(const std::string& path, int64_t max_pixels) {
-  std::string problem;
-  const auto header = ReadImageHeader(path, &problem);
-  if (!header || TooLargeToDecode(*header, max_pixels)) return cv::Mat();
-  try {
-    return cv::imread(path, cv::IMREAD_UNCHANGED);
-  } catch (const cv::Exception&) {
-    return cv::Mat();
-  }
-}
-
 void EstimatePose(TrajectoryEstimator* estimator, const CameraModel& camera, FrameSpec* frame) {
   if (!frame->time_s)
     throw InputError(frame->image_path, frame->nav_line, "time_s", "the navigation filter needs the frames' times");
-  const cv::Mat image = ReadFrameForFeatures(frame->image_path);
+  std::string problem;  // a frame without an image is placed by the filter's prediction
+  const cv::Mat image = ReadGuardedImage(frame->image_path, &problem);
   std::optional<FrameFeatures> features;
   if (!image.empty()) features = DetectFeatures(image, camera, VoOptions{}.features);
   frame->nav_pose = frame->pose;

@@ -10,8 +10,8 @@
 
 #include "cli/args.h"
 #include "core/camera/camera_model.h"
+#include "core/image/image_read.h"
 #include "core/mosaic/build_config.h"
-#include "core/mosaic/image_header.h"
 #include "core/nav/frame_list.h"
 #include "core/trajectory/survey_refiner.h"
 #include "core/trajectory/trajectory_estimator.h"
@@ -36,10 +36,6 @@ EstimatorOptions EstimatorOptionsFrom(const std::string& mode, const RefineOptio
 // Runs the filter on one frame as it arrives: reads its image, and places the
 // frame where the filter says (FrameSpec::nav_pose keeps the navigation's).
 // A frame whose image cannot be read is placed by the filter's prediction.
-// The frame decoded whole for feature detection, or empty when it is missing,
-// not a regular file, over max_pixels by its header, or unreadable.
-cv::Mat ReadFrameForFeatures(const std::string& path, int64_t max_pixels = kDefaultMaxImagePixels);
-
 void EstimatePose(TrajectoryEstimator* estimator, const CameraModel& camera, FrameSpec* frame);
 
 }  // namespace seamap::cli

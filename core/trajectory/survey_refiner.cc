@@ -3,14 +3,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <filesystem>
 #include <future>
 #include <map>
 #include <memory>
 
-#include <opencv2/imgcodecs.hpp>
-
 #include "core/camera/frame_projector.h"
+#include "core/image/image_read.h"
 #include "core/trajectory/ground_offsets.h"
 #include "core/trajectory/pair_candidates.h"
 #include "core/trajectory/pose_graph.h"
@@ -44,23 +42,8 @@ Prepared Prepare(const FrameSpec& f, double time_s, const CameraModel& camera, c
     return p;
   }
   for (int k = 0; k < 4; ++k) p.candidate.footprint[k] = {(*corners)[k].east, (*corners)[k].north};
-  // Not a FIFO (opening one waits for a writer); OpenCV's refusals are reasons.
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(f.image_path, ec)) {
-    p.problem = "missing image or not a regular file";
-    return p;
-  }
-  cv::Mat image;
-  try {
-    image = cv::imread(f.image_path, cv::IMREAD_UNCHANGED);
-  } catch (const cv::Exception& e) {
-    p.problem = "unreadable image: " + e.msg;
-    return p;
-  }
-  if (image.empty()) {
-    p.problem = "missing or unreadable image";
-    return p;
-  }
+  const cv::Mat image = ReadGuardedImage(f.image_path, &p.problem);
+  if (image.empty()) return p;
   if (std::abs(image.cols * camera.height - image.rows * camera.width) > std::max(image.cols, camera.width)) {
     p.problem =
         "image is " + std::to_string(image.cols) + "x" + std::to_string(image.rows) + ", not the camera's shape";

@@ -7,13 +7,13 @@
 
 #include <filesystem>
 #include <fstream>
-#include <opencv2/imgcodecs.hpp>
 #include <set>
 
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "cli/trajectory_setup.h"
 #include "core/camera/camera_model.h"
+#include "core/image/image_read.h"
 #include "core/mosaic/build_config.h"
 #include "core/nav/frame_list.h"
 #include "core/nav/nav_reader.h"

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <memory>
 
+#include "core/image/image_read.h"
 #include "core/util/error.h"
 #include "core/util/progress.h"
 

@@ -10,7 +10,6 @@
 
 #include "cli/args.h"
 #include "core/camera/camera_model.h"
-#include "core/image/image_read.h"
 #include "core/mosaic/build_config.h"
 #include "core/nav/frame_list.h"
 #include "core/trajectory/survey_refiner.h"

@@ -53,7 +53,7 @@ std::vector<std::pair<int, int>> MatchStereoPoints(const StereoFrame& a, const S
 }  // namespace
 
 RigMotion ReadRigMotion(const std::string& path) {
-  nlohmann::json j = ReadJsonFile(path, "rig's motion file");
+  nlohmann::json j = ReadJsonFile(path, "rig's motion file (--motion)");
   RigMotion motion;
   if (!j.is_object() || !j.contains("world_from_camera") || !j["world_from_camera"].is_object())
     throw InputError(path, 0, "world_from_camera", "expected an object of 4x4 poses by pair name");

@@ -283,7 +283,7 @@ ObjectModel ModelFromJson(const nlohmann::json& j, const std::string& path) {
 }
 
 ObjectModel LoadObjectModel(const std::string& path) {
-  return ModelFromJson(ReadJsonFile(path, "model"), path);
+  return ModelFromJson(ReadJsonFile(path, "model (--model)"), path);
 }
 
 }  // namespace seamap

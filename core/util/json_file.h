@@ -7,7 +7,8 @@
 namespace seamap {
 
 // The parsed contents of the JSON file at `path`. `what` names the file for
-// the user ("camera file", "rig's motion file"). Throws
+// the user, with the option that gave it if any ("config file", "rig's
+// motion file (--motion)"). Throws
 // InputError(path, 0, "", "cannot read the <what>: <reason>"), the reason
 // being "no such file", "not a regular file" (a FIFO would block), "cannot
 // open it" or "not JSON: <the parser's message>".

@@ -13,6 +13,7 @@
 #include "core/trajectory/pair_candidates.h"
 #include "core/trajectory/pose_graph.h"
 #include "core/util/error.h"
+#include "core/util/statistics.h"
 #include "core/util/thread_pool.h"
 
 namespace seamap {
@@ -145,7 +146,7 @@ std::vector<RefinedFrame> RefineSurvey(const std::vector<FrameSpec>& frames, con
     }));
   }
   std::vector<PairConstraint> constraints;
-  std::vector<int> inliers;
+  std::vector<double> inliers;
   std::map<std::string, int> failures;
   for (size_t k = 0; k < jobs.size(); ++k) {
     const Registration g = jobs[k].get();
@@ -167,10 +168,7 @@ std::vector<RefinedFrame> RefineSurvey(const std::vector<FrameSpec>& frames, con
     inliers.push_back(g.inliers);
   }
   for (const auto& f : failures) r.failures.push_back(f);
-  if (!inliers.empty()) {
-    std::nth_element(inliers.begin(), inliers.begin() + inliers.size() / 2, inliers.end());
-    r.median_inliers = inliers[inliers.size() / 2];
-  }
+  r.median_inliers = Median(inliers);
   r.seconds_pairs = Since(start);
 
   // 3. The pose graph.

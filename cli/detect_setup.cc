@@ -8,6 +8,7 @@
 
 #include "core/detect/detection_record.h"
 #include "core/util/error.h"
+#include "core/util/statistics.h"
 
 namespace seamap::cli {
 

@@ -4,7 +4,6 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <string>
 #include <vector>
 
@@ -15,7 +14,9 @@
 #include "cli/commands.h"
 #include "core/enhance/enhance_chain.h"
 #include "core/enhance/feature_report.h"
+#include "core/image/image_read.h"
 #include "core/util/error.h"
+#include "core/util/json_file.h"
 
 namespace seamap::cli {
 namespace {
@@ -23,17 +24,15 @@ namespace fs = std::filesystem;
 
 // A chain file is either {"ops": [...]} or a build config holding it under "enhance".
 EnhanceChain LoadChainFile(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path, 0, "", "cannot open the enhancement config");
-  nlohmann::json config = nlohmann::json::parse(in, nullptr, false);
-  if (config.is_discarded()) throw InputError(path, 0, "", "is not valid JSON");
+  nlohmann::json config = ReadJsonFile(path, "enhancement config");
   if (config.is_object() && config.contains("enhance")) return EnhanceChain::FromJson(config["enhance"], path);
   return EnhanceChain::FromJson(config, path);
 }
 
 cv::Mat ReadImage(const std::string& path) {
-  cv::Mat image = cv::imread(path, cv::IMREAD_UNCHANGED);
-  if (image.empty()) throw InputError(path, 0, "", "cannot read the image (expected a PNG, JPEG, TIFF or BMP file)");
+  std::string problem;
+  cv::Mat image = ReadGuardedImage(path, &problem);
+  if (image.empty()) throw InputError(path, 0, "", "cannot read the image: " + problem);
   return image;
 }
 

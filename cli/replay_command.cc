@@ -26,6 +26,7 @@
 #include "core/tiles/tile_codec.h"
 #include "core/tiles/tile_version.h"
 #include "core/util/error.h"
+#include "core/util/json_file.h"
 #include "server/http_server.h"
 
 namespace seamap::cli {
@@ -71,8 +72,7 @@ void SurveyDefaults(Args& args, const fs::path& dir) {
   const fs::path survey = dir / "survey.json";
   if (fs::is_regular_file(survey, ec)) {
     try {
-      std::ifstream in(survey);
-      auto j = nlohmann::json::parse(in);
+      const auto j = ReadJsonFile(survey.string(), "survey description");
       if (j.contains("origin") && j["origin"].is_array() && j["origin"].size() == 2)
         args.SetDefault("origin", Degrees(j["origin"][0].get<double>()) + "," + Degrees(j["origin"][1].get<double>()));
     } catch (const nlohmann::json::exception& e) {

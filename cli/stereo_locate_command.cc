@@ -9,8 +9,8 @@
 
 #include "cli/args.h"
 #include "cli/commands.h"
-#include "core/nav/frame_list.h"
 #include "core/nav/nav_reader.h"
+#include "core/nav/nav_series.h"
 #include "core/stereo/icp_baseline.h"
 #include "core/stereo/object_georef.h"
 #include "core/stereo/object_locator.h"
@@ -120,11 +120,14 @@ int RunStereoLocate(int argc, char** argv, int first) {
     const NavTable nav = ReadNavigation(*nav_path, nav_options);
     if (!nav.has_times)
       throw InputError(*nav_path, 0, "time_s", "the navigation has no times to interpolate at --time");
-    vehicle = InterpolatePose(nav.records, time_s);
+    // Sorted by time, as build places its frames: unsorted navigation gives the same pose.
+    const NavSeries series(nav.records);
+    vehicle = series.PoseAt(time_s);
     if (!vehicle)
-      throw InputError(*nav_path, 0, "--time",
-                       cv::format("%.3f s is outside the navigation's times (%.3f to %.3f s)", time_s,
-                                  nav.records.front().time_s.value_or(0), nav.records.back().time_s.value_or(0)));
+      throw InputError(
+          *nav_path, 0, "--time",
+          cv::format("%.3f s is outside the navigation's times (%.3f to %.3f s)", time_s,
+                     series.empty() ? 0 : series.first_time_s(), series.empty() ? 0 : series.last_time_s()));
     frame.emplace(nav.origin);
   }
 

@@ -1,7 +1,5 @@
 #include "cli/trajectory_setup.h"
 
-#include <opencv2/imgcodecs.hpp>
-
 namespace seamap::cli {
 
 const char* kNavigationNoiseHelp =
@@ -17,17 +15,6 @@ RefineOptions ReadRefineOptions(Args& args, const NavigationSettings& settings, 
   o.threads = threads;
   o.Check();
   return o;
-}
-
-cv::Mat ReadFrameForFeatures(const std::string& path, int64_t max_pixels) {
-  std::string problem;
-  const auto header = ReadImageHeader(path, &problem);
-  if (!header || TooLargeToDecode(*header, max_pixels)) return cv::Mat();
-  try {
-    return cv::imread(path, cv::IMREAD_UNCHANGED);
-  } catch (const cv::Exception&) {
-    return cv::Mat();
-  }
 }
 
 }  // namespace seamap::cli

@@ -7,10 +7,10 @@
 #include <set>
 #include <sstream>
 
-#include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 #include <opencv2/calib3d.hpp>
 
+#include "core/geo/rotation.h"
 #include "core/util/error.h"
 
 namespace seamap {
@@ -307,15 +307,6 @@ CameraModel LoadFileStorage(const std::string& path) {
   }
 }
 
-Eigen::Matrix3d RotationZYX(const Eigen::Vector3d& rpy_deg) {
-  using Eigen::AngleAxisd;
-  using Eigen::Vector3d;
-  return (AngleAxisd(rpy_deg.z() * kDegToRad, Vector3d::UnitZ()) *
-          AngleAxisd(rpy_deg.y() * kDegToRad, Vector3d::UnitY()) *
-          AngleAxisd(rpy_deg.x() * kDegToRad, Vector3d::UnitX()))
-      .toRotationMatrix();
-}
-
 }  // namespace
 
 cv::Mat CameraModel::DistortionCoeffs() const {
@@ -329,10 +320,7 @@ bool CameraModel::HasDistortion() const {
 }
 
 Eigen::Matrix3d CameraModel::BodyFromCamera() const {
-  // Columns: camera x, y, z expressed in the body frame (stbd, aft, down).
-  Eigen::Matrix3d down_bow_up;
-  down_bow_up << 0, -1, 0, 1, 0, 0, 0, 0, 1;
-  return RotationZYX(mount_rpy_deg) * down_bow_up;
+  return seamap::BodyFromCamera(CameraLooking::kDown, mount_rpy_deg);
 }
 
 std::vector<cv::Point2d> CameraModel::Undistort(const std::vector<cv::Point2d>& raw) const {

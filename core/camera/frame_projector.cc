@@ -6,10 +6,10 @@
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 
+#include "core/geo/rotation.h"
+
 namespace seamap {
 namespace {
-
-constexpr double kDegToRad = M_PI / 180.0;
 
 // A ray must point at least this much downwards (sine of its depression angle,
 // ~0.06 deg) to count as hitting the seabed; flatter rays land absurdly far away.
@@ -40,12 +40,7 @@ Eigen::Vector3d CameraOffsetNed(const CameraModel& camera, const VehiclePose& po
 }  // namespace
 
 Eigen::Matrix3d NedFromBody(const VehiclePose& pose) {
-  using Eigen::AngleAxisd;
-  using Eigen::Vector3d;
-  return (AngleAxisd(pose.heading_deg * kDegToRad, Vector3d::UnitZ()) *
-          AngleAxisd(pose.pitch_deg * kDegToRad, Vector3d::UnitY()) *
-          AngleAxisd(pose.roll_deg * kDegToRad, Vector3d::UnitX()))
-      .toRotationMatrix();
+  return NedFromBodyDeg(pose.heading_deg, pose.pitch_deg, pose.roll_deg);
 }
 
 Eigen::Matrix3d NedFromCamera(const CameraModel& camera, const VehiclePose& pose) {

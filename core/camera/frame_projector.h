@@ -14,16 +14,13 @@
 
 namespace seamap {
 
-// Conventions (standard aerospace ZYX):
-//   NedFromBody = Rz(heading) * Ry(pitch) * Rx(roll), with body x fwd, y stbd,
-//   z down. Heading 90 points the bow east; pitch +10 (bow up) tilts the body
-//   down axis FORWARD, so a nadir camera's centre lands alt*tan(10 deg) ahead
-//   of the vehicle; roll +10 (starboard down) tilts it to PORT.
-//   The camera sits at NedFromBody * mount_offset_m from the navigation
-//   reference point; the seabed is the plane down = altitude_m.
+// Conventions: core/geo/rotation.h (aerospace ZYX). A pitch of +10 (bow up)
+// puts a nadir camera's centre alt*tan(10 deg) ahead of the vehicle. The
+// camera sits at NedFromBody * mount_offset_m from the navigation reference
+// point; the seabed is the plane down = altitude_m.
 
-// Rotation taking body-frame vectors (x fwd, y stbd, z down) to the local
-// NED-like frame used here: rows are (north, east, down) components.
+// NedFromBodyDeg (core/geo/rotation.h) of the pose's attitude: body-frame
+// vectors (x fwd, y stbd, z down) to (north, east, down).
 Eigen::Matrix3d NedFromBody(const VehiclePose& pose);
 
 // Rotation taking camera-frame vectors (OpenCV) to NED: NedFromBody * BodyFromCamera.

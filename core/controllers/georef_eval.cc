@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <optional>
 #include <sstream>
 
@@ -15,32 +14,18 @@
 #include "core/nav/csv_numbers.h"
 #include "core/nav/nav_values.h"
 #include "core/util/error.h"
+#include "core/util/json_file.h"
+#include "core/util/statistics.h"
 
 namespace seamap {
 namespace {
 
 using Row = CsvNumbers;
 
-nlohmann::json ReadJson(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path, 0, "", "cannot open the file");
-  try {
-    return nlohmann::json::parse(in);
-  } catch (const std::exception& e) {
-    throw InputError(path, 0, "", std::string("not JSON: ") + e.what());
-  }
-}
-
 Eigen::Matrix3d Rotation(const nlohmann::json& values) {
   Eigen::Matrix3d r;
   for (int k = 0; k < 9; ++k) r(k / 3, k % 3) = values.at(k).get<double>();
   return r;
-}
-
-double Percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<size_t>(std::ceil(p * v.size())) - 1)];
 }
 
 double Rms(const std::vector<double>& v) {
@@ -52,7 +37,7 @@ double Rms(const std::vector<double>& v) {
 }  // namespace
 
 GeorefEvaluation EvaluateGeoref(const GeorefEvalOptions& o) {
-  const nlohmann::json truth_json = ReadJson(o.truth_dir + "/truth.json");
+  const nlohmann::json truth_json = ReadJsonFile(o.truth_dir + "/truth.json", "ground truth");
   const LatLon origin{truth_json.at("origin").at("lat").get<double>(), truth_json.at("origin").at("lon").get<double>()};
   const LocalFrame frame(origin);
   const auto nav = ReadCsvNumbers(o.nav_path, {"time_s", "lat", "lon", "depth_m", "heading_deg", "good"});
@@ -90,7 +75,7 @@ GeorefEvaluation EvaluateGeoref(const GeorefEvalOptions& o) {
   std::string text = line;
 
   if (!o.report_path.empty()) {
-    const nlohmann::json report = ReadJson(o.report_path);
+    const nlohmann::json report = ReadJsonFile(o.report_path, "georeferencing report");
     const auto& fitted = report.at("submaps");
     const auto& true_maps = truth_json.at("submaps");
     nlohmann::json per = nlohmann::json::array();

@@ -8,8 +8,7 @@
 #include <future>
 #include <set>
 
-#include <opencv2/imgcodecs.hpp>
-
+#include "core/image/image_read.h"
 #include "core/util/error.h"
 #include "core/util/progress.h"
 #include "core/util/thread_pool.h"
@@ -29,17 +28,6 @@ EstimatorOptions EstimatorOptionsFrom(const std::string& mode, const RefineOptio
   o.filter.position_sigma_m = o.nav_sigma_m;
   o.filter.heading_noise_rad = std::max(stated.heading_noise_deg, 0.01) * M_PI / 180;
   return o;
-}
-
-cv::Mat ReadPhotoForFeatures(const std::string& path, int64_t max_pixels) {
-  std::string problem;
-  const auto header = ReadImageHeader(path, &problem);
-  if (!header || TooLargeToDecode(*header, max_pixels)) return cv::Mat();
-  try {
-    return cv::imread(path, cv::IMREAD_UNCHANGED);
-  } catch (const cv::Exception&) {
-    return cv::Mat();
-  }
 }
 
 PoseSource::PoseSource(const CameraModel& camera, PoseSourceOptions options)
@@ -73,7 +61,8 @@ cv::Mat PoseSource::Place(FrameSpec* frame) {
   if (options_.mode != PoseMode::kFilter) return cv::Mat();
   if (!frame->time_s)
     throw InputError(frame->image_path, frame->nav_line, "time_s", "the navigation filter needs the frames' times");
-  cv::Mat image = ReadPhotoForFeatures(frame->image_path);
+  std::string problem;  // a frame without an image is placed by the filter's prediction
+  cv::Mat image = ReadGuardedImage(frame->image_path, &problem);
   std::optional<FrameFeatures> features;
   // The replay's filter has always detected with the default feature settings.
   if (!image.empty()) features = DetectFeatures(image, camera_, VoOptions{}.features);
@@ -158,7 +147,8 @@ nlohmann::json PoseSource::Filter(std::vector<FrameSpec>* frames_in, std::vector
   for (size_t i = 0; i < frames.size(); ++i) {
     for (; next < frames.size() && next < i + depth; ++next)
       ahead.push_back(pool.Submit([&, next]() -> std::optional<FrameFeatures> {
-        const cv::Mat image = ReadPhotoForFeatures(frames[next].image_path);
+        std::string problem;
+        const cv::Mat image = ReadGuardedImage(frames[next].image_path, &problem);
         if (image.empty()) return std::nullopt;
         return DetectFeatures(image, camera_, options.vo.features);
       }));

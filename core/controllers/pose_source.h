@@ -17,7 +17,6 @@
 #include <opencv2/core.hpp>
 
 #include "core/camera/camera_model.h"
-#include "core/mosaic/image_header.h"
 #include "core/nav/frame_list.h"
 #include "core/trajectory/survey_refiner.h"
 #include "core/trajectory/trajectory_estimator.h"
@@ -38,10 +37,6 @@ struct PoseSourceOptions {
 // The navigation filter's options for `mode` ("vo" or "ekf"; InputError naming
 // `option` otherwise), with the navigation's stated noise.
 EstimatorOptions EstimatorOptionsFrom(const std::string& mode, const RefineOptions& stated, const std::string& option);
-
-// The photo decoded whole for feature detection, or empty when it is missing,
-// not a regular file, over max_pixels by its header, or unreadable.
-cv::Mat ReadPhotoForFeatures(const std::string& path, int64_t max_pixels = kDefaultMaxImagePixels);
 
 class PoseSource {
  public:

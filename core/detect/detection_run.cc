@@ -72,11 +72,4 @@ std::vector<RecognisedObject> MergeSearched(const DetectSettings& settings, std:
   return objects;
 }
 
-double Percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  const size_t i = static_cast<size_t>(std::lround(p * (v.size() - 1)));
-  return v[std::min(i, v.size() - 1)];
-}
-
 }  // namespace seamap

@@ -60,7 +60,4 @@ class WindowSearcher {
 std::vector<RecognisedObject> MergeSearched(const DetectSettings& settings, std::vector<RawDetection> raw,
                                             const std::vector<FrameRecord>& frames);
 
-// Median and 90th percentile of `v` (0 when empty).
-double Percentile(std::vector<double> v, double p);
-
 }  // namespace seamap

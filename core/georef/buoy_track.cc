@@ -5,17 +5,12 @@
 
 #include <Eigen/Dense>
 
+#include "core/util/statistics.h"
+
 namespace seamap {
 namespace {
 
 constexpr double kSigmaFloorM = 0.01;
-
-double Median(std::vector<double> values) {
-  if (values.empty()) return 0;
-  const size_t mid = values.size() / 2;
-  std::nth_element(values.begin(), values.begin() + mid, values.end());
-  return values[mid];
-}
 
 }  // namespace
 

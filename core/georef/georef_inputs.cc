@@ -10,6 +10,7 @@
 #include "core/nav/nav_reader.h"
 #include "core/nav/nav_values.h"
 #include "core/util/error.h"
+#include "core/util/statistics.h"
 
 namespace seamap {
 namespace {
@@ -103,10 +104,7 @@ BuoyLog ReadBuoyLog(const std::string& path) {
 LatLon MedianPosition(const BuoyLog& log) {
   std::vector<double> lats, lons;
   for (const auto& f : log.fixes) lats.push_back(f.position.lat), lons.push_back(f.position.lon);
-  const size_t mid = lats.size() / 2;
-  std::nth_element(lats.begin(), lats.begin() + mid, lats.end());
-  std::nth_element(lons.begin(), lons.begin() + mid, lons.end());
-  return {lats[mid], lons[mid]};
+  return {Median(lats), Median(lons)};
 }
 
 BuoyTrack MakeBuoyTrack(const BuoyLog& log, const LocalFrame& frame) {

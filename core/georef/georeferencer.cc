@@ -9,19 +9,13 @@
 #include "core/georef/tether_fit.h"
 #include "core/georef/triangle_fit.h"
 #include "core/util/error.h"
+#include "core/util/statistics.h"
 
 namespace seamap {
 namespace {
 
 constexpr double kDeg = M_PI / 180.0;
 constexpr double kSigmaFloorM = 0.01;
-
-double Median(std::vector<double> values) {
-  if (values.empty()) return 0;
-  const size_t mid = values.size() / 2;
-  std::nth_element(values.begin(), values.begin() + mid, values.end());
-  return values[mid];
-}
 
 std::string Fixed(double value, int decimals) {
   std::ostringstream s;

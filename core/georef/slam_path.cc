@@ -4,15 +4,10 @@
 #include <cmath>
 #include <sstream>
 
+#include "core/util/statistics.h"
+
 namespace seamap {
 namespace {
-
-double Median(std::vector<double> values) {
-  if (values.empty()) return 0;
-  const size_t mid = values.size() / 2;
-  std::nth_element(values.begin(), values.begin() + mid, values.end());
-  return values[mid];
-}
 
 double AngleDeg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   if (a.norm() == 0 || b.norm() == 0) return 0;

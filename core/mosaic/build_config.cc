@@ -1,9 +1,9 @@
 #include "core/mosaic/build_config.h"
 
 #include <cmath>
-#include <fstream>
 
 #include "core/util/error.h"
+#include "core/util/json_file.h"
 
 namespace seamap {
 namespace {
@@ -215,16 +215,8 @@ void ApplyBuildConfig(const json& s, const std::string& source, BuildConfig* c) 
 }
 
 BuildConfig LoadBuildConfig(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path, 0, "", "cannot read the config file");
-  json s;
-  try {
-    s = json::parse(in);
-  } catch (const json::parse_error& e) {
-    throw InputError(path, 0, "", std::string("not valid JSON: ") + e.what());
-  }
   BuildConfig c;
-  ApplyBuildConfig(s, path, &c);
+  ApplyBuildConfig(ReadJsonFile(path, "config file"), path, &c);
   return c;
 }
 

@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <csetjmp>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <stdexcept>
 
 #include <jpeglib.h>
@@ -96,21 +94,9 @@ std::optional<FrameImage> FrameImage::Read(const std::string& path, int channels
 
 std::optional<FrameImage> FrameImage::Read(const std::string& path, const ImageHeader& header, int channels,
                                            int sixteen_bit_white, std::string* problem, int64_t max_pixels) {
-  if (auto too_large = TooLargeToDecode(header, max_pixels)) {
-    *problem = *too_large;
-    return std::nullopt;
-  }
-  std::ifstream in(path, std::ios::binary | std::ios::ate);
-  if (!in) {
-    *problem = "missing image";
-    return std::nullopt;
-  }
-  std::vector<unsigned char> bytes(static_cast<size_t>(std::max<std::streamoff>(0, in.tellg())));
-  in.seekg(0);
-  if (!in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()))) {
-    *problem = "unreadable image: cannot read the file";
-    return std::nullopt;
-  }
+  std::optional<std::vector<unsigned char>> read = ReadImageBytes(path, header, max_pixels, problem);
+  if (!read) return std::nullopt;
+  std::vector<unsigned char>& bytes = *read;
   FrameImage image;
   image.path_ = path;
   image.channels_ = channels;
@@ -138,25 +124,8 @@ std::optional<FrameImage> FrameImage::Read(const std::string& path, const ImageH
       return image;
     }
   }
-  cv::Mat raw;
-  try {  // OpenCV throws on what its decoders refuse (e.g. its own size limit)
-    if (!bytes.empty()) raw = cv::imdecode(bytes, cv::IMREAD_UNCHANGED);
-  } catch (const cv::Exception& e) {
-    *problem = "unreadable image: " + e.msg;
-    return std::nullopt;
-  }
-  if (raw.empty()) {
-    *problem = "unreadable image";
-    return std::nullopt;
-  }
-  // Formats whose header we do not read are checked once decoded.
-  if (int64_t{raw.cols} * raw.rows > max_pixels) {
-    ImageHeader decoded = header;
-    decoded.width = raw.cols;
-    decoded.height = raw.rows;
-    *problem = *TooLargeToDecode(decoded, max_pixels);
-    return std::nullopt;
-  }
+  const cv::Mat raw = DecodeImageBytes(bytes, header, max_pixels, problem);
+  if (raw.empty()) return std::nullopt;
   return FromMat(raw, channels, sixteen_bit_white);
 }
 

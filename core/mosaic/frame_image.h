@@ -12,7 +12,7 @@
 
 #include <opencv2/core.hpp>
 
-#include "core/mosaic/image_header.h"
+#include "core/image/image_read.h"
 
 namespace seamap {
 
@@ -22,7 +22,7 @@ class FrameImage {
   // Reads and checks `path`. On failure returns nullopt and sets *problem
   // ("missing image", "not a regular file: ...", "image too large: ...",
   // "unreadable image: ...", "truncated JPEG ..."). The header is checked
-  // (image_header.h) before the file is read: images of more than
+  // (core/image/image_read.h) before the file is read: images of more than
   // max_pixels are refused unread.
   static std::optional<FrameImage> Read(const std::string& path, int channels, int sixteen_bit_white,
                                         std::string* problem, int64_t max_pixels = kDefaultMaxImagePixels);

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "core/mosaic/image_header.h"
+#include "core/image/image_header.h"
 #include "core/mosaic/mosaic_plan.h"
 #include "core/util/error.h"
 

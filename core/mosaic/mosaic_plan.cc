@@ -7,15 +7,10 @@
 #include "core/camera/frame_projector.h"
 #include "core/geo/web_mercator.h"
 #include "core/util/error.h"
+#include "core/util/statistics.h"
 
 namespace seamap {
 namespace {
-
-double Median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
 
 std::string Megabytes(double bytes) {
   char text[64];

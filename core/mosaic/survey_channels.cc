@@ -3,9 +3,7 @@
 #include <algorithm>
 #include <set>
 
-#include <opencv2/imgcodecs.hpp>
-
-#include "core/mosaic/image_header.h"
+#include "core/image/image_read.h"
 
 namespace seamap {
 namespace {
@@ -16,14 +14,10 @@ int ChannelsOf(const std::string& path, int64_t max_pixels) {
   const auto header = ReadImageHeader(path, &problem);
   if (!header || TooLargeToDecode(*header, max_pixels)) return 0;
   int channels = header->channels;
-  if (channels == 0) {
-    try {
-      const cv::Mat m = cv::imread(path, cv::IMREAD_UNCHANGED);
-      if (m.empty() || int64_t{m.cols} * m.rows > max_pixels) return 0;
-      channels = m.channels();
-    } catch (const cv::Exception&) {
-      return 0;
-    }
+  if (channels == 0) {  // a format whose header we do not read
+    const cv::Mat m = ReadGuardedImage(path, &problem, max_pixels);
+    if (m.empty()) return 0;
+    channels = m.channels();
   }
   return channels >= 3 ? 3 : 1;  // gray + alpha is gray
 }

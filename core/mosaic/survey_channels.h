@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "core/mosaic/image_header.h"
+#include "core/image/image_header.h"
 #include "core/nav/frame_list.h"
 
 namespace seamap {

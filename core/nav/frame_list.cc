@@ -8,6 +8,7 @@
 #include "core/nav/column_aliases.h"
 #include "core/nav/csv_table.h"
 #include "core/nav/nav_limits.h"
+#include "core/nav/nav_series.h"
 #include "core/nav/nav_values.h"
 #include "core/util/error.h"
 
@@ -97,37 +98,7 @@ void OrderAndIndex(std::vector<FrameSpec>& frames) {
   for (size_t i = 0; i < frames.size(); ++i) frames[i].index = static_cast<int>(i);
 }
 
-double Lerp(double a, double b, double f) {
-  return a + (b - a) * f;
-}
-
 }  // namespace
-
-std::optional<VehiclePose> InterpolatePose(const std::vector<NavRecord>& series, double t) {
-  if (series.empty() || !std::isfinite(t)) return std::nullopt;
-  const double first = *series.front().time_s, last = *series.back().time_s;
-  if (t < first || t > last) return std::nullopt;
-  auto after = std::upper_bound(series.begin(), series.end(), t,
-                                [](double time, const NavRecord& r) { return time < *r.time_s; });
-  if (after == series.end()) return series.back().pose;  // t is the last time
-  const NavRecord& before = *(after - 1);
-  const double f = (t - *before.time_s) / (*after->time_s - *before.time_s);
-  const VehiclePose& a = before.pose;
-  const VehiclePose& b = after->pose;
-  VehiclePose pose;
-  pose.east_m = Lerp(a.east_m, b.east_m, f);
-  pose.north_m = Lerp(a.north_m, b.north_m, f);
-  pose.altitude_m = Lerp(a.altitude_m, b.altitude_m, f);
-  pose.depth_m = Lerp(a.depth_m, b.depth_m, f);
-  pose.pitch_deg = Lerp(a.pitch_deg, b.pitch_deg, f);
-  pose.roll_deg = Lerp(a.roll_deg, b.roll_deg, f);
-  // Heading along the shorter arc: 350 -> 10 passes through 0, not 180.
-  const double turn = std::remainder(b.heading_deg - a.heading_deg, 360.0);
-  double heading = std::fmod(a.heading_deg + turn * f, 360.0);
-  if (heading < 0) heading += 360.0;
-  pose.heading_deg = heading >= 360.0 ? 0 : heading;
-  return pose;
-}
 
 FrameList MatchFrames(const NavTable& nav, const std::string& images_dir,
                       const std::optional<std::string>& image_times_csv) {
@@ -160,21 +131,13 @@ FrameList MatchFrames(const NavTable& nav, const std::string& images_dir,
     throw InputError(nav.source, 0, "image",
                      "navigation has no image column; give image times with --image-times FILE");
 
-  std::vector<NavRecord> series;
-  for (const NavRecord& record : nav.records)
-    if (record.time_s) series.push_back(record);
-  std::stable_sort(series.begin(), series.end(),
-                   [](const NavRecord& a, const NavRecord& b) { return *a.time_s < *b.time_s; });
-
+  const NavSeries series(nav.records);
   for (const ImageTime& shot : ReadImageTimes(*image_times_csv, &out)) {
-    auto pose = series.empty() ? std::nullopt : InterpolatePose(series, shot.time_s);
+    auto pose = series.PoseAt(shot.time_s);
     if (!pose) {
-      const std::string span = series.empty() ? "(no timed records)"
-                                              : "[" + FormatNumber(*series.front().time_s) + ", " +
-                                                    FormatNumber(*series.back().time_s) + "] s";
       out.rejected.push_back({*image_times_csv, shot.line, "time_s",
-                              "time_s " + FormatNumber(shot.time_s) + " is outside the navigation's time span " + span +
-                                  " in " + nav.source});
+                              "time_s " + FormatNumber(shot.time_s) + " is outside the navigation's time span " +
+                                  series.SpanText() + " in " + nav.source});
       continue;
     }
     FrameSpec frame;

@@ -2,8 +2,8 @@
 // Pairs images with poses. When the navigation names images, each such record
 // is a frame. When navigation is a time series and the images carry times
 // (an image-times CSV with columns image,time_s), poses are interpolated to
-// the image times: linear in position/altitude/depth/pitch/roll, on the circle
-// for heading. Images outside the navigation's time span are rejected.
+// the image times (NavSeries, nav_series.h). Images outside the navigation's
+// time span are rejected.
 #include <optional>
 #include <string>
 #include <vector>
@@ -33,9 +33,5 @@ struct FrameList {
 
 FrameList MatchFrames(const NavTable& nav, const std::string& images_dir,
                       const std::optional<std::string>& image_times_csv);
-
-// Pose at time t interpolated from a time-sorted series whose records all
-// have time_s; empty outside its span.
-std::optional<VehiclePose> InterpolatePose(const std::vector<NavRecord>& series, double t);
 
 }  // namespace seamap

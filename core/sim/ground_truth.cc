@@ -1,13 +1,13 @@
 #include "core/sim/ground_truth.h"
 
 #include <cmath>
-#include <fstream>
 
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "core/util/error.h"
+#include "core/util/json_file.h"
 
 namespace seamap {
 namespace {
@@ -39,14 +39,7 @@ cv::Vec3f Bilinear(const cv::Mat& img, double x, double y) {
 GroundTruth GroundTruth::Load(const std::string& survey_dir) {
   const std::string json_path = survey_dir + "/truth/texture.json";
   const std::string png = survey_dir + "/truth/texture.png";
-  std::ifstream in(json_path);
-  if (!in) throw InputError(json_path, 0, "", "cannot open the ground-truth georeference");
-  nlohmann::json j;
-  try {
-    in >> j;
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(json_path, 0, "", std::string("invalid JSON: ") + e.what());
-  }
+  nlohmann::json j = ReadJsonFile(json_path, "ground-truth georeference");
   GroundTruth t;
   if (!j.contains("origin") || !j["origin"].is_array() || j["origin"].size() != 2)
     throw InputError(json_path, 0, "origin", "expected [lat, lon]");

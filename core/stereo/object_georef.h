@@ -8,21 +8,20 @@
 
 #include "core/camera/vehicle_pose.h"
 #include "core/geo/local_frame.h"
+#include "core/geo/rotation.h"
 #include "core/stereo/rigid_transform.h"
 
 namespace seamap {
 
 // The stereo rig on the vehicle: which way its left camera looks and where it
 // sits in the body frame (x forward, y starboard, z down; metres).
+// The left camera's rotation into the body frame is BodyFromCamera(looking)
+// (core/geo/rotation.h).
 struct RigMount {
-  enum class Looking { kForward, kDown };
+  using Looking = CameraLooking;
   Looking looking = Looking::kForward;  // kDown: image top towards the bow
   Eigen::Vector3d offset_m = Eigen::Vector3d::Zero();
 };
-
-// Rotation taking the left camera's vectors (OpenCV: x right, y down, z along
-// the view) to the body frame.
-Eigen::Matrix3d BodyFromRigCamera(RigMount::Looking looking);
 
 // "forward" or "down"; InputError naming `option` otherwise.
 RigMount::Looking ParseLooking(const std::string& text, const std::string& option);

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <fstream>
 #include <map>
 #include <numeric>
 
@@ -12,6 +11,7 @@
 
 #include "core/stereo/stereo_bundle.h"
 #include "core/util/error.h"
+#include "core/util/json_file.h"
 
 namespace seamap {
 namespace {
@@ -53,14 +53,7 @@ std::vector<std::pair<int, int>> MatchStereoPoints(const StereoFrame& a, const S
 }  // namespace
 
 RigMotion ReadRigMotion(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path, 0, "--motion", "cannot open the rig's motion file");
-  nlohmann::json j;
-  try {
-    in >> j;
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(path, 0, "--motion", std::string("not JSON: ") + e.what());
-  }
+  nlohmann::json j = ReadJsonFile(path, "rig's motion file (--motion)");
   RigMotion motion;
   if (!j.is_object() || !j.contains("world_from_camera") || !j["world_from_camera"].is_object())
     throw InputError(path, 0, "world_from_camera", "expected an object of 4x4 poses by pair name");

@@ -2,12 +2,12 @@
 
 #include <chrono>
 #include <cstring>
-#include <fstream>
 #include <set>
 
 #include "core/stereo/model_registration.h"
 #include "core/stereo/stereo_bundle.h"
 #include "core/util/error.h"
+#include "core/util/json_file.h"
 
 namespace seamap {
 namespace {
@@ -283,15 +283,7 @@ ObjectModel ModelFromJson(const nlohmann::json& j, const std::string& path) {
 }
 
 ObjectModel LoadObjectModel(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path, 0, "--model", "cannot open the model");
-  nlohmann::json j;
-  try {
-    in >> j;
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(path, 0, "", std::string("not JSON: ") + e.what());
-  }
-  return ModelFromJson(j, path);
+  return ModelFromJson(ReadJsonFile(path, "model (--model)"), path);
 }
 
 }  // namespace seamap

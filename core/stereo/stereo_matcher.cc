@@ -9,6 +9,7 @@
 #include <opencv2/features2d.hpp>
 
 #include "core/util/error.h"
+#include "core/util/statistics.h"
 
 namespace seamap {
 namespace {
@@ -20,12 +21,6 @@ int DistanceSq(const uint8_t* a, const uint8_t* b) {
     sum += d * d;
   }
   return sum;
-}
-
-double Median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
 }
 
 }  // namespace

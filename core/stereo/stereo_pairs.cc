@@ -4,9 +4,8 @@
 #include <filesystem>
 #include <map>
 
-#include <opencv2/imgcodecs.hpp>
-
 #include "core/enhance/pixel_format.h"
+#include "core/image/image_read.h"
 #include "core/stereo/sift_features.h"
 #include "core/util/error.h"
 
@@ -65,13 +64,9 @@ LoadedPair LoadStereoPair(const PairFiles& files, cv::Size expected_size, const 
   LoadedPair pair;
   pair.name = files.name;
   for (const auto& [path, image] : {std::pair{&files.left, &pair.left}, std::pair{&files.right, &pair.right}}) {
-    cv::Mat m;
-    try {
-      m = cv::imread(*path, cv::IMREAD_UNCHANGED);
-    } catch (const cv::Exception&) {
-      m.release();
-    }
-    if (m.empty()) throw InputError(*path, 0, "", "cannot read the image (not an image file?)");
+    std::string problem;
+    const cv::Mat m = ReadGuardedImage(*path, &problem);
+    if (m.empty()) throw InputError(*path, 0, "", "cannot read the image: " + problem);
     if (m.size() != expected_size)
       throw InputError(*path, 0, "",
                        cv::format("image is %dx%d but %s is for %dx%d images", m.cols, m.rows, calibration_path.c_str(),

@@ -5,6 +5,8 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "core/util/statistics.h"
+
 namespace seamap {
 namespace {
 
@@ -27,9 +29,7 @@ std::vector<double> SmoothedHeadings(const std::vector<double>& heading_deg) {
   for (size_t i = 0; i < n; ++i) {
     const size_t half = std::min<size_t>({2, i, n - 1 - i});
     const size_t lo = i - half, hi = i + half + 1;
-    std::vector<double> window(unwrapped.begin() + lo, unwrapped.begin() + hi);
-    std::nth_element(window.begin(), window.begin() + window.size() / 2, window.end());
-    out[i] = window[window.size() / 2];
+    out[i] = Median(std::vector<double>(unwrapped.begin() + lo, unwrapped.begin() + hi));
   }
   return out;
 }

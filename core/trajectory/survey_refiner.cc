@@ -3,18 +3,17 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <filesystem>
 #include <future>
 #include <map>
 #include <memory>
 
-#include <opencv2/imgcodecs.hpp>
-
 #include "core/camera/frame_projector.h"
+#include "core/image/image_read.h"
 #include "core/trajectory/ground_offsets.h"
 #include "core/trajectory/pair_candidates.h"
 #include "core/trajectory/pose_graph.h"
 #include "core/util/error.h"
+#include "core/util/statistics.h"
 #include "core/util/thread_pool.h"
 
 namespace seamap {
@@ -44,23 +43,8 @@ Prepared Prepare(const FrameSpec& f, double time_s, const CameraModel& camera, c
     return p;
   }
   for (int k = 0; k < 4; ++k) p.candidate.footprint[k] = {(*corners)[k].east, (*corners)[k].north};
-  // Not a FIFO (opening one waits for a writer); OpenCV's refusals are reasons.
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(f.image_path, ec)) {
-    p.problem = "missing image or not a regular file";
-    return p;
-  }
-  cv::Mat image;
-  try {
-    image = cv::imread(f.image_path, cv::IMREAD_UNCHANGED);
-  } catch (const cv::Exception& e) {
-    p.problem = "unreadable image: " + e.msg;
-    return p;
-  }
-  if (image.empty()) {
-    p.problem = "missing or unreadable image";
-    return p;
-  }
+  const cv::Mat image = ReadGuardedImage(f.image_path, &p.problem);
+  if (image.empty()) return p;
   if (std::abs(image.cols * camera.height - image.rows * camera.width) > std::max(image.cols, camera.width)) {
     p.problem =
         "image is " + std::to_string(image.cols) + "x" + std::to_string(image.rows) + ", not the camera's shape";
@@ -162,7 +146,7 @@ std::vector<RefinedFrame> RefineSurvey(const std::vector<FrameSpec>& frames, con
     }));
   }
   std::vector<PairConstraint> constraints;
-  std::vector<int> inliers;
+  std::vector<double> inliers;
   std::map<std::string, int> failures;
   for (size_t k = 0; k < jobs.size(); ++k) {
     const Registration g = jobs[k].get();
@@ -184,10 +168,7 @@ std::vector<RefinedFrame> RefineSurvey(const std::vector<FrameSpec>& frames, con
     inliers.push_back(g.inliers);
   }
   for (const auto& f : failures) r.failures.push_back(f);
-  if (!inliers.empty()) {
-    std::nth_element(inliers.begin(), inliers.begin() + inliers.size() / 2, inliers.end());
-    r.median_inliers = inliers[inliers.size() / 2];
-  }
+  r.median_inliers = Median(inliers);
   r.seconds_pairs = Since(start);
 
   // 3. The pose graph.

@@ -6,6 +6,7 @@
 
 #include "core/nav/nav_values.h"
 #include "core/util/error.h"
+#include "core/util/statistics.h"
 
 namespace seamap {
 namespace {
@@ -66,8 +67,7 @@ double TimePairingTolerance(const NavTable& truth) {
   for (size_t i = 1; i < times.size(); ++i)
     if (times[i] > times[i - 1]) gaps.push_back(times[i] - times[i - 1]);
   if (gaps.empty()) return 0.05;
-  std::nth_element(gaps.begin(), gaps.begin() + gaps.size() / 2, gaps.end());
-  return std::min(0.05, 0.25 * gaps[gaps.size() / 2]);
+  return std::min(0.05, 0.25 * Median(gaps));
 }
 
 TrackPairing PairFrames(const NavTable& estimate, const NavTable& truth) {

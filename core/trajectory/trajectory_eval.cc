@@ -5,22 +5,14 @@
 #include <limits>
 #include <numeric>
 
+#include "core/camera/frame_projector.h"
 #include "core/trajectory/track_pairing.h"
+#include "core/util/statistics.h"
 
 namespace seamap {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kDegToRad = M_PI / 180.0;
-
-// Linear interpolation between order statistics at rank q (n - 1); sorted input.
-double Percentile(const std::vector<double>& sorted, double q) {
-  if (sorted.empty()) return kNaN;
-  const double rank = q * (sorted.size() - 1);
-  const size_t below = static_cast<size_t>(std::floor(rank));
-  const size_t above = std::min(below + 1, sorted.size() - 1);
-  return sorted[below] + (rank - below) * (sorted[above] - sorted[below]);
-}
 
 AxisStats Stats(const std::vector<double>& errors) {
   if (errors.empty()) return {kNaN, kNaN, kNaN};
@@ -38,20 +30,11 @@ struct Ned {
   double n = 0, e = 0, d = 0;
 };
 
-// R_nb^T v: a NED vector in the body frame (x bow, y starboard, z down) of a
-// vehicle with the given attitude, R_nb = Rz(heading) Ry(pitch) Rx(roll).
+// A NED vector in the body frame (x bow, y starboard, z down) of a vehicle
+// with the given attitude: NedFromBody^T v.
 std::array<double, 3> ToBody(const Ned& v, const VehiclePose& attitude) {
-  const double psi = attitude.heading_deg * kDegToRad, theta = attitude.pitch_deg * kDegToRad,
-               phi = attitude.roll_deg * kDegToRad;
-  // Undo the heading, then the pitch, then the roll.
-  const double x1 = std::cos(psi) * v.n + std::sin(psi) * v.e;
-  const double y1 = -std::sin(psi) * v.n + std::cos(psi) * v.e;
-  const double z1 = v.d;
-  const double x2 = std::cos(theta) * x1 - std::sin(theta) * z1;
-  const double z2 = std::sin(theta) * x1 + std::cos(theta) * z1;
-  const double y3 = std::cos(phi) * y1 + std::sin(phi) * z2;
-  const double z3 = -std::sin(phi) * y1 + std::cos(phi) * z2;
-  return {x2, y3, z3};
+  const Eigen::Vector3d body = NedFromBody(attitude).transpose() * Eigen::Vector3d(v.n, v.e, v.d);
+  return {body.x(), body.y(), body.z()};
 }
 
 Ned Position(const VehiclePose& p) {
@@ -143,8 +126,8 @@ TrajectoryErrors EvaluateTrajectory(const NavTable& estimate, const NavTable& tr
   out.lines = line.empty() ? 0 : *std::max_element(line.begin(), line.end()) + 1;
   const std::vector<double> cross = CrossPassErrorsMm(est_xy, true_xy, line, options.max_pair_distance_m);
   out.cross_pairs = static_cast<int>(cross.size());
-  out.cross_median_mm = Percentile(cross, 0.5);
-  out.cross_p90_mm = Percentile(cross, 0.9);
+  out.cross_median_mm = cross.empty() ? kNaN : Percentile(cross, 0.5);
+  out.cross_p90_mm = cross.empty() ? kNaN : Percentile(cross, 0.9);
   out.cross_max_mm = cross.empty() ? kNaN : cross.back();
 
   VelocityErrors(est_records, true_records, &out);

@@ -12,6 +12,8 @@
 #include <opencv2/core/eigen.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "core/util/statistics.h"
+
 namespace seamap {
 namespace {
 
@@ -252,8 +254,7 @@ TwoViewMotion Essential(const std::vector<cv::Point2d>& p1, const std::vector<cv
     m.failure = "too few triangulated points";
     return m;
   }
-  std::nth_element(along.begin(), along.begin() + along.size() / 2, along.end());
-  const double median = along[along.size() / 2];
+  const double median = Median(along);
   const auto plane = FitPlane(points, 0.01 * median);
   // A plane far from the seabed's expected tilt is relief, not the seabed
   // (bumps as high as the frame is wide leave no thinnest direction): then
@@ -354,9 +355,7 @@ std::optional<Plane> FitPlane(const std::vector<Eigen::Vector3d>& points, double
     }
     std::vector<double> residuals;
     for (const auto& p : points) residuals.push_back(std::fabs(plane.normal.dot(p) - plane.distance));
-    std::vector<double> sorted = residuals;
-    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-    const double limit = std::max(tolerance, 3 * 1.4826 * sorted[sorted.size() / 2]);
+    const double limit = std::max(tolerance, 3 * 1.4826 * Median(residuals));
     use.clear();
     for (size_t k = 0; k < points.size(); ++k)
       if (residuals[k] <= limit) use.push_back(static_cast<int>(k));

@@ -10,7 +10,9 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Geometry>
 
+#include "core/geo/rotation.h"
 #include "core/util/error.h"
+#include "core/util/statistics.h"
 
 namespace seamap {
 namespace {
@@ -49,21 +51,10 @@ Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
   return s;
 }
 
-double Median(std::vector<double> values) {
-  const size_t mid = values.size() / 2;
-  std::nth_element(values.begin(), values.begin() + mid, values.end());
-  if (values.size() % 2 == 1) return values[mid];
-  return 0.5 * (values[mid] + *std::max_element(values.begin(), values.begin() + mid));
-}
-
 }  // namespace
 
 Eigen::Matrix3d NedFromBody(const Attitude& attitude) {
-  using Eigen::AngleAxisd;
-  using Eigen::Vector3d;
-  return (AngleAxisd(attitude.heading_rad, Vector3d::UnitZ()) * AngleAxisd(attitude.pitch_rad, Vector3d::UnitY()) *
-          AngleAxisd(attitude.roll_rad, Vector3d::UnitX()))
-      .toRotationMatrix();
+  return RotationZyx(attitude.heading_rad, attitude.pitch_rad, attitude.roll_rad);
 }
 
 void VelocityFilterOptions::Check() const {
@@ -299,7 +290,7 @@ bool VelocityFilter::LockedOut(Kind kind, const Rejection& rejection) {
     for (int axis = 0; axis < dims; ++axis) {
       std::vector<double> values;
       for (const Rejection& r : rejections) values.push_back(r.innovation[axis]);
-      const double median = Median(values);
+      const double median = Percentile(values, 0.5);  // the mean of the middle pair
       for (const Rejection& r : rejections) {
         if (std::abs(r.innovation[axis] - median) > kAgreeSigmas * r.sigma[axis]) return false;
       }

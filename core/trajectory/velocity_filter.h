@@ -18,7 +18,7 @@
 
 namespace seamap {
 
-// Radians; R_nb = Rz(heading) Ry(pitch) Rx(roll) as core/camera/frame_projector.h's NedFromBody.
+// Radians; R_nb = Rz(heading) Ry(pitch) Rx(roll) (core/geo/rotation.h).
 struct Attitude {
   double roll_rad = 0;     // starboard down positive
   double pitch_rad = 0;    // bow up positive
@@ -28,7 +28,7 @@ struct Attitude {
 // The vehicle's attitude at a time (interpolated by the caller, heading on the circle).
 using AttitudeAt = std::function<Attitude(double time_s)>;
 
-// Rotation taking body vectors (x bow, y starboard, z down) to NED.
+// Rotation taking body vectors (x bow, y starboard, z down) to NED: RotationZyx of the attitude.
 Eigen::Matrix3d NedFromBody(const Attitude& attitude);
 
 struct VelocityFilterOptions {

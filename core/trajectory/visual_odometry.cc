@@ -7,24 +7,15 @@
 
 #include "core/camera/frame_projector.h"
 #include "core/util/error.h"
+#include "core/util/statistics.h"
 
 namespace seamap {
 namespace {
 
-Eigen::Matrix3d NedFromBodyOf(const VehiclePose& p) {
-  return NedFromBody(p);
-}
-
-double Median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
-
 // The camera's height above a flat seabed: the altitude, measured at the
 // navigation reference point, less the camera's mounting offset downwards.
 double CameraHeight(const CameraModel& camera, const VehiclePose& nav) {
-  return nav.altitude_m - (NedFromBodyOf(nav) * camera.mount_offset_m).z();
+  return nav.altitude_m - (NedFromBody(nav) * camera.mount_offset_m).z();
 }
 
 }  // namespace
@@ -84,7 +75,7 @@ std::optional<VoMeasurement> VisualOdometry::Add(const FrameFeatures& features, 
 
   // The views' rotation from the attitude sensor, and the parallax it leaves.
   const Eigen::Matrix3d body_from_camera = camera_.BodyFromCamera();
-  const Eigen::Matrix3d ned_from_ref = NedFromBodyOf(ref.nav), ned_from_cur = NedFromBodyOf(nav);
+  const Eigen::Matrix3d ned_from_ref = NedFromBody(ref.nav), ned_from_cur = NedFromBody(nav);
   const Eigen::Matrix3d cam2_from_cam1 =
       body_from_camera.transpose() * ned_from_cur.transpose() * ned_from_ref * body_from_camera;
   const cv::Matx33d k = camera_.K();

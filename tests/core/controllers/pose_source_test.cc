@@ -88,14 +88,5 @@ TEST(PoseSourceTest, EstimatorOptionsNameTheOptionOfABadMode) {
   EXPECT_GT(EstimatorOptionsFrom("ekf", exact, "--mode").nav_sigma_m, 0);  // floored
 }
 
-TEST(PoseSourceTest, ReadPhotoForFeaturesIsEmptyForWhatCannotBeRead) {
-  testing::TempDir dir;
-  EXPECT_TRUE(ReadPhotoForFeatures((dir / "none.png").string()).empty());
-  const std::string path = (dir / "f.png").string();
-  ASSERT_TRUE(cv::imwrite(path, cv::Mat(120, 160, CV_8UC3, cv::Scalar(1, 2, 3))));
-  EXPECT_EQ(ReadPhotoForFeatures(path).channels(), 3);
-  EXPECT_TRUE(ReadPhotoForFeatures(path, /*max_pixels=*/100).empty());
-}
-
 }  // namespace
 }  // namespace seamap

@@ -1,5 +1,7 @@
 #include "core/mosaic/frame_image.h"
 
+#include <sys/stat.h>
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -9,6 +11,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/util/error.h"
+#include "tests/testing/hostile_png.h"
 #include "tests/testing/temp_dir.h"
 
 namespace seamap {
@@ -128,6 +131,19 @@ TEST(FrameImage, BrokenFilesAreReportedNotDecoded) {
   std::ofstream((dir / "text.png").string()) << "not an image";
   EXPECT_FALSE(FrameImage::Read((dir / "text.png").string(), 1, 65535, &problem));
   EXPECT_EQ(problem, "unreadable image");
+}
+
+// The guard of core/image/image_read.h: huge claims and FIFOs are refused unread.
+TEST(FrameImage, HugeImagesAndFifosAreRefusedUnread) {
+  TempDir dir;
+  const std::string claiming = (dir / "claims.png").string(), fifo = (dir / "fifo.png").string();
+  testing::WriteBytes(claiming, testing::ClaimingPng(30000, 30000));
+  std::string problem;
+  EXPECT_FALSE(FrameImage::Read(claiming, 1, 65535, &problem));
+  EXPECT_EQ(problem.rfind("image too large", 0), 0u) << problem;
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  EXPECT_FALSE(FrameImage::Read(fifo, 1, 65535, &problem));
+  EXPECT_EQ(problem, "not a regular file: a FIFO, skipped unread");
 }
 
 TEST(FrameImage, ToEightBitHandlesDepthsAndChannels) {

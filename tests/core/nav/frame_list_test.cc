@@ -18,46 +18,6 @@ bool Contains(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;
 }
 
-NavRecord At(double t, double east, double heading) {
-  NavRecord r;
-  r.time_s = t;
-  r.pose.east_m = east;
-  r.pose.north_m = -east;
-  r.pose.altitude_m = 2 + east;
-  r.pose.depth_m = 10 * east;
-  r.pose.pitch_deg = east;
-  r.pose.roll_deg = -east;
-  r.pose.heading_deg = heading;
-  return r;
-}
-
-TEST(InterpolatePose, LinearInsideTheSpanEmptyOutside) {
-  const std::vector<NavRecord> series = {At(0, 0, 0), At(10, 10, 90), At(20, 30, 90)};
-  auto mid = InterpolatePose(series, 5);
-  ASSERT_TRUE(mid);
-  EXPECT_DOUBLE_EQ(mid->east_m, 5);
-  EXPECT_DOUBLE_EQ(mid->north_m, -5);
-  EXPECT_DOUBLE_EQ(mid->altitude_m, 7);
-  EXPECT_DOUBLE_EQ(mid->depth_m, 50);
-  EXPECT_DOUBLE_EQ(mid->pitch_deg, 5);
-  EXPECT_DOUBLE_EQ(mid->roll_deg, -5);
-  EXPECT_DOUBLE_EQ(mid->heading_deg, 45);
-  EXPECT_DOUBLE_EQ(InterpolatePose(series, 15)->east_m, 20);
-  EXPECT_DOUBLE_EQ(InterpolatePose(series, 0)->east_m, 0);
-  EXPECT_DOUBLE_EQ(InterpolatePose(series, 10)->east_m, 10);
-  EXPECT_DOUBLE_EQ(InterpolatePose(series, 20)->east_m, 30);
-  EXPECT_FALSE(InterpolatePose(series, -0.1));
-  EXPECT_FALSE(InterpolatePose(series, 20.1));
-  EXPECT_FALSE(InterpolatePose({}, 0));
-}
-
-TEST(InterpolatePose, HeadingTakesTheShortArc) {
-  EXPECT_NEAR(InterpolatePose({At(0, 0, 350), At(2, 0, 10)}, 1)->heading_deg, 0, 1e-9);
-  EXPECT_NEAR(InterpolatePose({At(0, 0, 350), At(2, 0, 10)}, 0.5)->heading_deg, 355, 1e-9);
-  EXPECT_NEAR(InterpolatePose({At(0, 0, 10), At(2, 0, 350)}, 1.5)->heading_deg, 355, 1e-9);
-  EXPECT_NEAR(InterpolatePose({At(0, 0, 170), At(2, 0, 200)}, 1)->heading_deg, 185, 1e-9);
-}
-
 class FrameListTest : public ::testing::Test {
  protected:
   NavTable ReadNav(const std::string& text) {

@@ -1,4 +1,4 @@
-#include "core/mosaic/image_header.h"
+#include "core/image/image_header.h"
 
 #include <sys/stat.h>
 
@@ -8,7 +8,7 @@
 
 #include <opencv2/imgcodecs.hpp>
 
-#include "core/mosaic/frame_image.h"
+#include "core/image/image_read.h"
 #include "core/util/process_stats.h"
 #include "tests/testing/hostile_png.h"
 #include "tests/testing/temp_dir.h"
@@ -99,7 +99,7 @@ TEST(ImageHeader, HugeImagesAreRefusedBeforeDecoding) {
     ASSERT_TRUE(why) << path;
     EXPECT_NE(why->find("image too large"), std::string::npos) << *why;
     EXPECT_NE(why->find("max_image_pixels"), std::string::npos) << *why;
-    EXPECT_FALSE(FrameImage::Read(path, 1, 65535, &problem)) << path;
+    EXPECT_TRUE(ReadGuardedImage(path, &problem).empty()) << path;
     EXPECT_EQ(problem, *why);
   }
   EXPECT_LT(PeakRssBytes() - rss_before, int64_t{200} << 20) << "a refused image was decoded";
@@ -115,7 +115,7 @@ TEST(ImageHeader, FifosAndFoldersAreNotReadButNamed) {
   std::string problem;
   EXPECT_FALSE(ReadImageHeader(fifo, &problem));  // returns at once: nothing writes to it
   EXPECT_EQ(problem, "not a regular file: a FIFO, skipped unread");
-  EXPECT_FALSE(FrameImage::Read(fifo, 1, 65535, &problem));
+  EXPECT_TRUE(ReadGuardedImage(fifo, &problem).empty());
   EXPECT_EQ(problem, "not a regular file: a FIFO, skipped unread");
   EXPECT_FALSE(ReadImageHeader(dir.path().string(), &problem));
   EXPECT_EQ(problem, "not a regular file: a folder, skipped unread");

@@ -1,4 +1,4 @@
-#include "core/mosaic/image_header.h"
+#include "core/image/image_header.h"
 
 #include <fcntl.h>
 #include <sys/stat.h>

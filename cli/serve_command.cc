@@ -12,7 +12,8 @@
 #include "cli/shutdown_signal.h"
 #include "core/georef/georef_inputs.h"
 #include "core/mosaic/build_config.h"
-#include "core/tiles/build_state.h"
+#include "core/mission/build_state.h"
+#include "core/mission/mission_metadata.h"
 #include "core/tiles/tile_store.h"
 #include "core/util/error.h"
 #include "server/catalog_server.h"
@@ -130,8 +131,7 @@ int RunServe(int argc, char** argv, int first) {
   // The state as recorded, a build still running (it holds MAP.lock) or
   // interrupted: the server says which, and how an interrupted one goes on.
   auto recorded_state = [&tiles] {
-    auto now = tiles.Metadata("");
-    return now.count("seamap_state") ? now["seamap_state"] : std::string();
+    return ReadMissionMetadata(tiles.Metadata("")).StateOrEmpty();
   };
   const MapBuildState state = ReadBuildState(path, recorded_state, records);
   auto publish_state = [&](const MapBuildState& s) {

@@ -17,7 +17,7 @@
 #include <thread>
 #include <vector>
 
-#include "core/tiles/map_catalog.h"
+#include "core/mission/map_catalog.h"
 #include "core/tiles/tile_store.h"
 #include "server/detection_registry.h"
 #include "server/event_hub.h"

@@ -15,7 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/tiles/mbtiles_store.h"
-#include "core/tiles/mission_classes.h"
+#include "core/mission/mission_classes.h"
 #include "core/tiles/modem_record.h"
 #include "tests/integration/survey_fixture.h"
 #include "tests/testing/child_process.h"

@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "core/tiles/mbtiles_store.h"
-#include "core/tiles/mission_classes.h"
+#include "core/mission/mission_classes.h"
 #include "tests/testing/temp_dir.h"
 
 namespace seamap {

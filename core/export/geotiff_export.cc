@@ -171,7 +171,7 @@ GeotiffSummary ExportGeotiff(const TileStore& from, const std::string& source, c
   const int tiles_x = l[2] - l[0] + 1, tiles_y = l[3] - l[1] + 1;
 
   const MissionMetadata mission = ReadMissionMetadata(from);
-  const int tile_px = mission.tile_size_px.value_or(256);
+  int tile_px = mission.tile_size_px.value_or(256);
   int colour_channels = mission.channels.value_or(0);
   if (colour_channels != 1 && colour_channels != 3) {  // not a SeaMap map: ask one tile
     for (const TileId& t : from.TileIds()) {

@@ -11,9 +11,9 @@
 #include "cli/server_setup.h"
 #include "cli/shutdown_signal.h"
 #include "core/georef/georef_inputs.h"
-#include "core/mosaic/build_config.h"
 #include "core/mission/build_state.h"
 #include "core/mission/mission_metadata.h"
+#include "core/mosaic/build_config.h"
 #include "core/tiles/tile_store.h"
 #include "core/util/error.h"
 #include "server/catalog_server.h"
@@ -130,9 +130,7 @@ int RunServe(int argc, char** argv, int first) {
   overlays.ApplyTo(mission);
   // The state as recorded, a build still running (it holds MAP.lock) or
   // interrupted: the server says which, and how an interrupted one goes on.
-  auto recorded_state = [&tiles] {
-    return ReadMissionMetadata(tiles.Metadata("")).StateOrEmpty();
-  };
+  auto recorded_state = [&tiles] { return ReadMissionMetadata(tiles.Metadata("")).StateOrEmpty(); };
   const MapBuildState state = ReadBuildState(path, recorded_state, records);
   auto publish_state = [&](const MapBuildState& s) {
     server::Progress p = mission.progress();

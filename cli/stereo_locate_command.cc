@@ -9,13 +9,13 @@
 
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "core/mission/detection_book.h"
+#include "core/mission/mission_metadata.h"
 #include "core/nav/frame_list.h"
 #include "core/nav/nav_reader.h"
 #include "core/stereo/icp_baseline.h"
 #include "core/stereo/object_georef.h"
 #include "core/stereo/object_locator.h"
-#include "core/mission/detection_book.h"
-#include "core/mission/mission_metadata.h"
 #include "core/tiles/tile_store.h"
 #include "core/util/error.h"
 

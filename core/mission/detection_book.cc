@@ -17,7 +17,9 @@ constexpr size_t kMaxNoteLength = 4000;
 
 using Kind = DetectionError::Kind;
 
-DetectionError Refused(const std::string& message) { return {Kind::kRefused, "", message, message}; }
+DetectionError Refused(const std::string& message) {
+  return {Kind::kRefused, "", message, message};
+}
 
 // The "type" member, or "" when missing or not a string (value() would throw
 // nlohmann's type_error, a server error instead of a bad request).
@@ -60,8 +62,7 @@ void ApplyProperties(const nlohmann::json& props, Detection* d) {
       d->score = value.get<double>();
     } else if (key == "status") {
       if (!value.is_string() || !IsDetectionStatus(value.get<std::string>()))
-        throw DetectionError::Invalid("properties.status",
-                                      "expected \"unconfirmed\", \"confirmed\" or \"rejected\"");
+        throw DetectionError::Invalid("properties.status", "expected \"unconfirmed\", \"confirmed\" or \"rejected\"");
       d->status = value.get<std::string>();
     } else if (key == "time_s") {
       if (value.is_null())

@@ -125,8 +125,7 @@ void WriteMissionMetadata(TileStore* store, const MissionMetadata& m) {
 }
 
 LatLon RequireMissionOrigin(const MissionMetadata& metadata, const std::string& path) {
-  if (!metadata.origin)
-    throw InputError(path, 0, kOriginKey, "the map's metadata has no mission origin (lat,lon)");
+  if (!metadata.origin) throw InputError(path, 0, kOriginKey, "the map's metadata has no mission origin (lat,lon)");
   return *metadata.origin;
 }
 

@@ -24,13 +24,13 @@ struct MissionMetadata {
   std::optional<std::string> state;
   // seamap_layers "raw,enhanced": the first is the map itself, the others OpenLayer's.
   std::optional<std::vector<std::string>> layers;
-  std::optional<LatLon> origin;                // seamap_origin "lat,lon": the local frame's origin (position_m)
-  std::optional<nlohmann::json> trajectory;    // seamap_trajectory: how the poses were estimated
-  std::optional<double> t0;                    // seamap_t0: the first frame's time, s (modem record times)
+  std::optional<LatLon> origin;                     // seamap_origin "lat,lon": the local frame's origin (position_m)
+  std::optional<nlohmann::json> trajectory;         // seamap_trajectory: how the poses were estimated
+  std::optional<double> t0;                         // seamap_t0: the first frame's time, s (modem record times)
   std::optional<std::vector<std::string>> classes;  // seamap_classes: the class table (class id = index)
-  std::optional<int> tile_size_px;             // seamap_tile_size
-  std::optional<double> gsd_m;                 // seamap_gsd_m: ground size of a base-zoom pixel
-  std::optional<int> channels;                 // seamap_channels: 1 gray, 3 colour
+  std::optional<int> tile_size_px;                  // seamap_tile_size
+  std::optional<double> gsd_m;                      // seamap_gsd_m: ground size of a base-zoom pixel
+  std::optional<int> channels;                      // seamap_channels: 1 gray, 3 colour
   std::optional<int> frames_used, frames_rejected;  // seamap_frames_used / _rejected
 
   // Keys present whose text could not be read (their field stays unset).

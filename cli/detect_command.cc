@@ -13,6 +13,7 @@
 #include "cli/commands.h"
 #include "cli/detect_setup.h"
 #include "core/detect/detection_record.h"
+#include "core/mission/mission_metadata.h"
 #include "core/util/error.h"
 #include "core/util/progress.h"
 
@@ -78,11 +79,8 @@ int RunDetect(int argc, char** argv, int first) {
   if (!std::filesystem::exists(path, ec)) throw InputError(path, 0, "", "no such map");
   std::unique_ptr<TileStore> store = OpenExistingMap(path, /*writable=*/true);
   const auto meta = store->Metadata();
-  std::vector<std::string> layers;
-  {
-    std::stringstream ss(meta.count("seamap_layers") ? meta.at("seamap_layers") : "raw");
-    for (std::string l; std::getline(ss, l, ',');) layers.push_back(l);
-  }
+  const MissionMetadata mission = ReadMissionMetadata(meta);
+  const std::vector<std::string> layers = mission.LayersOrRaw();
   if (std::find(layers.begin(), layers.end(), layer) == layers.end()) {
     std::string list;
     for (const auto& l : layers) list += (list.empty() ? "" : ", ") + l;
@@ -97,9 +95,11 @@ int RunDetect(int argc, char** argv, int first) {
   DetectSettings settings;
   settings.model = model;
   settings.min_score = min_score.value_or(model->min_score);
-  settings.tile_size = meta.count("seamap_tile_size") ? MetaInt(meta, "seamap_tile_size", path) : 256;
+  if (mission.unreadable.count(kTileSizeKey))
+    throw InputError(path, 0, kTileSizeKey, std::string("the map's metadata has no valid '") + kTileSizeKey + "'");
+  settings.tile_size = mission.tile_size_px.value_or(256);
   const int min_zoom = MetaInt(meta, "minzoom", path), base_zoom = MetaInt(meta, "maxzoom", path);
-  settings.origin = RequireMissionOrigin(meta, path);
+  settings.origin = RequireMissionOrigin(mission, path);
   settings.zooms =
       ChooseZooms(requested, "--zooms", min_zoom, base_zoom, settings.origin.lat, settings.tile_size, *model);
 

@@ -8,11 +8,10 @@
 
 #include "cli/args.h"
 #include "cli/commands.h"
-#include "core/tiles/mission_classes.h"
+#include "core/mission/detection_book.h"
+#include "core/mission/mission_classes.h"
 #include "core/tiles/modem_record.h"
 #include "core/util/error.h"
-#include "server/api_error.h"
-#include "server/detection_registry.h"
 
 namespace seamap::cli {
 namespace {
@@ -30,16 +29,13 @@ order (the bytes of GET /api/detections.bin), to FILE or standard output; prints
   --map MAP         with --decode: class names from this map's class table
 )";
 
-// A bad filter names the option as on the command line (the REST error names the parameter).
-server::DetectionFilter Filter(Args& args) {
+// A bad filter names the option as on the command line (the book names the filter's field).
+DetectionFilter Filter(Args& args) {
   try {
-    return server::ParseDetectionFilter(args.Get("bbox"), args.Get("class"), args.Get("min-score"),
-                                        args.GetOr("since", "0"), args.Get("status"), args.Get("source"));
-  } catch (const server::ApiError& e) {
-    std::string message = e.what();  // "parameter 'min_score': ..." -> "option '--min-score': ..."
-    if (message.rfind("parameter '", 0) == 0) message.replace(0, 11, "option '--");
-    if (auto at = message.find("min_score"); at != std::string::npos) message.replace(at, 9, "min-score");
-    throw InputError("", 0, "", message);
+    return ParseDetectionFilter(args.Get("bbox"), args.Get("class"), args.Get("min-score"), args.GetOr("since", "0"),
+                                args.Get("status"), args.Get("source"));
+  } catch (const DetectionError& e) {
+    throw InputError("", 0, e.field() == "min_score" ? "--min-score" : "--" + e.field(), e.detail());
   }
 }
 
@@ -80,7 +76,7 @@ int RunDetectionsPack(int argc, char** argv, int first) {
       throw InputError("", 0, args.positionals()[0], "unexpected argument with --decode; see --help");
     return Decode(*decode, map);
   }
-  const server::DetectionFilter filter = Filter(args);
+  const DetectionFilter filter = Filter(args);
   size_t max = SIZE_MAX;
   if (auto v = args.Get("max")) {
     const int k = args.GetInt("max", 0);
@@ -93,10 +89,10 @@ int RunDetectionsPack(int argc, char** argv, int first) {
     throw InputError("", 0, "MAP", "expected one map; see seamap detections-pack --help");
   const std::string path = args.positionals()[0];
   auto store = OpenExistingMap(path, false);
-  // The server's own registry: the same selection, order and class ids as /api/detections.bin.
-  server::DetectionRegistry registry(nullptr, nullptr);
-  registry.Load(*store);
-  const server::PackedDetections packed = registry.Pack(filter, max, MissionT0(*store));
+  // The mission's detection book, read-only: the same selection, order and class ids as /api/detections.bin.
+  DetectionBook book(nullptr);
+  book.Load(*store);
+  const PackedDetections packed = book.Pack(filter, max, MissionT0(*store));
   if (out) {
     std::ofstream file(*out, std::ios::binary);
     file.write(reinterpret_cast<const char*>(packed.bytes.data()), static_cast<std::streamsize>(packed.bytes.size()));

@@ -1,6 +1,7 @@
 // seamap export: copies a map between store kinds (MBTiles <-> folder), with
 // its layers, metadata, frames, track and detections; or publishes one of its
 // layers as a PMTiles archive or one level as a Cloud-Optimised GeoTIFF.
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <optional>
@@ -10,6 +11,7 @@
 #include "cli/commands.h"
 #include "core/export/geotiff_export.h"
 #include "core/export/pmtiles_export.h"
+#include "core/mission/mission_metadata.h"
 #include "core/tiles/tile_store.h"
 #include "core/util/error.h"
 #include "core/util/progress.h"
@@ -101,11 +103,9 @@ int RunExport(int argc, char** argv, int first) {
       throw InputError(to_path, 0, "TO", "already exists; use --overwrite to replace it");
     if (!layer) return ExportArchive(*from, from_path, to_path, geotiff, tif, quiet);
     CheckLayerName(*layer);
-    const auto meta = from->Metadata();
-    const std::string layers = meta.count("seamap_layers") ? meta.at("seamap_layers") : "";
-    const size_t first_end = layers.find(',');  // the first is the map itself
-    const std::string extra = first_end == std::string::npos ? "" : layers.substr(first_end + 1);
-    if (("," + extra + ",").find("," + *layer + ",") == std::string::npos)
+    const std::vector<std::string> layers = ReadMissionMetadata(*from).ExtraLayers();
+    const std::string extra = LayerListText(layers);
+    if (std::find(layers.begin(), layers.end(), *layer) == layers.end())
       throw InputError("--layer", 0, "",
                        "'" + *layer + "' is not an extra layer of " + from_path +
                            " (it has: " + (extra.empty() ? "none" : extra) + ")");
@@ -122,14 +122,7 @@ int RunExport(int argc, char** argv, int first) {
   }
   auto to = OpenTileStore(to_path, ext, /*create=*/true);
 
-  std::vector<std::string> layers;
-  if (metadata.count("seamap_layers")) {
-    std::stringstream in(metadata.at("seamap_layers"));
-    std::string part;
-    std::getline(in, part, ',');  // the first is the main map; the others are layers
-    while (std::getline(in, part, ','))
-      if (!part.empty()) layers.push_back(part);
-  }
+  const std::vector<std::string> layers = ReadMissionMetadata(metadata).ExtraLayers();
   int64_t total = from->TileCount(), done = 0;
   std::vector<std::unique_ptr<TileStore>> from_layers;
   for (const auto& l : layers) {

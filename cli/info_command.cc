@@ -4,7 +4,8 @@
 
 #include "cli/args.h"
 #include "cli/commands.h"
-#include "core/tiles/build_state.h"
+#include "core/mission/build_state.h"
+#include "core/mission/mission_metadata.h"
 #include "core/tiles/tile_store.h"
 #include "core/util/error.h"
 
@@ -40,6 +41,8 @@ int RunInfo(int argc, char** argv, int first) {
   auto store = OpenTileStore(path, "png", /*create=*/false);
   auto meta = store->Metadata();
   auto get = [&](const std::string& k) { return meta.count(k) ? meta[k] : std::string("-"); };
+  const MissionMetadata mission = ReadMissionMetadata(meta);
+  const std::string tile_size = mission.tile_size_px ? std::to_string(*mission.tile_size_px) : "-";
   auto frames = store->Frames();
   size_t used = 0, corrected = 0;
   for (const auto& f : frames) {
@@ -48,7 +51,7 @@ int RunInfo(int argc, char** argv, int first) {
   }
   std::printf("map:       %s\n", path.c_str());
   std::printf("name:      %s\n", get("name").c_str());
-  std::printf("format:    %s, %s px tiles\n", get("format").c_str(), get("seamap_tile_size").c_str());
+  std::printf("format:    %s, %s px tiles\n", get("format").c_str(), tile_size.c_str());
   std::printf("zooms:     %s..%s\n", get("minzoom").c_str(), get("maxzoom").c_str());
   std::printf("bounds:    %s (w,s,e,n)\n", get("bounds").c_str());
   std::printf("center:    %s\n", get("center").c_str());
@@ -67,7 +70,7 @@ int RunInfo(int argc, char** argv, int first) {
                                         : " (another process is writing it)";
   if (state.state == "interrupted") state_text += ": " + state.Explanation();
   std::printf("state:     %s\n", state_text.c_str());
-  std::printf("layers:    %s\n", get("seamap_layers").c_str());
+  std::printf("layers:    %s\n", mission.layers ? LayerListText(*mission.layers).c_str() : "-");
   std::printf("size:      %.1f MiB\n", SizeOnDisk(path) / 1048576.0);
   return 0;
 }

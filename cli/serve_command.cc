@@ -12,6 +12,8 @@
 #include "cli/server_setup.h"
 #include "cli/shutdown_signal.h"
 #include "core/georef/georef_inputs.h"
+#include "core/mission/build_state.h"
+#include "core/mission/mission_metadata.h"
 #include "core/mosaic/build_config.h"
 #include "core/tiles/tile_store.h"
 #include "core/util/error.h"

@@ -9,12 +9,14 @@
 
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "core/mission/detection_book.h"
+#include "core/mission/mission_metadata.h"
+#include "core/nav/frame_list.h"
 #include "core/nav/nav_reader.h"
 #include "core/nav/nav_series.h"
 #include "core/stereo/icp_baseline.h"
 #include "core/stereo/object_georef.h"
 #include "core/stereo/object_locator.h"
-#include "core/tiles/detection_match.h"
 #include "core/tiles/tile_store.h"
 #include "core/util/error.h"
 
@@ -111,7 +113,7 @@ int RunStereoLocate(int argc, char** argv, int first) {
   std::unique_ptr<TileStore> store = map_path ? OpenExistingMap(*map_path, /*writable=*/true) : nullptr;
   // The mission's origin: the navigation's local frame, and so the detection's position_m, is the mission's.
   const std::optional<LatLon> origin =
-      store ? std::optional<LatLon>(RequireMissionOrigin(store->Metadata(), *map_path)) : std::nullopt;
+      store ? std::optional<LatLon>(RequireMissionOrigin(ReadMissionMetadata(*store), *map_path)) : std::nullopt;
   std::optional<VehiclePose> vehicle;
   std::optional<LocalFrame> frame;
   if (nav_path) {
@@ -169,7 +171,7 @@ int RunStereoLocate(int argc, char** argv, int first) {
       d.time_s = time_s;
       d.status = "unconfirmed";
       // Located again within 10 cm (same model file): the same detection, its review kept.
-      d = StoreFound(*store, {d}, "stereo", d.model, {d.class_name})[0];
+      d = PublishFound(*store, {d}, d.model, {d.class_name})[0];
       store->Flush();
       std::printf("stored as detection %lld in %s\n", static_cast<long long>(d.id), map_path->c_str());
     }

@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "core/mission/map_follower.h"
+#include "core/mission/mission_metadata.h"
 #include "server/api_error.h"
 #include "server/track_feature.h"
 
@@ -16,8 +17,7 @@ struct MissionRegistry::Followed {
       : path(std::move(map_path)),
         follower(path,
                  [source = &t] {  // through the tile source, which re-reads the metadata of a map being written
-                   auto metadata = source->Metadata("");
-                   return metadata.count("seamap_state") ? metadata["seamap_state"] : std::string();
+                   return ReadMissionMetadata(source->Metadata("")).StateOrEmpty();
                  }),
         records(map_records),
         mission(m),

@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "core/tiles/map_catalog.h"
+#include "core/mission/map_catalog.h"
 #include "core/tiles/tile_store.h"
 #include "server/detection_registry.h"
 #include "server/event_hub.h"

@@ -1,6 +1,6 @@
 #include "server/mission_state.h"
 
-#include "core/tiles/mission_classes.h"
+#include "core/mission/mission_metadata.h"
 
 #include <algorithm>
 #include <cmath>
@@ -76,26 +76,17 @@ nlohmann::json FrameJson(const FrameRecord& f) {
 
 void MissionState::Load(const TileStore& store) {
   auto metadata = store.Metadata();
+  const MissionMetadata mission = ReadMissionMetadata(metadata);
   std::vector<FrameRecord> frames = store.Frames();
   std::vector<TrackPoint> track = store.Track();
   std::lock_guard<std::mutex> lock(mutex_);
   if (metadata.count("name")) name_ = metadata["name"];
   if (metadata.count("format")) format_ = metadata["format"];
-  trajectory_ = nullptr;
-  if (metadata.count("seamap_trajectory")) {
-    try {
-      trajectory_ = nlohmann::json::parse(metadata["seamap_trajectory"]);
-    } catch (const nlohmann::json::exception&) {  // written by someone else: not ours to describe
-    }
-  }
-  if (metadata.count("seamap_state")) progress_.state = metadata["seamap_state"] == "complete" ? "complete" : "stopped";
-  if (auto origin = MissionOrigin(metadata)) origin_ = *origin;
-  stored_t0_.reset();
-  if (metadata.count(kT0Key)) {
-    char* end = nullptr;
-    const double t0 = std::strtod(metadata[kT0Key].c_str(), &end);
-    if (*end == '\0' && end != metadata[kT0Key].c_str()) stored_t0_ = t0;
-  }
+  // An unreadable trajectory was written by someone else: not ours to describe.
+  trajectory_ = mission.trajectory.value_or(nullptr);
+  if (mission.state) progress_.state = *mission.state == "complete" ? "complete" : "stopped";
+  if (mission.origin) origin_ = *mission.origin;
+  stored_t0_ = mission.t0;
   frames_ = std::move(frames);
   track_ = std::move(track);
   corrected_frames_ = static_cast<int>(

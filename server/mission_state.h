@@ -96,7 +96,7 @@ class MissionState {
   std::vector<TrackPoint> buoy_track_;  // in seq order
   std::vector<GeorefKeyframe> keyframes_;
   int corrected_frames_ = 0;   // frames with the navigation's pose beside the placed one
-  nlohmann::json trajectory_;  // how the poses were estimated (seamap_trajectory metadata), or null
+  nlohmann::json trajectory_;  // how the poses were estimated (MissionMetadata::trajectory), or null
   int corrected_points_ = 0;   // track points likewise
   std::optional<double> stored_t0_;
 

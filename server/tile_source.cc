@@ -6,22 +6,14 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "core/mission/mission_metadata.h"
 #include "core/tiles/tile_version.h"
 
 namespace seamap::server {
 namespace {
 
 std::vector<std::string> SplitLayers(const std::map<std::string, std::string>& metadata) {
-  std::vector<std::string> out;
-  auto it = metadata.find("seamap_layers");
-  if (it != metadata.end()) {
-    std::stringstream in(it->second);
-    std::string part;
-    while (std::getline(in, part, ','))
-      if (!part.empty()) out.push_back(part);
-  }
-  if (out.empty()) out.push_back("raw");
-  return out;
+  return ReadMissionMetadata(metadata).LayersOrRaw();
 }
 
 }  // namespace

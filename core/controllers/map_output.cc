@@ -3,20 +3,11 @@
 #include <filesystem>
 #include <set>
 
+#include "core/mission/mission_metadata.h"
 #include "core/util/error.h"
 
 namespace seamap {
 namespace fs = std::filesystem;
-
-namespace {
-
-std::string StateOf(const TileStore& store) {
-  const auto metadata = store.Metadata();
-  auto it = metadata.find("seamap_state");
-  return it == metadata.end() ? "" : it->second;
-}
-
-}  // namespace
 
 MapOutput OpenOutput(const std::string& path, const BuildConfig& config, const OutputChoice& choice) {
   if (choice.append && choice.overwrite) throw InputError("", 0, "--append", "cannot be combined with --overwrite");
@@ -35,7 +26,7 @@ MapOutput OpenOutput(const std::string& path, const BuildConfig& config, const O
   }
   // Holding the lock, a map still "building" is one whose build was interrupted.
   std::unique_ptr<TileStore> existing = exists ? OpenExistingMap(path, /*writable=*/false) : nullptr;
-  const std::string state = existing ? StateOf(*existing) : "";
+  const std::string state = existing ? ReadMissionMetadata(*existing).StateOrEmpty() : "";
   const bool checkpoint = existing && existing->ReadCheckpoint().has_value();
   existing.reset();
   const bool interrupted = state == "building";

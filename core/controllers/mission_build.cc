@@ -6,21 +6,12 @@
 #include <stdexcept>
 
 #include "core/enhance/enhance_chain.h"
+#include "core/mission/mission_metadata.h"
 #include "core/mosaic/frame_image.h"
 #include "core/tiles/tile_codec.h"
 #include "core/util/error.h"
 
 namespace seamap {
-namespace {
-
-// Degrees with every digit that matters (std::to_string keeps six decimals: 5 cm).
-std::string Degrees(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.10f", v);
-  return buf;
-}
-
-}  // namespace
 
 void MissionBuildOptions::Check() const {
   if (out.empty()) throw InputError("", 0, "--out", "names no map");
@@ -84,7 +75,9 @@ bool MissionBuild::Open() {
       nlohmann::json summary = pose_report_;
       summary.erase("nav_only");  // the frames say which, one by one
       summary["mode"] = poses_.name();
-      store.SetMetadata("seamap_trajectory", summary.dump());
+      MissionMetadata mission;
+      mission.trajectory = summary;
+      WriteMissionMetadata(&store, mission);
     }
   }
   plan_ = PlanMosaic(config.map, options_.camera, options_.frame, frames, options_.channels);
@@ -137,17 +130,16 @@ void MissionBuild::SkipFramesInMap() {
 // What a client needs before the first batch lands.
 void MissionBuild::WriteLiveMetadata() {
   TileStore& store = *output_.store;
-  std::string layer_list;
-  for (const auto& l : layers_) layer_list += (layer_list.empty() ? "" : ",") + l;
   store.SetMetadata("name", options_.config.map.name);
   store.SetMetadata("format", TileExtension(options_.config.map.encoding.format));
-  store.SetMetadata("seamap_layers", layer_list);
   store.SetMetadata("minzoom", std::to_string(plan_->min_zoom));
   store.SetMetadata("maxzoom", std::to_string(plan_->base_zoom));
-  store.SetMetadata("seamap_state", "building");
-  if (poses_.mode() != PoseMode::kNavigation)
-    store.SetMetadata("seamap_trajectory", nlohmann::json{{"mode", poses_.name()}}.dump());
-  store.SetMetadata("seamap_origin", Degrees(options_.frame.origin().lat) + "," + Degrees(options_.frame.origin().lon));
+  MissionMetadata mission;
+  mission.layers = layers_;
+  mission.state = "building";
+  if (poses_.mode() != PoseMode::kNavigation) mission.trajectory = nlohmann::json{{"mode", poses_.name()}};
+  mission.origin = options_.frame.origin();
+  WriteMissionMetadata(&store, mission);
   store.Flush();
 }
 
@@ -181,7 +173,11 @@ void MissionBuild::Start() {
     enhanced_ = std::make_unique<MosaicBuilder>(config, options_.camera, options_.frame, *plan_, enhanced_store_.get(),
                                                 enhance_, layer_start);
   }
-  if (!options_.live) raw_store->SetMetadata("seamap_layers", both_ ? "raw,enhanced" : layers_[0]);
+  if (!options_.live) {
+    MissionMetadata mission;
+    mission.layers = both_ ? std::vector<std::string>{"raw", "enhanced"} : std::vector<std::string>{layers_[0]};
+    WriteMissionMetadata(raw_store, mission);
+  }
 }
 
 void MissionBuild::Run() {
@@ -223,7 +219,11 @@ void MissionBuild::Finish() {
 }
 
 void MissionBuild::Conclude(bool complete) {
-  if (!complete) output_.store->SetMetadata("seamap_state", "stopped");
+  if (!complete) {
+    MissionMetadata mission;
+    mission.state = "stopped";
+    WriteMissionMetadata(output_.store.get(), mission);
+  }
   output_.store->Flush();
 }
 

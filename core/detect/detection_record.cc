@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/tiles/detection_match.h"
+#include "core/mission/detection_book.h"
 
 namespace seamap {
 namespace {
@@ -70,7 +70,7 @@ std::vector<Detection> StoreRecognised(TileStore& store, const std::vector<Recog
                                        const std::string& model, const std::vector<std::string>& class_names) {
   std::vector<Detection> found;
   for (const RecognisedObject& o : objects) found.push_back(ToDetection(o));
-  return StoreFound(store, std::move(found), "recogniser", model, class_names);
+  return PublishFound(store, std::move(found), model, class_names);
 }
 
 nlohmann::json RecognisedFeatureCollection(const std::vector<RecognisedObject>& objects) {

@@ -21,7 +21,7 @@ void AttachFrames(std::vector<RecognisedObject>& objects, const std::vector<Fram
 // source "recogniser"; frame_id/time_s from the first frame.
 Detection ToDetection(const RecognisedObject& object);
 
-// The recogniser's objects stored in the mission (StoreFound, source
+// The recogniser's objects stored in the mission (PublishFound, source
 // "recogniser", `model`: "name.onnx#hash"): ids, notes and the operator's
 // review carried over from the same model file's earlier search.
 std::vector<Detection> StoreRecognised(TileStore& store, const std::vector<RecognisedObject>& objects,

@@ -15,6 +15,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "core/mission/mission_metadata.h"
 #include "core/tiles/tile_codec.h"
 #include "core/util/error.h"
 
@@ -169,10 +170,9 @@ GeotiffSummary ExportGeotiff(const TileStore& from, const std::string& source, c
   const auto& l = levels.at(zoom);
   const int tiles_x = l[2] - l[0] + 1, tiles_y = l[3] - l[1] + 1;
 
-  const auto metadata = from.Metadata();
-  int tile_px = 256, colour_channels = 0;
-  if (metadata.count("seamap_tile_size")) tile_px = std::atoi(metadata.at("seamap_tile_size").c_str());
-  if (metadata.count("seamap_channels")) colour_channels = std::atoi(metadata.at("seamap_channels").c_str());
+  const MissionMetadata mission = ReadMissionMetadata(from);
+  int tile_px = mission.tile_size_px.value_or(256);
+  int colour_channels = mission.channels.value_or(0);
   if (colour_channels != 1 && colour_channels != 3) {  // not a SeaMap map: ask one tile
     for (const TileId& t : from.TileIds()) {
       if (t.z != zoom) continue;

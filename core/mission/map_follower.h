@@ -7,7 +7,7 @@
 #include <functional>
 #include <string>
 
-#include "core/tiles/build_state.h"
+#include "core/mission/build_state.h"
 #include "core/tiles/tile_store.h"
 
 namespace seamap {

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "core/mission/mission_metadata.h"
+
 namespace seamap {
 namespace {
 
@@ -94,13 +96,15 @@ void MissionRecorder::WriteState(const std::string& state, int frames_used, int 
   store_->SetMetadata("attribution", d.attribution);
   store_->SetMetadata("minzoom", std::to_string(d.min_zoom));
   store_->SetMetadata("maxzoom", std::to_string(d.base_zoom));
-  store_->SetMetadata("seamap_tile_size", std::to_string(d.tile_size));
-  store_->SetMetadata("seamap_gsd_m", Number(d.gsd_m));
-  store_->SetMetadata("seamap_channels", std::to_string(d.channels));
-  store_->SetMetadata("seamap_origin", Number(frame_.origin().lat) + "," + Number(frame_.origin().lon));
-  store_->SetMetadata("seamap_state", state);
-  store_->SetMetadata("seamap_frames_used", std::to_string(frames_used));
-  store_->SetMetadata("seamap_frames_rejected", std::to_string(frames_rejected));
+  MissionMetadata mission;
+  mission.tile_size_px = d.tile_size;
+  mission.gsd_m = d.gsd_m;
+  mission.channels = d.channels;
+  mission.origin = frame_.origin();
+  mission.state = state;
+  mission.frames_used = frames_used;
+  mission.frames_rejected = frames_rejected;
+  WriteMissionMetadata(store_, mission);
   if (bounds_) {
     const LatLonBounds& b = *bounds_;
     store_->SetMetadata("bounds",

@@ -5,6 +5,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "core/mission/mission_metadata.h"
 #include "core/util/error.h"
 #include "core/util/process_stats.h"
 
@@ -89,8 +90,7 @@ MosaicBuilder::MosaicBuilder(const BuildConfig& config, const CameraModel& camer
                               8 * threads);
   pipeline_ = std::make_unique<FramePipeline>(&warper_, pool_.get(), std::move(pipeline),
                                               [this](PlacedFrame placed) { Consume(std::move(placed)); });
-  const auto metadata = store_->Metadata();
-  if (auto state = metadata.find("seamap_state"); state != metadata.end()) previous_state_ = state->second;
+  if (auto state = ReadMissionMetadata(*store_).state) previous_state_ = *state;
   // checkpoint_seconds 0: none (a resumed build still reads the one it resumes from).
   if (mode_.checkpoints && store_->KeepsCheckpoints() && (config.buffer.checkpoint_seconds > 0 || mode_.resume))
     checkpointer_ = std::make_unique<BuildCheckpointer>(store_, &buffer_, &forecast_, pool_.get(), config.map.tile_size,
@@ -200,7 +200,9 @@ void MosaicBuilder::Abandon() {
   if (previous_state_ != "complete") return;
   try {
     if (!store_->RollBackToStart()) return;
-    store_->SetMetadata("seamap_state", previous_state_);
+    MissionMetadata restored;
+    restored.state = previous_state_;
+    WriteMissionMetadata(store_, restored);
     store_->DropCheckpoint();
     store_->Flush();
   } catch (const std::exception& e) {

@@ -3,7 +3,7 @@
 // sidecar file MAP.lock (next to the .mbtiles file or the tile folder), and
 // the kernel releases it when the process ends, however it ends (kill -9
 // included). A map whose state says "building" while nobody holds the lock
-// was interrupted (core/tiles/build_state.h).
+// was interrupted (core/mission/build_state.h).
 //
 // Open file description locks (F_OFD_SETLK): readers test them without
 // taking them (F_OFD_GETLK), so `seamap info` or `serve` never makes a

@@ -1,7 +1,6 @@
 #include "core/tiles/tile_store.h"
 
 #include <algorithm>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 
@@ -16,19 +15,6 @@ namespace seamap {
 bool IsMBTilesPath(const std::string& path) {
   const std::string suffix = ".mbtiles";
   return path.size() >= suffix.size() && path.compare(path.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
-std::optional<LatLon> MissionOrigin(const std::map<std::string, std::string>& metadata) {
-  const auto it = metadata.find("seamap_origin");
-  double lat = 0, lon = 0;
-  if (it == metadata.end() || std::sscanf(it->second.c_str(), "%lf,%lf", &lat, &lon) != 2) return std::nullopt;
-  return LatLon{lat, lon};
-}
-
-LatLon RequireMissionOrigin(const std::map<std::string, std::string>& metadata, const std::string& path) {
-  const std::optional<LatLon> origin = MissionOrigin(metadata);
-  if (!origin) throw InputError(path, 0, "seamap_origin", "the map's metadata has no mission origin (lat,lon)");
-  return *origin;
 }
 
 std::unique_ptr<TileStore> OpenExistingMap(const std::string& path, bool writable) {

@@ -84,12 +84,6 @@ bool IsMBTilesPath(const std::string& path);
 // metadata.json. Throws InputError naming the path when it is not a map.
 std::unique_ptr<TileStore> OpenExistingMap(const std::string& path, bool writable);
 
-// The mission's origin (metadata seamap_origin "lat,lon": its local frame,
-// position_m); nullopt when absent or unreadable.
-std::optional<LatLon> MissionOrigin(const std::map<std::string, std::string>& metadata);
-// The same, required: throws InputError naming the map at `path` and seamap_origin.
-LatLon RequireMissionOrigin(const std::map<std::string, std::string>& metadata, const std::string& path);
-
 // Deletes a map so it can be replaced: an MBTiles file with its -wal/-shm
 // files, or a folder pyramid (one with metadata.json). A non-empty folder that
 // is not a pyramid is refused: InputError(path, 0, param, ...).

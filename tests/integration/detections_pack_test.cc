@@ -14,8 +14,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "core/mission/mission_classes.h"
 #include "core/tiles/mbtiles_store.h"
-#include "core/tiles/mission_classes.h"
 #include "core/tiles/modem_record.h"
 #include "tests/integration/survey_fixture.h"
 #include "tests/testing/child_process.h"

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/geo/local_frame.h"
+#include "core/mission/mission_metadata.h"
 #include "core/stereo/object_georef.h"
 #include "core/stereo/rigid_transform.h"
 #include "core/tiles/modem_record.h"
@@ -132,7 +133,7 @@ TEST(Stereo, ALocatedObjectIsStoredAsADetectionWithPositionHeadingAndDepth) {
   RigMount mount;
   mount.offset_m = {0.8, 0.1, 0.3};
   auto store = OpenExistingMap(map, false);
-  const std::optional<LatLon> origin = MissionOrigin(store->Metadata());  // local navigation is relative to it
+  const std::optional<LatLon> origin = ReadMissionMetadata(*store).origin;  // local navigation is relative to it
   ASSERT_TRUE(origin);
   const LocalFrame frame(*origin);
   const PlacedObject expected = PlaceObject(model_from_camera, mount, vehicle, frame);

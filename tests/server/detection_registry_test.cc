@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "core/tiles/detection_match.h"
+#include "core/mission/detection_book.h"
 #include "server/api_error.h"
 #include "tests/server/test_mission.h"
 #include "tests/testing/temp_dir.h"
@@ -376,7 +376,7 @@ TEST_F(DetectionRegistryTest, TakesInWhatAnotherProcessWrote) {
     located.source = "stereo";
     located.position = {43.01, 5.01};
     located.heading_deg = 30;
-    located = StoreFound(other, {located}, "stereo", "wellhead.json", {"wellhead"}).at(0);
+    located = PublishFound(other, {located}, "wellhead.json", {"wellhead"}).at(0);
     Detection changed = other.Detections().at(1);  // id 2, moved by the other process
     changed.position.lat += 0.001;
     changed.seq = located.seq + 1;

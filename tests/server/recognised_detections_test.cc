@@ -4,7 +4,7 @@
 // source, and the modem records of what changed.
 #include <gtest/gtest.h>
 
-#include "core/tiles/mission_classes.h"
+#include "core/mission/mission_classes.h"
 #include "core/tiles/modem_record.h"
 #include "server/api_error.h"
 #include "server/detection_registry.h"

@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/camera/camera_model.h"
+#include "core/mission/mission_metadata.h"
 #include "core/mosaic/mosaic_builder.h"
 #include "core/nav/frame_list.h"
 #include "core/nav/nav_reader.h"
@@ -65,7 +66,9 @@ int Run(int argc, char** argv) {
     config.buffer.live_tiles = true;
   }
   MosaicBuilder builder(config, camera, frame, plan, store.get());
-  store->SetMetadata("seamap_layers", "raw");
+  seamap::MissionMetadata layers;
+  layers.layers = std::vector<std::string>{"raw"};
+  seamap::WriteMissionMetadata(store.get(), layers);
   if (pace_ms == 0) builder.Foresee(frames.frames);
   for (const FrameSpec& f : frames.frames) {
     builder.Push(f);

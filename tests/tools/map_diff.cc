@@ -13,6 +13,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "core/mission/mission_metadata.h"
 #include "core/tiles/tile_codec.h"
 #include "core/tiles/tile_store.h"
 #include "core/util/error.h"
@@ -96,10 +97,9 @@ int main(int argc, char** argv) {
     auto b = seamap::OpenExistingMap(argv[2], false);
     bool identical = true;
     std::vector<std::string> layers{""};
-    const auto meta = a->Metadata();
-    if (auto it = meta.find("seamap_layers"); it != meta.end() && it->second.find("enhanced") != std::string::npos &&
-                                              it->second.find("raw") != std::string::npos)
-      layers.push_back("enhanced");
+    const std::vector<std::string> listed = seamap::ReadMissionMetadata(*a).LayersOrRaw();
+    auto has = [&](const char* l) { return std::find(listed.begin(), listed.end(), l) != listed.end(); };
+    if (has("enhanced") && has("raw")) layers.push_back("enhanced");
     for (const std::string& layer : layers) {
       std::unique_ptr<seamap::TileStore> la, lb;
       const seamap::TileStore* sa = a.get();

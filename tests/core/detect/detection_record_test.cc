@@ -4,8 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include "core/mission/mission_classes.h"
 #include "core/tiles/mbtiles_store.h"
-#include "core/tiles/mission_classes.h"
 #include "tests/testing/temp_dir.h"
 
 namespace seamap {

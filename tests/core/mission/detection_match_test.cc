@@ -1,4 +1,4 @@
-#include "core/tiles/detection_match.h"
+#include "core/mission/detection_match.h"
 
 #include <gtest/gtest.h>
 
@@ -25,6 +25,9 @@ TEST(DetectionMatch, SameObjectNeedsClassModelFileAndDistance) {
   EXPECT_TRUE(SameObject(earlier, At(0.05, "tyre", 0.8, "m.onnx#2")));  // another version of the same model
   EXPECT_FALSE(SameObject(earlier, At(0.05, "tyre", 0.8, "other.onnx#1")));
   EXPECT_FALSE(SameObject(earlier, At(0.15, "tyre", 0.2)));  // the smaller object decides: 10 cm
+  Detection stereo = At(0, "tyre", 0.8);
+  stereo.source = "stereo";
+  EXPECT_FALSE(SameObject(earlier, stereo)) << "another kind of finder's object is its own";
   Detection mark = earlier;
   mark.source = "operator";
   EXPECT_FALSE(SameObject(mark, At(0, "tyre", 0.8)));

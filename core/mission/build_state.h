@@ -1,6 +1,6 @@
 #pragma once
 // A map's build state as `seamap info` and `seamap serve` tell it: the state
-// its builder recorded (`seamap_state`), with "building" split in two: a
+// its builder recorded (MissionMetadata::state), with "building" split in two: a
 // process still holds the map's lock (MapLock) and is building it, or none
 // does and the build was interrupted (killed, crashed, the power went). An
 // interrupted map says how to go on.

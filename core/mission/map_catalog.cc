@@ -1,4 +1,4 @@
-#include "core/tiles/map_catalog.h"
+#include "core/mission/map_catalog.h"
 
 #include <algorithm>
 #include <cctype>
@@ -7,6 +7,7 @@
 #include <set>
 #include <sstream>
 
+#include "core/mission/mission_metadata.h"
 #include "core/tiles/map_lock.h"
 #include "core/tiles/tile_store.h"
 #include "core/util/error.h"
@@ -59,15 +60,14 @@ void Read(CatalogEntry* e) {
       return it == meta.end() || it->second.empty() ? fallback : it->second;
     };
     e->name = get("name", e->name);
-    e->state = get("seamap_state", "complete");
+    const MissionMetadata mission = ReadMissionMetadata(meta);
+    e->state = mission.state && !mission.state->empty() ? *mission.state : "complete";
     e->format = get("format", "png");
     const auto b = Numbers(get("bounds", ""));
     if (b.size() == 4) e->bounds = LatLonBounds{b[0], b[1], b[2], b[3]};
     e->min_zoom = std::atoi(get("minzoom", "0").c_str());
     e->max_zoom = std::atoi(get("maxzoom", "0").c_str());
-    std::stringstream layers(get("seamap_layers", "raw"));
-    for (std::string l; std::getline(layers, l, ',');)
-      if (!l.empty()) e->layers.push_back(l);
+    e->layers = mission.LayersOrRaw();
     const auto frames = store->Frames();
     e->frames = static_cast<int64_t>(frames.size());
     for (const auto& f : frames) {

@@ -1,5 +1,5 @@
 // The mission's class table (append-only) and t0, kept in the metadata.
-#include "core/tiles/mission_classes.h"
+#include "core/mission/mission_classes.h"
 
 #include <gtest/gtest.h>
 

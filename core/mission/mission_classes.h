@@ -1,23 +1,19 @@
 #pragma once
 // Two mission-wide references the compact modem record needs, kept in the
-// mission's metadata: the class table (class id = index; the model's names
-// in order, then other classes as they first appear; append-only, so an id
-// once sent over the acoustic link keeps its meaning) and t0, the time of
-// the mission's first frame (record times count tenths of a second from it).
-#include <map>
+// mission's metadata (core/mission/mission_metadata.h): the class table
+// (class id = index; the model's names in order, then other classes as they
+// first appear; append-only, so an id once sent over the acoustic link keeps
+// its meaning) and t0, the time of the mission's first frame (record times
+// count tenths of a second from it).
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "core/mission/mission_metadata.h"
 #include "core/tiles/tile_store.h"
 
 namespace seamap {
 
-constexpr const char* kClassTableKey = "seamap_classes";  // JSON list of names
-constexpr const char* kT0Key = "seamap_t0";               // seconds, as printed by %.17g
-
-// The stored table (empty when absent or unreadable).
-std::vector<std::string> ClassTableFromMetadata(const std::map<std::string, std::string>& metadata);
 // Appends the names the table lacks, in order; true when it grew.
 bool ExtendClassTable(std::vector<std::string>* table, const std::vector<std::string>& names);
 // The index of `name`, or 255 (unknown) when absent or beyond 254.

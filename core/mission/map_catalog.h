@@ -21,7 +21,7 @@ struct CatalogEntry {
   std::string reason;  // why not available
   std::string name;    // metadata "name", else the file name
   std::string state;   // seamap_state: building, complete, stopped ("complete" when absent), or
-                       // interrupted (building, but no process holds its lock: core/tiles/build_state.h)
+                       // interrupted (building, but no process holds its lock: core/mission/build_state.h)
   std::string format;  // tile extension
   std::optional<LatLonBounds> bounds;
   int min_zoom = 0, max_zoom = 0;

@@ -1,23 +1,14 @@
-#include "core/tiles/build_state.h"
+#include "core/mission/build_state.h"
 
 #include <nlohmann/json.hpp>
 
+#include "core/mission/mission_metadata.h"
 #include "core/tiles/map_lock.h"
 
 namespace seamap {
-namespace {
-
-std::string RecordedState(const TileStore& store) {
-  const auto metadata = store.Metadata();
-  auto it = metadata.find("seamap_state");
-  return it == metadata.end() ? "" : it->second;
-}
-
-}  // namespace
-
 MapBuildState ReadBuildState(const std::string& path, const TileStore& store) {
   return ReadBuildState(
-      path, [&store] { return RecordedState(store); }, store);
+      path, [&store] { return ReadMissionMetadata(store).StateOrEmpty(); }, store);
 }
 
 MapBuildState ReadBuildState(const std::string& path, const std::function<std::string()>& recorded_state,

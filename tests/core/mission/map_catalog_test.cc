@@ -1,4 +1,4 @@
-#include "core/tiles/map_catalog.h"
+#include "core/mission/map_catalog.h"
 
 #include <fstream>
 

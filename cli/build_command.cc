@@ -211,7 +211,7 @@ int RunBuild(int argc, char** argv, int first) {
   if (both) {
     enhanced_store = store->OpenLayer("enhanced");
     BuildStart layer_start = start;
-    layer_start.resume = resume && enhanced_store->ReadCheckpoint();  // killed before the layer began: it begins
+    layer_start.resume = resume && ReadStoredCheckpoint(*enhanced_store);  // killed before the layer began: it begins
     enhanced = std::make_unique<MosaicBuilder>(in.config, in.camera, in.frame, plan, enhanced_store.get(), enhance,
                                                layer_start);
   }

@@ -272,7 +272,7 @@ int RunReplay(int argc, char** argv, int first) {
       detections.Publish(std::move(batch), options);
     };
     detector->OnFound(
-        publish_found, [&store] { return store->Frames(); }, std::chrono::seconds(1));
+        publish_found, [&store] { return store->Records().Frames(); }, std::chrono::seconds(1));
   }
   MosaicBuilder builder(in.config, in.camera, in.frame, plan, &observed, hooks);
   std::unique_ptr<TileStore> enhanced_store;

@@ -1,6 +1,6 @@
 #pragma once
 // `seamap serve FOLDER`: a catalogue of the maps in a folder over HTTP.
-// GET /api/missions lists them (core/tiles/map_catalog); each available one
+// GET /api/missions lists them (core/mission/map_catalog); each available one
 // is served read-only under /missions/{id}/: the operator console (/), its
 // TileJSON and tiles/[{layer}/]{z}/{x}/{y}.{ext} through its own TileSource,
 // and the mission's API and live events (api/..., server/mission_api.h).

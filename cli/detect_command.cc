@@ -145,7 +145,7 @@ int RunDetect(int argc, char** argv, int first) {
     stats.skipped += sr->stats().skipped;
     stats.window_ms.insert(stats.window_ms.end(), sr->stats().window_ms.begin(), sr->stats().window_ms.end());
   }
-  const std::vector<RecognisedObject> objects = MergeSearched(settings, std::move(raw), store->Frames());
+  const std::vector<RecognisedObject> objects = MergeSearched(settings, std::move(raw), store->Records().Frames());
   StoreRecognised(*store, objects, model->name, model->class_names);
   store->Flush();
   if (out) WriteGeoJson(objects, *out, "--out");

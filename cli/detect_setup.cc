@@ -114,7 +114,7 @@ std::unique_ptr<LiveDetector> StartLiveDetector(std::shared_ptr<const YoloModelI
 }
 
 void FinishLiveDetector(LiveDetector& detector, TileStore& store, const LiveDetector::Found& publish) {
-  const std::vector<RecognisedObject> objects = detector.Finish(store.Frames());
+  const std::vector<RecognisedObject> objects = detector.Finish(store.Records().Frames());
   if (publish)
     publish(objects);
   else

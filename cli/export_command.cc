@@ -139,9 +139,9 @@ int RunExport(int argc, char** argv, int first) {
     copied += CopyTiles(*from_layers[i], to_layer.get(), &progress, &done);
     to_layer->Flush();
   }
-  for (const auto& f : from->Frames()) to->PutFrame(f);
-  for (const auto& p : from->Track()) to->PutTrackPoint(p);
-  for (const auto& d : from->Detections()) to->PutDetection(d);
+  for (const auto& f : from->Records().Frames()) to->Records().PutFrame(f);
+  for (const auto& p : from->Records().Track()) to->Records().PutTrackPoint(p);
+  for (const auto& d : from->Records().Detections()) to->Records().PutDetection(d);
   to->Flush();
   progress.Finish();
   std::printf("exported %lld tiles (%zu layers) from %s to %s\n", static_cast<long long>(copied), layers.size() + 1,

@@ -43,7 +43,7 @@ int RunInfo(int argc, char** argv, int first) {
   auto get = [&](const std::string& k) { return meta.count(k) ? meta[k] : std::string("-"); };
   const MissionMetadata mission = ReadMissionMetadata(meta);
   const std::string tile_size = mission.tile_size_px ? std::to_string(*mission.tile_size_px) : "-";
-  auto frames = store->Frames();
+  auto frames = store->Records().Frames();
   size_t used = 0, corrected = 0;
   for (const auto& f : frames) {
     used += f.status == "used";
@@ -57,7 +57,7 @@ int RunInfo(int argc, char** argv, int first) {
   std::printf("center:    %s\n", get("center").c_str());
   std::printf("tiles:     %lld\n", static_cast<long long>(store->TileCount()));
   std::printf("frames:    %zu (%zu used, %zu rejected)\n", frames.size(), used, frames.size() - used);
-  std::printf("track:     %zu points\n", store->Track().size());
+  std::printf("track:     %zu points\n", store->Records().Track().size());
   if (corrected)
     std::printf("nav:       trajectory corrected in %zu of %zu frames (the navigation's poses kept)\n", corrected,
                 frames.size());

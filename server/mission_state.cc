@@ -77,8 +77,8 @@ nlohmann::json FrameJson(const FrameRecord& f) {
 void MissionState::Load(const TileStore& store) {
   auto metadata = store.Metadata();
   const MissionMetadata mission = ReadMissionMetadata(metadata);
-  std::vector<FrameRecord> frames = store.Frames();
-  std::vector<TrackPoint> track = store.Track();
+  std::vector<FrameRecord> frames = store.Records().Frames();
+  std::vector<TrackPoint> track = store.Records().Track();
   std::lock_guard<std::mutex> lock(mutex_);
   if (metadata.count("name")) name_ = metadata["name"];
   if (metadata.count("format")) format_ = metadata["format"];

@@ -27,7 +27,7 @@ MapOutput OpenOutput(const std::string& path, const BuildConfig& config, const O
   // Holding the lock, a map still "building" is one whose build was interrupted.
   std::unique_ptr<TileStore> existing = exists ? OpenExistingMap(path, /*writable=*/false) : nullptr;
   const std::string state = existing ? ReadMissionMetadata(*existing).StateOrEmpty() : "";
-  const bool checkpoint = existing && existing->ReadCheckpoint().has_value();
+  const bool checkpoint = existing && ReadStoredCheckpoint(*existing).has_value();
   existing.reset();
   const bool interrupted = state == "building";
   if (choice.resume) {
@@ -53,7 +53,7 @@ MapOutput OpenOutput(const std::string& path, const BuildConfig& config, const O
   out.store = OpenTileStore(path, TileExtension(config.map.encoding.format), /*create=*/true);
   if (choice.resume) {
     try {
-      out.checkpoint = BuildProgress::FromJson(out.store->ReadCheckpoint()->progress);
+      out.checkpoint = BuildProgress::FromJson(ReadStoredCheckpoint(*out.store)->progress);
     } catch (const std::runtime_error& e) {
       throw InputError(path, 0, "--resume", e.what());
     }
@@ -66,7 +66,7 @@ std::vector<std::string> SkipFramesInMap(const TileStore& store, const std::opti
   // Resuming an append, the frames it had recorded are its own, not the map's before it.
   const int before = checkpoint ? checkpoint->frame_id_offset : INT32_MAX;
   std::set<std::string> in_map;
-  for (const FrameRecord& f : store.Frames())
+  for (const FrameRecord& f : store.Records().Frames())
     if (f.id < before) in_map.insert(f.image);
   std::vector<std::string> skipped;
   std::vector<FrameSpec> kept;
@@ -89,7 +89,7 @@ void CheckSameSurvey(const TileStore& store, const BuildProgress& checkpoint, co
                      "names " + std::to_string(frames.size()) + " frames; the interrupted build had done " +
                          std::to_string(checkpoint.frame_index + 1) + " of " + std::to_string(checkpoint.frames_total) +
                          ": resume with the same survey");
-  for (const FrameRecord& f : store.Frames()) {
+  for (const FrameRecord& f : store.Records().Frames()) {
     if (f.id < first || f.id > last) continue;
     const FrameSpec& spec = frames[f.id - first];
     if (spec.image != f.image)

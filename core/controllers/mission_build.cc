@@ -163,13 +163,14 @@ void MissionBuild::Start() {
     // Live: what is found so far every second (the console shows objects as they are found).
     if (observer_.on_objects_found)
       detector_->OnFound(
-          observer_.on_objects_found, [raw_store] { return raw_store->Frames(); }, std::chrono::seconds(1));
+          observer_.on_objects_found, [raw_store] { return raw_store->Records().Frames(); }, std::chrono::seconds(1));
   }
   builder_ = std::make_unique<MosaicBuilder>(config, options_.camera, options_.frame, *plan_, store(), hooks, start);
   if (both_) {
     enhanced_store_ = store()->OpenLayer("enhanced");
     BuildStart layer_start = start;
-    layer_start.resume = start.resume && enhanced_store_->ReadCheckpoint();  // killed before the layer began: it begins
+    layer_start.resume =
+        start.resume && ReadStoredCheckpoint(*enhanced_store_);  // killed before the layer began: it begins
     enhanced_ = std::make_unique<MosaicBuilder>(config, options_.camera, options_.frame, *plan_, enhanced_store_.get(),
                                                 enhance_, layer_start);
   }

@@ -103,8 +103,8 @@ PmtilesSummary ExportPmtiles(const TileStore& from, const std::string& source, c
   meta["format"] = format;
   meta["minzoom"] = std::to_string(order.front().second.z);  // ids ascend by zoom first
   meta["maxzoom"] = std::to_string(max_zoom);
-  meta["seamap_track"] = TrackGeoJson(from.Track());
-  meta["seamap_objects"] = ObjectsGeoJson(from.Detections());
+  meta["seamap_track"] = TrackGeoJson(from.Records().Track());
+  meta["seamap_objects"] = ObjectsGeoJson(from.Records().Detections());
   info.metadata_json = meta.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 
   PmtilesWriter writer(path);

@@ -23,7 +23,7 @@ MapBuildState ReadBuildState(const std::string& path, const std::function<std::s
   s.state = recorded_state();
   if (s.state != "building") return s;
   s.state = "interrupted";
-  if (auto checkpoint = store.ReadCheckpoint()) {
+  if (auto checkpoint = ReadStoredCheckpoint(store)) {
     s.checkpoint = true;
     try {  // the builder's counters (core/mosaic/build_checkpointer.h)
       const nlohmann::json j = nlohmann::json::parse(checkpoint->progress);

@@ -111,7 +111,7 @@ DetectionError NotFound(int64_t id) {
 
 void DetectionBook::Load(const TileStore& store) {
   std::lock_guard<std::mutex> lock(mutex_);
-  for (const Detection& d : store.Detections()) {
+  for (const Detection& d : store.Records().Detections()) {
     detections_[d.id] = d;
     stored_seq_[d.id] = d.seq;
     last_seq_ = std::max(last_seq_, d.seq);
@@ -127,7 +127,7 @@ void DetectionBook::Refresh(const TileStore& store) {
 
 void DetectionBook::RefreshLocked(const TileStore& store) {
   std::map<int64_t, Detection> in_store;
-  for (Detection& d : store.Detections()) in_store[d.id] = std::move(d);
+  for (Detection& d : store.Records().Detections()) in_store[d.id] = std::move(d);
   for (auto& [id, d] : in_store) {
     last_id_ = std::max(last_id_, id);
     auto seen = stored_seq_.find(id);
@@ -183,7 +183,7 @@ void DetectionBook::Announce(const char* action, const Detection& d) {
 }
 
 void DetectionBook::Store(const Detection& d) {
-  store_->PutDetection(d);
+  store_->Records().PutDetection(d);
   stored_seq_[d.id] = d.seq;
   if (ExtendClassTable(&classes_, {d.class_name})) StoreClassTable(store_, classes_);
   if (!t0_stored_) t0_stored_ = StoreMissionT0(store_).has_value();
@@ -191,7 +191,7 @@ void DetectionBook::Store(const Detection& d) {
 
 void DetectionBook::Forget(std::map<int64_t, Detection>::iterator it) {
   Detection gone = it->second;
-  store_->DeleteDetection(gone.id);
+  store_->Records().DeleteDetection(gone.id);
   stored_seq_.erase(gone.id);
   detections_.erase(it);
   gone.seq = ++last_seq_;

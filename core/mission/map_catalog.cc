@@ -68,7 +68,7 @@ void Read(CatalogEntry* e) {
     e->min_zoom = std::atoi(get("minzoom", "0").c_str());
     e->max_zoom = std::atoi(get("maxzoom", "0").c_str());
     e->layers = mission.LayersOrRaw();
-    const auto frames = store->Frames();
+    const auto frames = store->Records().Frames();
     e->frames = static_cast<int64_t>(frames.size());
     for (const auto& f : frames) {
       if (!f.time_s) continue;

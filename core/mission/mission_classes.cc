@@ -22,7 +22,7 @@ int ClassId(const std::vector<std::string>& table, const std::string& name) {
 
 std::vector<std::string> MissionClassTable(const TileStore& store) {
   std::vector<std::string> table = ReadMissionMetadata(store).classes.value_or(std::vector<std::string>{});
-  for (const Detection& d : store.Detections()) ExtendClassTable(&table, {d.class_name});
+  for (const Detection& d : store.Records().Detections()) ExtendClassTable(&table, {d.class_name});
   return table;
 }
 
@@ -35,7 +35,7 @@ void StoreClassTable(TileStore* store, const std::vector<std::string>& table) {
 namespace {
 
 std::optional<double> FirstFrameTime(const TileStore& store) {
-  for (const FrameRecord& f : store.Frames())  // in id order
+  for (const FrameRecord& f : store.Records().Frames())  // in id order
     if (f.time_s) return f.time_s;
   return std::nullopt;
 }

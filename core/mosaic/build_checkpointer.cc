@@ -148,7 +148,7 @@ cv::Mat UnpackWeights(const std::vector<uint8_t>& blob, int tile_size) {
   return weights;
 }
 
-BuildCheckpointer::BuildCheckpointer(TileStore* store, TileBuffer* buffer, const TileForecast* forecast,
+BuildCheckpointer::BuildCheckpointer(CheckpointStore* store, TileBuffer* buffer, const TileForecast* forecast,
                                      ThreadPool* pool, int tile_size, int channels)
     : store_(store), buffer_(buffer), forecast_(forecast), pool_(pool), tile_size_(tile_size), channels_(channels) {}
 

@@ -9,7 +9,7 @@
 // floats, so a resumed tile blends on bit for bit), the weights kept for
 // finished tiles that a later frame will paint again, and which tiles were
 // last touched when. Only what changed since the previous checkpoint is
-// written; the store journals tile writes in between (TileStore), so the
+// written; the store journals tile writes in between (CheckpointStore), so the
 // checkpoint and the tiles, frames and track it goes with always agree.
 #include <cstdint>
 #include <optional>
@@ -24,7 +24,7 @@
 #include "core/mosaic/tile_accumulator.h"
 #include "core/mosaic/tile_buffer.h"
 #include "core/mosaic/tile_forecast.h"
-#include "core/tiles/tile_store.h"
+#include "core/tiles/store_checkpoint.h"
 #include "core/util/thread_pool.h"
 
 namespace seamap {
@@ -59,8 +59,8 @@ cv::Mat UnpackWeights(const std::vector<uint8_t>& blob, int tile_size);
 
 class BuildCheckpointer {
  public:
-  BuildCheckpointer(TileStore* store, TileBuffer* buffer, const TileForecast* forecast, ThreadPool* pool, int tile_size,
-                    int channels);
+  BuildCheckpointer(CheckpointStore* store, TileBuffer* buffer, const TileForecast* forecast, ThreadPool* pool,
+                    int tile_size, int channels);
 
   // Saves the buffer's changes since the last call with `progress` (its
   // tiles and kept lists are filled here) and commits the store with them.
@@ -74,7 +74,7 @@ class BuildCheckpointer {
   void Restore(const BuildProgress& progress);
 
  private:
-  TileStore* store_;
+  CheckpointStore* store_;
   TileBuffer* buffer_;
   const TileForecast* forecast_;
   ThreadPool* pool_;

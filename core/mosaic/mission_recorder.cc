@@ -20,8 +20,8 @@ std::string Number(double v) {
 
 MissionRecorder::MissionRecorder(TileStore* store, const LocalFrame& frame, MapDescription description)
     : store_(store), frame_(frame), description_(std::move(description)) {
-  for (const FrameRecord& f : store_->Frames()) frame_id_offset_ = std::max(frame_id_offset_, f.id + 1);
-  for (const TrackPoint& p : store_->Track()) track_seq_ = std::max(track_seq_, p.seq + 1);
+  for (const FrameRecord& f : store_->Records().Frames()) frame_id_offset_ = std::max(frame_id_offset_, f.id + 1);
+  for (const TrackPoint& p : store_->Records().Track()) track_seq_ = std::max(track_seq_, p.seq + 1);
 }
 
 std::pair<FrameRecord, TrackPoint> MissionRecorder::Record(const PlacedFrame& p) {
@@ -50,7 +50,7 @@ std::pair<FrameRecord, TrackPoint> MissionRecorder::Record(const PlacedFrame& p)
     n.pitch_deg = nav.pitch_deg;
     n.roll_deg = nav.roll_deg;
   }
-  store_->PutFrame(record);
+  store_->Records().PutFrame(record);
 
   TrackPoint point;
   point.seq = track_seq_++;
@@ -60,7 +60,7 @@ std::pair<FrameRecord, TrackPoint> MissionRecorder::Record(const PlacedFrame& p)
   point.depth_m = record.depth_m;
   point.heading_deg = record.heading_deg;
   if (record.nav) point.nav = NavigatedPosition{record.nav->position, record.nav->heading_deg};
-  store_->PutTrackPoint(point);
+  store_->Records().PutTrackPoint(point);
   return {record, point};
 }
 

@@ -92,9 +92,9 @@ MosaicBuilder::MosaicBuilder(const BuildConfig& config, const CameraModel& camer
                                               [this](PlacedFrame placed) { Consume(std::move(placed)); });
   if (auto state = ReadMissionMetadata(*store_).state) previous_state_ = *state;
   // checkpoint_seconds 0: none (a resumed build still reads the one it resumes from).
-  if (mode_.checkpoints && store_->KeepsCheckpoints() && (config.buffer.checkpoint_seconds > 0 || mode_.resume))
-    checkpointer_ = std::make_unique<BuildCheckpointer>(store_, &buffer_, &forecast_, pool_.get(), config.map.tile_size,
-                                                        plan.channels);
+  if (mode_.checkpoints && store_->Checkpoints() && (config.buffer.checkpoint_seconds > 0 || mode_.resume))
+    checkpointer_ = std::make_unique<BuildCheckpointer>(store_->Checkpoints(), &buffer_, &forecast_, pool_.get(),
+                                                        config.map.tile_size, plan.channels);
   last_checkpoint_ = start_;
   if (mode_.resume) {
     Resume();
@@ -170,7 +170,7 @@ void MosaicBuilder::Resume() {
                        "was " + was.dump() + " when the build began and is " + is.dump() +
                            " now: resume with the same arguments and config (or --overwrite to start again)");
   }
-  store_->RollBackToCheckpoint();  // tiles, frames and track as they were at the checkpoint
+  store_->Checkpoints()->RollBackToCheckpoint();  // tiles, frames and track as they were at the checkpoint
   checkpointer_->Restore(*progress);
   consumed_ = last_flush_frame_ = progress->consumed;
   last_index_ = resume_index_ = checkpoint_index_ = progress->frame_index;
@@ -180,7 +180,7 @@ void MosaicBuilder::Resume() {
   prime_from_ = handover_index_ >= 0 ? handover_index_ : resume_index_ + 1;
   previous_state_ = progress->previous_state;
   std::vector<FrameRecord> recorded;
-  for (FrameRecord& f : store_->Frames())
+  for (FrameRecord& f : store_->Records().Frames())
     if (f.id >= progress->frame_id_offset && f.id <= progress->frame_id_offset + progress->frame_index)
       recorded.push_back(std::move(f));
   recorder_.Resume(progress->frame_id_offset, progress->track_seq, recorded);
@@ -199,11 +199,11 @@ void MosaicBuilder::Abandon() {
   // failed build stays interrupted, to be resumed.
   if (previous_state_ != "complete") return;
   try {
-    if (!store_->RollBackToStart()) return;
+    if (!store_->Checkpoints()->RollBackToStart()) return;
     MissionMetadata restored;
     restored.state = previous_state_;
     WriteMissionMetadata(store_, restored);
-    store_->DropCheckpoint();
+    store_->Checkpoints()->DropCheckpoint();
     store_->Flush();
   } catch (const std::exception& e) {
     std::fprintf(stderr, "warning: cannot return the map to its state before this build: %s\n", e.what());
@@ -315,7 +315,7 @@ void MosaicBuilder::Finish() {
   UpdateWriteStats();
   stats_.tiles_per_zoom = writer_->distinct_tiles_per_zoom();
   recorder_.WriteState("complete", stats_.frames_used, static_cast<int>(stats_.rejections.size()));
-  if (checkpointer_) store_->DropCheckpoint();  // in the same transaction as "complete"
+  if (checkpointer_) store_->Checkpoints()->DropCheckpoint();  // in the same transaction as "complete"
   store_->Flush();
   stats_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   stats_.cpu_seconds = ProcessCpuSeconds() - start_cpu_;

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "core/tiles/layer_records.h"
 #include "core/tiles/record_json.h"
 #include "core/util/error.h"
 
@@ -312,22 +313,16 @@ void FolderStore::WriteJsonLocked() {
 }
 
 namespace {
-// A layer's tiles and metadata in root/layers/<name>/; frames and track are
-// the mission's.
+// A layer's tiles and metadata in root/layers/<name>/; the records are the
+// mission's (LayerRecords), so the layer's own record files stay empty.
 class FolderLayer : public FolderStore {
  public:
   FolderLayer(FolderStore* parent, const std::string& root, const std::string& ext, Mode mode)
-      : FolderStore(root, ext, mode), parent_(parent) {}
-  void PutFrame(const FrameRecord&) override {}
-  void PutTrackPoint(const TrackPoint&) override {}
-  std::vector<FrameRecord> Frames() const override { return parent_->Frames(); }
-  std::vector<TrackPoint> Track() const override { return parent_->Track(); }
-  void PutDetection(const Detection& d) override { parent_->PutDetection(d); }
-  void DeleteDetection(int64_t id) override { parent_->DeleteDetection(id); }
-  std::vector<Detection> Detections() const override { return parent_->Detections(); }
+      : FolderStore(root, ext, mode), records_(parent) {}
 
  private:
-  FolderStore* parent_;
+  MissionRecords& RecordsKept() override { return records_; }
+  LayerRecords records_;
 };
 }  // namespace
 

@@ -16,7 +16,9 @@
 
 namespace seamap {
 
-class FolderStore : public TileStore {
+// Keeps the mission's records itself; no build checkpoints (writing a tile
+// is a rename, there is no transaction to journal in).
+class FolderStore : public TileStore, public MissionRecords {
  public:
   enum class Mode {
     kCreate,    // create the folder if missing, or open it to continue writing
@@ -55,7 +57,11 @@ class FolderStore : public TileStore {
   std::filesystem::path TilePath(const TileId& id) const;  // root/z/x/y.ext
   const std::filesystem::path& root() const { return root_; }
 
+ protected:
+  MissionRecords& RecordsKept() override { return *this; }
+
  private:
+  CheckpointStore* CheckpointsKept() override { return nullptr; }
   void Load();
   void CheckWritable() const;
   void WriteJsonLocked();

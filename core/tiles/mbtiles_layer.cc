@@ -3,17 +3,17 @@
 
 #include <stdexcept>
 
+#include "core/tiles/layer_records.h"
 #include "core/tiles/mbtiles_store.h"
 
 namespace seamap {
 
 // A named extra tile layer in the same file: table tiles_<name> with the
-// MBTiles tiles schema, metadata under "layer.<name>.<key>". Frames and the
-// track belong to the mission, so the layer reads the main ones and ignores
-// writes.
-class MBTilesStore::Layer : public TileStore {
+// MBTiles tiles schema, metadata under "layer.<name>.<key>", its own
+// checkpoint; the mission's records (LayerRecords).
+class MBTilesStore::Layer : public TileStore, public CheckpointStore {
  public:
-  Layer(MBTilesStore* parent, std::string name) : parent_(parent), name_(std::move(name)) {
+  Layer(MBTilesStore* parent, std::string name) : parent_(parent), name_(std::move(name)), records_(parent) {
     std::lock_guard<std::mutex> lock(parent_->mutex_);
     const std::string table = "tiles_" + name_;
     if (parent_->mode_ != Mode::kReadOnly) {
@@ -53,16 +53,8 @@ class MBTilesStore::Layer : public TileStore {
       if (k.compare(0, Prefix().size(), Prefix()) == 0) out[k.substr(Prefix().size())] = v;
     return out;
   }
-  void PutFrame(const FrameRecord&) override {}
-  void PutTrackPoint(const TrackPoint&) override {}
-  std::vector<FrameRecord> Frames() const override { return parent_->Frames(); }
-  std::vector<TrackPoint> Track() const override { return parent_->Track(); }
-  void PutDetection(const Detection& d) override { parent_->PutDetection(d); }
-  void DeleteDetection(int64_t id) override { parent_->DeleteDetection(id); }
-  std::vector<Detection> Detections() const override { return parent_->Detections(); }
   void Flush() override { parent_->Flush(); }
   std::unique_ptr<TileStore> OpenLayer(const std::string& name) override { return parent_->OpenLayer(name); }
-  bool KeepsCheckpoints() const override { return put_ != nullptr; }
   void WriteCheckpoint(const CheckpointUpdate& u) override { parent_->WriteCheckpointOf(name_, u); }
   std::optional<StoredCheckpoint> ReadCheckpoint() const override {
     std::lock_guard<std::mutex> lock(parent_->mutex_);
@@ -77,9 +69,12 @@ class MBTilesStore::Layer : public TileStore {
   void DropCheckpoint() override { parent_->DropOf(name_); }
 
  private:
+  MissionRecords& RecordsKept() override { return records_; }
+  CheckpointStore* CheckpointsKept() override { return this; }
   std::string Prefix() const { return "layer." + name_ + "."; }
   MBTilesStore* parent_;
   std::string name_;
+  LayerRecords records_;
   sqlite3_stmt* put_ = nullptr;
   sqlite3_stmt* get_ = nullptr;
 };

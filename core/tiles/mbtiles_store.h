@@ -17,7 +17,8 @@ struct sqlite3_stmt;
 
 namespace seamap {
 
-class MBTilesStore : public TileStore {
+// Keeps the mission's records and build checkpoints itself.
+class MBTilesStore : public TileStore, public MissionRecords, public CheckpointStore {
  public:
   enum class Mode {
     kCreate,    // create the file if missing, or open it to continue writing
@@ -51,7 +52,6 @@ class MBTilesStore : public TileStore {
   void Flush() override;
   std::unique_ptr<TileStore> OpenLayer(const std::string& name) override;
 
-  bool KeepsCheckpoints() const override { return mode_ != Mode::kReadOnly; }
   void WriteCheckpoint(const CheckpointUpdate& update) override { WriteCheckpointOf("", update); }
   std::optional<StoredCheckpoint> ReadCheckpoint() const override;
   std::optional<std::vector<uint8_t>> ReadCheckpointBlob(int kind, const TileId& id) const override;
@@ -62,6 +62,8 @@ class MBTilesStore : public TileStore {
   const std::string& path() const { return path_; }
 
  private:
+  MissionRecords& RecordsKept() override { return *this; }
+  CheckpointStore* CheckpointsKept() override { return this; }
   class Layer;
   static constexpr int kMaxPendingWrites = 500;
 

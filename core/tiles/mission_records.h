@@ -80,4 +80,23 @@ void NormaliseDetection(Detection* d);
 bool IsDetectionSource(const std::string& source);
 bool IsDetectionStatus(const std::string& status);
 
+// Where a mission's records are kept (TileStore::Records): in the same file or
+// folder as its tiles, written in the store's open transaction (TileStore::Flush
+// commits them).
+class MissionRecords {
+ public:
+  virtual ~MissionRecords() = default;
+
+  // Put replaces the frame with the same id / the point with the same seq.
+  virtual void PutFrame(const FrameRecord& frame) = 0;
+  virtual void PutTrackPoint(const TrackPoint& point) = 0;
+  virtual std::vector<FrameRecord> Frames() const = 0;  // in id order
+  virtual std::vector<TrackPoint> Track() const = 0;    // in seq order
+
+  // Detections (objects and operator marks). Put inserts or replaces by id.
+  virtual void PutDetection(const Detection& detection) = 0;
+  virtual void DeleteDetection(int64_t id) = 0;
+  virtual std::vector<Detection> Detections() const = 0;  // in id order
+};
+
 }  // namespace seamap

@@ -2,7 +2,9 @@
 // A TileStore decorator that tells a listener, after each Flush, which tiles
 // became visible to readers and their versions. A live server turns these
 // into `tile` events: announcing a tile before its transaction commits would
-// send browsers to fetch the old one.
+// send browsers to fetch the old one. The records are the inner store's.
+// It keeps no checkpoints: rolling tiles back to one would change them
+// without telling the listener (a live replay writes none).
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -32,17 +34,13 @@ class ObservedStore : public TileStore {
   std::vector<TileId> TileIds() const override { return inner_->TileIds(); }
   void SetMetadata(const std::string& key, const std::string& value) override { inner_->SetMetadata(key, value); }
   std::map<std::string, std::string> Metadata() const override { return inner_->Metadata(); }
-  void PutFrame(const FrameRecord& frame) override { inner_->PutFrame(frame); }
-  void PutTrackPoint(const TrackPoint& point) override { inner_->PutTrackPoint(point); }
-  std::vector<FrameRecord> Frames() const override { return inner_->Frames(); }
-  std::vector<TrackPoint> Track() const override { return inner_->Track(); }
-  void PutDetection(const Detection& d) override { inner_->PutDetection(d); }
-  void DeleteDetection(int64_t id) override { inner_->DeleteDetection(id); }
-  std::vector<Detection> Detections() const override { return inner_->Detections(); }
   void Flush() override;  // flushes the inner store, then tells the listener
   std::unique_ptr<TileStore> OpenLayer(const std::string& name) override;
 
  private:
+  MissionRecords& RecordsKept() override { return inner_->Records(); }
+  CheckpointStore* CheckpointsKept() override { return nullptr; }
+
   TileStore* inner_;
   std::unique_ptr<TileStore> owned_;  // a layer opened through this decorator
   Listener listener_;

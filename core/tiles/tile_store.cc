@@ -12,6 +12,11 @@
 
 namespace seamap {
 
+std::optional<StoredCheckpoint> ReadStoredCheckpoint(const TileStore& store) {
+  const CheckpointStore* checkpoints = store.Checkpoints();
+  return checkpoints ? checkpoints->ReadCheckpoint() : std::nullopt;
+}
+
 bool IsMBTilesPath(const std::string& path) {
   const std::string suffix = ".mbtiles";
   return path.size() >= suffix.size() && path.compare(path.size() - suffix.size(), suffix.size(), suffix) == 0;

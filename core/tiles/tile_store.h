@@ -14,6 +14,9 @@
 
 namespace seamap {
 
+// Tiles, their metadata and the store's layers. The mission's records and
+// the build checkpoints are kept in the same file or folder but are
+// interfaces of their own (Records, Checkpoints).
 class TileStore {
  public:
   virtual ~TileStore() = default;
@@ -30,48 +33,33 @@ class TileStore {
   virtual void SetMetadata(const std::string& key, const std::string& value) = 0;
   virtual std::map<std::string, std::string> Metadata() const = 0;
 
-  // Mission records.
-  virtual void PutFrame(const FrameRecord& frame) = 0;
-  virtual void PutTrackPoint(const TrackPoint& point) = 0;
-  virtual std::vector<FrameRecord> Frames() const = 0;
-  virtual std::vector<TrackPoint> Track() const = 0;
-
-  // Detections (objects and operator marks). Put inserts or replaces by id.
-  virtual void PutDetection(const Detection& detection) = 0;
-  virtual void DeleteDetection(int64_t id) = 0;
-  virtual std::vector<Detection> Detections() const = 0;
-
   // Makes everything written so far durable and visible to other readers
-  // (commits the open transaction / writes metadata files).
+  // (commits the open transaction / writes metadata files): tiles, metadata,
+  // records and checkpoints alike.
   virtual void Flush() = 0;
 
   // A named extra tile layer of the same mission (e.g. "enhanced"): its own
-  // tiles and metadata, the mission's frames and track. The returned store
-  // must not outlive this one. Names are [a-z0-9_]+ (InputError otherwise).
+  // tiles, metadata and checkpoint, the mission's records (LayerRecords). The
+  // returned store must not outlive this one. Names are [a-z0-9_]+ (InputError otherwise).
   virtual std::unique_ptr<TileStore> OpenLayer(const std::string& name) = 0;
 
-  // Crash-safe builds, one checkpoint per layer (core/tiles/store_checkpoint.h).
-  // A store that keeps checkpoints (MBTiles) journals every tile written
-  // after one, so that it can return its tiles, frames and track to the
-  // checkpoint however it was interrupted. Others keep none.
-  virtual bool KeepsCheckpoints() const { return false; }
-  // Records the update and starts a new journal, then commits everything
-  // written so far with it.
-  virtual void WriteCheckpoint(const CheckpointUpdate&) {}
-  virtual std::optional<StoredCheckpoint> ReadCheckpoint() const { return std::nullopt; }
-  virtual std::optional<std::vector<uint8_t>> ReadCheckpointBlob(int /*kind*/, const TileId&) const {
-    return std::nullopt;
-  }
-  // Back to the checkpoint: tiles written since get their earlier version
-  // (or go), newer frames and track points go; commits.
-  virtual void RollBackToCheckpoint() {}
-  // Back to before the build whose first checkpoint had keep_start (a failed
-  // --append), however many checkpoints came since: tiles, frames, track;
-  // forgets the checkpoint; commits. False when no start was kept.
-  virtual bool RollBackToStart() { return false; }
-  // The build is over: forgets the checkpoint, in the open transaction (Flush commits).
-  virtual void DropCheckpoint() {}
+  // The mission's frames, track and detections (core/tiles/mission_records.h).
+  MissionRecords& Records() { return RecordsKept(); }
+  const MissionRecords& Records() const { return const_cast<TileStore*>(this)->RecordsKept(); }
+
+  // The build checkpoints (core/tiles/store_checkpoint.h); null where the
+  // store keeps none (a tile folder).
+  CheckpointStore* Checkpoints() { return CheckpointsKept(); }
+  const CheckpointStore* Checkpoints() const { return const_cast<TileStore*>(this)->CheckpointsKept(); }
+
+ private:
+  // What Records and Checkpoints return (one override each, for both constnesses).
+  virtual MissionRecords& RecordsKept() = 0;
+  virtual CheckpointStore* CheckpointsKept() = 0;
 };
+
+// The store's checkpoint; none where it keeps none.
+std::optional<StoredCheckpoint> ReadStoredCheckpoint(const TileStore& store);
 
 // Throws InputError(name, 0, "layer", ...) unless name matches [a-z0-9_]{1,32}.
 void CheckLayerName(const std::string& name);

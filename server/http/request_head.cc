@@ -53,7 +53,7 @@ bool IsVersion(std::string_view v) {
 }
 
 // A catalogue mission's tile target ("/missions/{id}/tiles/..."): the id, and
-// the target from "/tiles/" on. Ids are [a-z0-9_-]+ (core/tiles/map_catalog).
+// the target from "/tiles/" on. Ids are [a-z0-9_-]+ (core/mission/map_catalog).
 std::optional<std::pair<std::string_view, std::string_view>> MissionTileTarget(std::string_view target) {
   constexpr std::string_view kMissions = "/missions/";
   if (target.substr(0, kMissions.size()) != kMissions) return std::nullopt;

@@ -69,7 +69,7 @@ TEST(BadInput, MissingAndBrokenImagesAreSkippedAndCounted) {
   EXPECT_NE(log.find("frame_000002.png"), std::string::npos) << log;
   EXPECT_NE(log.find("unreadable image"), std::string::npos) << log;
   auto store = OpenTileStore(out, "png", false);
-  auto frames = store->Frames();
+  auto frames = store->Records().Frames();
   ASSERT_EQ(frames.size(), 12u);
   EXPECT_EQ(frames[2].status, "missing image");
 }

@@ -53,8 +53,8 @@ TEST(Build, MBTilesHasMetadataFramesTrackAndAPyramid) {
   const int minz = std::stoi(meta["minzoom"]), maxz = std::stoi(meta["maxzoom"]);
   EXPECT_GE(maxz, 24);  // millimetre pixels
   EXPECT_LT(minz, maxz);
-  EXPECT_EQ(store->Frames().size(), 40u);
-  EXPECT_EQ(store->Track().size(), 40u);
+  EXPECT_EQ(store->Records().Frames().size(), 40u);
+  EXPECT_EQ(store->Records().Track().size(), 40u);
 
   // Overview tiles exist at every zoom, and the lowest zoom is a single tile
   // or a few (the survey "fits one tile" there).

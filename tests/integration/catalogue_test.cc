@@ -126,10 +126,10 @@ TEST(Catalogue, EachMissionHasItsOwnReadOnlyApiAndConsole) {
   const auto status = GetJson(api, "/missions/dive_b/api/status");
   EXPECT_EQ(status["state"], "complete");
   EXPECT_EQ(status["frames_done"], 12);
-  EXPECT_EQ(status["track_points"], records->Track().size());
+  EXPECT_EQ(status["track_points"], records->Records().Track().size());
   EXPECT_EQ(status["writable"], false) << status.dump();  // a catalogue serves its missions read-only
   const auto track = GetJson(api, "/missions/dive_b/api/track");
-  EXPECT_EQ(track["geometry"]["coordinates"].size(), records->Track().size());
+  EXPECT_EQ(track["geometry"]["coordinates"].size(), records->Records().Track().size());
   const auto frame = GetJson(api, "/missions/dive_b/api/frames/3");
   EXPECT_EQ(frame["id"], 3);
   EXPECT_TRUE(GetJson(api, "/missions/dive_b/api/detections")["features"].is_array());
@@ -139,7 +139,8 @@ TEST(Catalogue, EachMissionHasItsOwnReadOnlyApiAndConsole) {
                         "application/json");
   ASSERT_TRUE(write);
   EXPECT_GE(write->status, 400) << write->body;
-  EXPECT_TRUE(OpenExistingMap((folder / "dive_b.mbtiles").string(), false)->Detections().empty());  // nothing written
+  EXPECT_TRUE(
+      OpenExistingMap((folder / "dive_b.mbtiles").string(), false)->Records().Detections().empty());  // nothing written
   // Unknown missions and endpoints are JSON 404s naming what is missing.
   EXPECT_NE(GetJson(api, "/missions/nope/api/status", 404)["error"].get<std::string>().find("no mission 'nope'"),
             std::string::npos);
@@ -167,7 +168,7 @@ TEST(Catalogue, EachMissionHasItsOwnReadOnlyApiAndConsole) {
     d.source = "stereo";
     d.position = {43.1, 131.9};
     d.heading_deg = 75;
-    writer->PutDetection(d);
+    writer->Records().PutDetection(d);
     writer->Flush();
   }
   nlohmann::json served;

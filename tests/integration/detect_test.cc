@@ -37,7 +37,7 @@ const testing::SimulatedSurvey& Survey() {
 
 std::vector<Detection> Recognised(const std::string& map) {
   std::vector<Detection> out;
-  for (const Detection& d : OpenExistingMap(map, false)->Detections())
+  for (const Detection& d : OpenExistingMap(map, false)->Records().Detections())
     if (d.source == "recogniser") out.push_back(d);
   std::sort(out.begin(), out.end(), [](const Detection& a, const Detection& b) {
     return std::make_tuple(a.class_name, a.position.lat, a.position.lon) <

@@ -134,7 +134,7 @@ TEST(ExportArchive, PmtilesOfASurveyReadsBackByteEqualWithTheReferenceReader) {
   EXPECT_EQ(r.header["minZoom"].get<int>(), std::stoi(meta.at("minzoom")));
   EXPECT_EQ(r.metadata["name"], meta.at("name"));
   // The dive beside its tiles: the whole track, in order, for a viewer with no SeaMap server.
-  const auto track = store->Track();
+  const auto track = store->Records().Track();
   const auto& line = r.metadata["seamap_track"]["geometry"]["coordinates"];
   ASSERT_EQ(line.size(), track.size());
   EXPECT_NEAR(line[0][0].get<double>(), track.front().position.lon, 1e-9);
@@ -173,8 +173,8 @@ TEST(ExportArchive, PmtilesCarriesTheObjectsButNotTheRejectedOnes) {
     rejected.id = 2;
     rejected.class_name = "rock";
     rejected.status = "rejected";
-    store->PutDetection(kept);
-    store->PutDetection(rejected);
+    store->Records().PutDetection(kept);
+    store->Records().PutDetection(rejected);
     store->Flush();
   }
   const std::string archive = (dir / "objects.pmtiles").string();

@@ -139,7 +139,7 @@ TEST(Stereo, ALocatedObjectIsStoredAsADetectionWithPositionHeadingAndDepth) {
   const PlacedObject expected = PlaceObject(model_from_camera, mount, vehicle, frame);
 
   std::vector<Detection> stereo;
-  for (const Detection& d : store->Detections())
+  for (const Detection& d : store->Records().Detections())
     if (d.source == "stereo") stereo.push_back(d);
   ASSERT_EQ(stereo.size(), 1u);
   const Detection& d = stereo[0];
@@ -159,7 +159,7 @@ TEST(Stereo, ALocatedObjectIsStoredAsADetectionWithPositionHeadingAndDepth) {
   // Located again: the same detection, updated, not a second one.
   Locate(s, "--views 1" + where);
   int count = 0;
-  for (const Detection& again : OpenExistingMap(map, false)->Detections())
+  for (const Detection& again : OpenExistingMap(map, false)->Records().Detections())
     if (again.source == "stereo") {
       ++count;
       EXPECT_EQ(again.id, d.id);

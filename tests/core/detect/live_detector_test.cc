@@ -31,13 +31,6 @@ class RecordingStore : public TileStore {
   std::vector<TileId> TileIds() const override { return inner_->TileIds(); }
   void SetMetadata(const std::string& k, const std::string& v) override { inner_->SetMetadata(k, v); }
   std::map<std::string, std::string> Metadata() const override { return inner_->Metadata(); }
-  void PutFrame(const FrameRecord& f) override { inner_->PutFrame(f); }
-  void PutTrackPoint(const TrackPoint& p) override { inner_->PutTrackPoint(p); }
-  std::vector<FrameRecord> Frames() const override { return inner_->Frames(); }
-  std::vector<TrackPoint> Track() const override { return inner_->Track(); }
-  void PutDetection(const Detection& d) override { inner_->PutDetection(d); }
-  void DeleteDetection(int64_t id) override { inner_->DeleteDetection(id); }
-  std::vector<Detection> Detections() const override { return inner_->Detections(); }
   void Flush() override { inner_->Flush(); }
   std::unique_ptr<TileStore> OpenLayer(const std::string& name) override { return inner_->OpenLayer(name); }
 
@@ -47,6 +40,9 @@ class RecordingStore : public TileStore {
   }
 
  private:
+  MissionRecords& RecordsKept() override { return inner_->Records(); }
+  CheckpointStore* CheckpointsKept() override { return nullptr; }
+
   std::unique_ptr<TileStore> inner_;
   mutable std::mutex mutex_;
   mutable std::vector<std::vector<uint8_t>> reads_;

@@ -27,7 +27,7 @@ void MakeMap(const std::string& path, const std::string& name, int frames, const
     f.id = i;
     f.image = "f" + std::to_string(i) + ".jpg";
     f.time_s = 100.0 + i;
-    store->PutFrame(f);
+    store->Records().PutFrame(f);
   }
   store->Flush();
 }

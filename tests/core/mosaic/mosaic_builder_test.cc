@@ -379,8 +379,8 @@ TEST_F(MosaicBuilderTest, MissingImageIsRejectedAndRecorded) {
   builder.Finish();
   ASSERT_EQ(builder.stats().rejections.size(), 1u);
   EXPECT_EQ(builder.stats().rejections[0].reason, "missing image");
-  EXPECT_EQ(store->Frames().size(), 2u);
-  EXPECT_EQ(store->Frames()[0].status, "missing image");
+  EXPECT_EQ(store->Records().Frames().size(), 2u);
+  EXPECT_EQ(store->Records().Frames()[0].status, "missing image");
 }
 
 TEST_F(MosaicBuilderTest, SteepAttitudeIsRejected) {

@@ -19,7 +19,10 @@ void ExpectLayersAreSeparate(const std::string& path) {
     store->SetMetadata("maxzoom", "4");
     FrameRecord f;
     f.id = 7;
-    store->PutFrame(f);
+    store->Records().PutFrame(f);
+    f.id = 8;
+    layer->Records().PutFrame(f);  // dropped: the main map's builder records the frames
+    layer->Records().PutTrackPoint({});
     layer->Flush();
     store->Flush();
     EXPECT_EQ(*store->GetTile({3, 1, 2}), (std::vector<uint8_t>{1, 2, 3}));
@@ -33,8 +36,10 @@ void ExpectLayersAreSeparate(const std::string& path) {
   EXPECT_FALSE(layer->GetTile({3, 0, 0}));
   EXPECT_EQ(layer->Metadata().at("maxzoom"), "3");
   EXPECT_EQ(store->Metadata().at("maxzoom"), "4");
-  ASSERT_EQ(layer->Frames().size(), 1u);  // the mission's frames
-  EXPECT_EQ(layer->Frames()[0].id, 7);
+  ASSERT_EQ(layer->Records().Frames().size(), 1u);  // the mission's frames
+  EXPECT_EQ(layer->Records().Frames()[0].id, 7);
+  EXPECT_EQ(store->Records().Frames().size(), 1u);
+  EXPECT_TRUE(store->Records().Track().empty());
 }
 
 TEST(Layer, MBTilesKeepsLayersInOneFile) {

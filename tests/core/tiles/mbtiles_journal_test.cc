@@ -3,6 +3,8 @@
 // blobs read back, also read-only.
 #include <gtest/gtest.h>
 
+#include <stdexcept>
+
 #include "core/tiles/mbtiles_store.h"
 #include "tests/testing/temp_dir.h"
 
@@ -75,20 +77,24 @@ TEST(MBTilesJournal, RollBackReturnsTilesFramesAndTrackToTheCheckpoint) {
 
   MBTilesStore reader(path, MBTilesStore::Mode::kReadOnly);
   EXPECT_EQ(reader.ReadCheckpoint()->progress, "{\"n\":2}");
-  EXPECT_FALSE(reader.KeepsCheckpoints());
+  // Read-only, it reads its checkpoints but writes none.
+  EXPECT_THROW(reader.WriteCheckpoint(Update("{\"n\":3}", 2, 2)), std::runtime_error);
+  EXPECT_THROW(reader.DropCheckpoint(), std::runtime_error);
 }
 
 TEST(MBTilesJournal, LayersHaveTheirOwnCheckpointsAndOnlyTheMainOneOwnsFrames) {
   testing::TempDir dir;
   MBTilesStore store((dir / "m.mbtiles").string());
-  auto layer = store.OpenLayer("enhanced");
+  auto layer_store = store.OpenLayer("enhanced");
+  CheckpointStore* layer = layer_store->Checkpoints();
+  ASSERT_NE(layer, nullptr);
   store.WriteCheckpoint(Update("main", 0, 0));
   layer->WriteCheckpoint(Update("layer", 0, 0));
   store.PutTile({4, 0, 0}, {1});
-  layer->PutTile({4, 0, 0}, {2});
+  layer_store->PutTile({4, 0, 0}, {2});
   store.PutFrame(Frame(0));
   layer->RollBackToCheckpoint();
-  EXPECT_FALSE(layer->GetTile({4, 0, 0}));
+  EXPECT_FALSE(layer_store->GetTile({4, 0, 0}));
   EXPECT_EQ(*store.GetTile({4, 0, 0}), Bytes{1});
   EXPECT_EQ(store.Frames().size(), 1u);
   EXPECT_EQ(layer->ReadCheckpoint()->progress, "layer");

@@ -94,16 +94,16 @@ class StoreKinds : public ::testing::TestWithParam<bool> {
 TEST_P(StoreKinds, DetectionsSurviveReopeningWithEveryField) {
   {
     auto store = Open(true);
-    store->PutDetection(Mark(1, "tyre"));
-    store->PutDetection(Mark(2, "anchor"));
+    store->Records().PutDetection(Mark(1, "tyre"));
+    store->Records().PutDetection(Mark(2, "anchor"));
     Detection changed = Mark(2, "chain");
-    store->PutDetection(changed);  // replaces by id
-    store->PutDetection(Mark(3, "rock"));
-    store->DeleteDetection(3);
+    store->Records().PutDetection(changed);  // replaces by id
+    store->Records().PutDetection(Mark(3, "rock"));
+    store->Records().DeleteDetection(3);
     store->Flush();
   }
   auto store = Open(false);
-  auto all = store->Detections();
+  auto all = store->Records().Detections();
   ASSERT_EQ(all.size(), 2u);
   ExpectSame(all[0], Mark(1, "tyre"));
   ExpectSame(all[1], Mark(2, "chain"));
@@ -112,10 +112,10 @@ TEST_P(StoreKinds, DetectionsSurviveReopeningWithEveryField) {
 TEST_P(StoreKinds, LayersShareTheMissionsDetections) {
   auto store = Open(true);
   auto layer = store->OpenLayer("enhanced");
-  layer->PutDetection(Mark(2, "chain"));
+  layer->Records().PutDetection(Mark(2, "chain"));
   store->Flush();
-  ASSERT_EQ(store->Detections().size(), 1u);
-  EXPECT_EQ(layer->Detections().size(), 1u);
+  ASSERT_EQ(store->Records().Detections().size(), 1u);
+  EXPECT_EQ(layer->Records().Detections().size(), 1u);
 }
 
 TEST_P(StoreKinds, TileIdsListEveryTileOfTheLayerOnly) {
@@ -218,6 +218,26 @@ TEST(ObservedStore, AnnouncesTilesOnlyAfterTheFlushThatCommitsThem) {
   EXPECT_EQ(heard[2].first, "enhanced");
   store.Flush();  // nothing new: nothing announced
   EXPECT_EQ(heard.size(), 3u);
+}
+
+TEST(ObservedStore, SharesTheInnerRecordsAndKeepsNoCheckpoints) {
+  TempDir dir;
+  MBTilesStore inner((dir / "m.mbtiles").string());
+  ObservedStore store(&inner, nullptr);
+  EXPECT_EQ(&store.Records(), static_cast<MissionRecords*>(&inner)) << "no forwarding copy";
+  store.Records().PutDetection(Mark(4, "tyre"));
+  ASSERT_EQ(inner.Detections().size(), 1u);
+  // Rolling tiles back through it would change them unannounced.
+  EXPECT_NE(inner.Checkpoints(), nullptr);
+  EXPECT_EQ(store.Checkpoints(), nullptr);
+  EXPECT_EQ(store.OpenLayer("enhanced")->Checkpoints(), nullptr);
+  EXPECT_FALSE(ReadStoredCheckpoint(store));
+}
+
+TEST_P(StoreKinds, OnlyMBTilesKeepsCheckpoints) {
+  auto store = Open(true);
+  EXPECT_EQ(store->Checkpoints() != nullptr, GetParam());
+  EXPECT_EQ(store->OpenLayer("enhanced")->Checkpoints() != nullptr, GetParam());
 }
 
 TEST(TileVersion, DependsOnEveryByteAndPrintsAsSixteenHexDigits) {

@@ -135,8 +135,18 @@ std::pair<CatalogEntry, std::shared_ptr<TileSource>> MissionRegistry::Entry(cons
     }
     path = e.path;
   }
-  // A new source opens its SQLite connections outside mutex_; a thread that
-  // made one first wins.
+  // A new source opens its SQLite connections outside mutex_, one opening at a
+  // time: whoever waited finds it made.
+  std::lock_guard<std::mutex> opening(opening_);
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto it = sources_.find(path);
+    if (it != sources_.end()) {
+      const CatalogEntry& e = EntryLocked(id);
+      it->second->SetExternalWriter(e.state == "building");
+      return {e, it->second};
+    }
+  }
   auto made = std::make_shared<TileSource>(path, 4, 16u << 20);
   std::lock_guard<std::mutex> lock(mutex_);
   const CatalogEntry& e = EntryLocked(id);
@@ -168,13 +178,21 @@ std::optional<TileAnswer> MissionRegistry::AnswerMissionTile(const std::string& 
   bool building = false;
   try {
     Refresh();
-    std::lock_guard<std::mutex> lock(mutex_);  // a tile request copies no entry, only its source
-    const CatalogEntry& e = EntryLocked(id);
-    auto it = sources_.find(e.path);
-    if (it == sources_.end()) return std::nullopt;  // the first request makes it (Entry), on the backend
-    source = it->second;
-    building = e.state == "building";
-    source->SetExternalWriter(building);
+    {
+      std::lock_guard<std::mutex> lock(mutex_);  // a tile request copies no entry, only its source
+      const CatalogEntry& e = EntryLocked(id);
+      auto it = sources_.find(e.path);
+      if (it != sources_.end()) {
+        source = it->second;
+        building = e.state == "building";
+        source->SetExternalWriter(building);
+      }
+    }
+    if (!source) {  // the mission's first tile request opens its source, here, once (Entry)
+      auto [entry, made] = Entry(id);
+      source = std::move(made);
+      building = entry.state == "building";
+    }
   } catch (const std::exception&) {
     return std::nullopt;  // unknown, unavailable or unreadable: the backend answers why
   }
@@ -192,7 +210,13 @@ MissionServices MissionRegistry::Services(const std::string& id) {
     auto it = open_.find(entry.path);
     if (it != open_.end()) return {&it->second->mission, it->second->detections.get(), &it->second->events};
   }
-  // Opened outside mutex_ (SQLite reads); a thread that opened it first wins.
+  // Opened outside mutex_ (SQLite reads), one opening at a time.
+  std::lock_guard<std::mutex> opening(opening_);
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto it = open_.find(entry.path);
+    if (it != open_.end()) return {&it->second->mission, it->second->detections.get(), &it->second->events};
+  }
   auto m = std::make_unique<OpenMission>();
   try {
     m->records = OpenExistingMap(entry.path, /*writable=*/false);

@@ -88,7 +88,12 @@ class MissionRegistry {
   std::unique_ptr<Followed> root_;
 
   std::unique_ptr<MapCatalog> catalog_;  // a folder; used by the scanning thread alone
-  std::mutex mutex_;                     // guards what follows
+  // Held while a mission's tile source or records are opened (SQLite, outside
+  // mutex_): the requests that arrive together for a mission not yet open wait
+  // for one opening instead of each opening its own (64 at once took the
+  // catalogue's p99 from 5 to 50 ms).
+  std::mutex opening_;
+  std::mutex mutex_;  // guards what follows
   std::vector<CatalogEntry> listing_;
   std::chrono::steady_clock::time_point scanned_{};
   bool scanning_ = false;

@@ -37,8 +37,10 @@ Georeferences SLAM keyframes with the GPS fixes of a buoy towed on a tether.
   --out FILE          nav.csv: time_s,lat,lon,depth_m,heading_deg,good, one row per keyframe
   --report FILE       report.json: transform, residuals, good keyframes and why the others are not,
                       predicted errors, per sub-map figures
-  --method M          umeyama (default: weighted similarity over all good keyframes, outliers
-                      rejected) | triangle (the paper: largest triangle of good keyframes, rigid SVD)
+  --method M          tether (default: similarity, tether reach and the buoy's way of following
+                      fitted jointly to every fix, slack stretches with a widened noise) | umeyama
+                      (weighted similarity over the taut keyframes' targets, outliers rejected) |
+                      triangle (the paper: largest triangle of good keyframes, rigid SVD)
   --points FILE       PLY point cloud in the (first) SLAM frame ...
   --points-out FILE   ... written georeferenced: UTM easting, northing, up (metres, doubles)
   --origin LAT,LON    centre of the working frame; the cloud is then written in local metres
@@ -92,11 +94,13 @@ Inputs ParseInputs(Args& args) {
   }
   in.out = args.Require("out");
   in.report = args.GetOr("report", "");
-  const std::string method = args.GetOr("method", "umeyama");
+  const std::string method = args.GetOr("method", "tether");
   if (method == "triangle")
     in.options.method = GeorefMethod::kTriangle;
-  else if (method != "umeyama")
-    throw InputError("", 0, "--method", "expected umeyama or triangle, got '" + method + "'");
+  else if (method == "umeyama")
+    in.options.method = GeorefMethod::kUmeyama;
+  else if (method != "tether")
+    throw InputError("", 0, "--method", "expected tether, umeyama or triangle, got '" + method + "'");
   in.options.tether_length_m = in.tether_length_m;
   in.points = args.GetOr("points", "");
   in.points_out = args.GetOr("points-out", "");

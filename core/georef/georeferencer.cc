@@ -308,6 +308,10 @@ void FitTether(const SubmapContext& c, const std::vector<Keyframe>& keyframes, S
   out->reach_factor = r.reach_factor;
   out->reach_factor_sigma = r.reach_factor_sigma;
   out->reach_estimated = r.reach_estimated;
+  out->wake_estimated = r.wake_estimated;
+  out->current_estimated = r.current_estimated;
+  out->current_mps = r.current_mps;
+  out->current_sigma_mps = r.current_covariance.diagonal().cwiseMax(0).cwiseSqrt();
   out->wake_share = r.wake_share;
   out->wake_share_sigma = r.wake_share_sigma;
   out->variance_factor = r.variance_factor;

@@ -57,6 +57,9 @@ struct SubmapGeoref {
   // --method tether: the tether and buoy model fitted with the similarity.
   double reach_factor = 1, reach_factor_sigma = 0;
   bool reach_estimated = false;
+  Eigen::Vector2d current_mps = Eigen::Vector2d::Zero();  // east, north, carrying the buoy
+  Eigen::Vector2d current_sigma_mps = Eigen::Vector2d::Zero();
+  bool current_estimated = false, wake_estimated = false;
   double wake_share = 0, wake_share_sigma = 0;
   double variance_factor = 1, correlation_factor = 1;
   double taut_model_sigma_m = 0, slack_model_sigma_m = 0;

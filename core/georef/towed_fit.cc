@@ -11,9 +11,9 @@
 namespace seamap {
 namespace {
 
-constexpr int kParams = 9;  // rotation (3), log scale, translation (3), log reach factor, wake share
-using Vector9 = Eigen::Matrix<double, kParams, 1>;
-using Matrix9 = Eigen::Matrix<double, kParams, kParams>;
+constexpr int kParams = 11;  // rotation (3), log scale, translation (3), log reach factor, wake share, current (2)
+using Params = Eigen::Matrix<double, kParams, 1>;
+using ParamMatrix = Eigen::Matrix<double, kParams, kParams>;
 
 double Median(std::vector<double> values) {
   if (values.empty()) return 0;
@@ -77,6 +77,7 @@ struct Model {
   Similarity fit;
   double reach_factor = 1;
   double wake_share = 0;
+  Eigen::Vector2d current_mps = Eigen::Vector2d::Zero();
 };
 
 struct Fix {
@@ -116,20 +117,21 @@ class Problem {
   const std::vector<Fix>& fix_list() const { return fixes_; }
   const Eigen::Vector3d& centroid() const { return centroid_; }
 
-  Vector9 Initial() const {
-    Vector9 theta = Vector9::Zero();
+  Params Initial() const {
+    Params theta = Params::Zero();
     theta.segment<3>(4) = start_.Apply(centroid_);
     theta(8) = 0.5;
     return theta;
   }
 
-  Model ModelAt(const Vector9& theta) const {
+  Model ModelAt(const Params& theta) const {
     Model m;
     m.fit.rotation = ExpRotation(theta.head<3>()) * start_.rotation;
     m.fit.scale = start_.scale * std::exp(theta(3));
     m.fit.translation = theta.segment<3>(4) - m.fit.scale * m.fit.rotation * centroid_;
     m.reach_factor = std::exp(theta(7));
     m.wake_share = theta(8);
+    m.current_mps = theta.segment<2>(9);
     return m;
   }
 
@@ -151,6 +153,7 @@ class Problem {
     TowedBuoy tractrix(vehicle[0] - reach[0] * dir0);
     int back = 0;
     for (int k = 0; k < steps; ++k) {
+      tractrix.Drift(m.current_mps * step);  // taut, the tether then pulls it along v - current
       tractrix.Step(vehicle[k], reach[k]);
       // The wake: reach back along the path (before the start, along the start's direction).
       const double s = arc[k] - reach[k];
@@ -189,7 +192,7 @@ class Problem {
   }
 
   // Horizontal residuals of the fixes (2 per fix), then the keyframes' heights.
-  Eigen::VectorXd Residuals(const Vector9& theta, Simulation* sim = nullptr) const {
+  Eigen::VectorXd Residuals(const Params& theta, Simulation* sim = nullptr) const {
     const Model m = ModelAt(theta);
     Simulation s = Simulate(m);
     Eigen::VectorXd r(2 * fixes_.size() + depth_count());
@@ -205,11 +208,11 @@ class Problem {
     return static_cast<size_t>(std::count_if(depth_.begin(), depth_.end(), [](double d) { return std::isfinite(d); }));
   }
 
-  Eigen::MatrixXd Jacobian(const Vector9& theta) const {
-    static const double kStep[kParams] = {1e-5, 1e-5, 1e-5, 1e-5, 1e-3, 1e-3, 1e-3, 1e-4, 1e-3};
+  Eigen::MatrixXd Jacobian(const Params& theta) const {
+    static const double kStep[kParams] = {1e-5, 1e-5, 1e-5, 1e-5, 1e-3, 1e-3, 1e-3, 1e-4, 1e-3, 1e-4, 1e-4};
     Eigen::MatrixXd j(2 * fixes_.size() + depth_count(), kParams);
     for (int p = 0; p < kParams; ++p) {
-      Vector9 plus = theta, minus = theta;
+      Params plus = theta, minus = theta;
       plus(p) += kStep[p];
       minus(p) -= kStep[p];
       j.col(p) = (Residuals(plus) - Residuals(minus)) / (2 * kStep[p]);
@@ -242,17 +245,19 @@ class Problem {
 };
 
 // The priors: log k about 0, the wake share about 0.5.
-Matrix9 PriorInformation(const TowedFitOptions& o) {
-  Matrix9 p = Matrix9::Zero();
+ParamMatrix PriorInformation(const TowedFitOptions& o) {
+  ParamMatrix p = ParamMatrix::Zero();
   p(7, 7) = 1 / (o.reach_prior_sigma * o.reach_prior_sigma);
   p(8, 8) = 1 / (o.wake_prior_sigma * o.wake_prior_sigma);
+  p(9, 9) = p(10, 10) = 1 / (o.current_prior_mps * o.current_prior_mps);
   return p;
 }
 
-Vector9 PriorOffset(const Vector9& theta, const TowedFitOptions& o) {
-  Vector9 d = Vector9::Zero();
+Params PriorOffset(const Params& theta, const TowedFitOptions& o) {
+  Params d = Params::Zero();
   d(7) = theta(7);
   d(8) = theta(8) - o.wake_prior_mean;
+  d.segment<2>(9) = theta.segment<2>(9);
   return d;
 }
 
@@ -274,7 +279,7 @@ TowedFitResult FitTowedBuoy(const SlamPath& path, const std::vector<double>& rea
   int iterations = 0;
   Simulation sim;
   // Levenberg-Marquardt with reweighting; o: the priors to use.
-  auto solve = [&](Vector9 theta, const TowedFitOptions& o) {
+  auto solve = [&](Params theta, const TowedFitOptions& o) {
     double lambda = 1e-3;
     for (int iteration = 0; iteration < o.max_iterations; ++iteration) {
       iterations = iteration + 1;
@@ -308,17 +313,17 @@ TowedFitResult FitTowedBuoy(const SlamPath& path, const std::vector<double>& rea
       for (Eigen::Index k = 2 * nf; k < r.size(); ++k) w(k) = depth_w;
 
       const Eigen::MatrixXd j = problem.Jacobian(theta);
-      const Matrix9 prior = PriorInformation(o);
-      const Matrix9 h = j.transpose() * w.asDiagonal() * j + prior;
+      const ParamMatrix prior = PriorInformation(o);
+      const ParamMatrix h = j.transpose() * w.asDiagonal() * j + prior;
       // r = data - model and j = d r / d theta: the gradient of (r^T W r) / 2 is j^T W r.
-      const Vector9 g = j.transpose() * (w.asDiagonal() * r) + prior * PriorOffset(theta, o);
+      const Params g = j.transpose() * (w.asDiagonal() * r) + prior * PriorOffset(theta, o);
       const double cost = r.dot(w.asDiagonal() * r) + PriorOffset(theta, o).dot(prior * PriorOffset(theta, o));
       bool improved = false;
-      Vector9 delta = Vector9::Zero();
+      Params delta = Params::Zero();
       for (int attempt = 0; attempt < 10; ++attempt) {
-        Matrix9 damped = h;
+        ParamMatrix damped = h;
         damped.diagonal() += lambda * h.diagonal();
-        Vector9 next = theta - damped.ldlt().solve(g);
+        Params next = theta - damped.ldlt().solve(g);
         next(8) = std::clamp(next(8), 0.0, 1.0);
         const Eigen::VectorXd rn = problem.Residuals(next);
         const double next_cost = rn.dot(w.asDiagonal() * rn) + PriorOffset(next, o).dot(prior * PriorOffset(next, o));
@@ -338,7 +343,7 @@ TowedFitResult FitTowedBuoy(const SlamPath& path, const std::vector<double>& rea
     return theta;
   };
 
-  auto finish = [&](const Vector9& theta, const TowedFitOptions& o) {
+  auto finish = [&](const Params& theta, const TowedFitOptions& o) {
     TowedFitResult res;
     res.iterations = iterations;
     // The final state: residuals, weights (no Huber: the covariance of a converged M-estimate near Gaussian).
@@ -404,8 +409,8 @@ TowedFitResult FitTowedBuoy(const SlamPath& path, const std::vector<double>& rea
         res.correlation_factor = std::max(1.0, (sum_batch / batches) / (sum_all / normalised.size()));
     }
 
-    const Matrix9 h = j.transpose() * wf.asDiagonal() * j + PriorInformation(o);
-    const Matrix9 covariance = h.inverse() * res.variance_factor * res.correlation_factor;
+    const ParamMatrix h = j.transpose() * wf.asDiagonal() * j + PriorInformation(o);
+    const ParamMatrix covariance = h.inverse() * res.variance_factor * res.correlation_factor;
     Eigen::Matrix<double, 7, 7> hg = (j.leftCols<7>().transpose() * wg.asDiagonal() * j.leftCols<7>()).eval();
     Eigen::FullPivLU<Eigen::Matrix<double, 7, 7>> lu(hg);
     const bool bound_ok = lu.isInvertible();
@@ -430,6 +435,8 @@ TowedFitResult FitTowedBuoy(const SlamPath& path, const std::vector<double>& rea
     res.reach_factor_sigma = std::sqrt(std::max(covariance(7, 7), 0.0)) * m.reach_factor;
     res.wake_share = m.wake_share;
     res.wake_share_sigma = std::sqrt(std::max(covariance(8, 8), 0.0));
+    res.current_mps = m.current_mps;
+    res.current_covariance = covariance.block<2, 2>(9, 9);
     res.keyframe_taut = sim.keyframe_taut;
     res.ok = true;
     return res;
@@ -442,10 +449,10 @@ TowedFitResult FitTowedBuoy(const SlamPath& path, const std::vector<double>& rea
   // with the heading and the scale).
   TowedFitOptions loose = options, fixed = options;
   loose.reach_prior_sigma = std::max(options.reach_prior_sigma, 0.15);
-  const Vector9 free_theta = solve(problem.Initial(), loose);
+  const Params free_theta = solve(problem.Initial(), loose);
   TowedFitResult out = finish(free_theta, loose);
   if (!out.ok) return out;
-  Vector9 again = free_theta;
+  Params again = free_theta;
   bool refit = false;
   if (std::fabs(out.reach_factor - 1) <= options.reach_significance * out.reach_factor_sigma) {
     fixed.reach_prior_sigma = 1e-5;
@@ -460,14 +467,21 @@ TowedFitResult FitTowedBuoy(const SlamPath& path, const std::vector<double>& rea
       refit = true;
       break;
     }
+  // The current: zero unless it shows (chi-square with 2 degrees of freedom beyond 3 sigmas' 99.73 %).
+  if (out.current_mps.dot(out.current_covariance.inverse() * out.current_mps) <= 11.83) {
+    fixed.current_prior_mps = 1e-6;
+    again.segment<2>(9).setZero();
+    refit = true;
+  }
   if (!refit) {
-    out.reach_estimated = out.wake_estimated = true;
+    out.reach_estimated = out.wake_estimated = out.current_estimated = true;
     return out;
   }
   TowedFitResult final_fit = finish(solve(again, fixed), fixed);
   if (!final_fit.ok) return out;
   final_fit.reach_estimated = fixed.reach_prior_sigma > 1e-3;
   final_fit.wake_estimated = fixed.wake_prior_sigma > 1e-3;
+  final_fit.current_estimated = fixed.current_prior_mps > 1e-3;
   return final_fit;
 }
 

@@ -34,7 +34,8 @@ Georeferences SLAM keyframes with the GPS fixes of a buoy towed on a tether.
   --buoy FILE         CSV time_s,lat,lon (or easting,northing,zone); optional sigma_m, hdop, fix_quality
   --tether-length M   tether length, metres
   --depth M           constant vehicle depth, metres      --depth-csv FILE   CSV time_s,depth_m
-  --out FILE          nav.csv: time_s,lat,lon,depth_m,heading_deg,good, one row per keyframe
+  --out FILE          nav.csv: time_s,lat,lon,depth_m,heading_deg,good,sigma_m, one row per keyframe
+                      (sigma_m: its predicted horizontal error, 2D RMS; 0 where the method has none)
   --report FILE       report.json: transform, residuals, good keyframes and why the others are not,
                       predicted errors, per sub-map figures
   --method M          tether (default: similarity, tether reach and the buoy's way of following
@@ -141,14 +142,14 @@ void WriteNav(const std::string& path, const std::vector<const KeyframeGeoref*>&
               const std::vector<std::optional<double>>& altitude) {
   std::ofstream out(path);
   if (!out) throw InputError(path, 0, "--out", "cannot write the file");
-  out << "time_s,lat,lon,depth_m,heading_deg,good" << (altitude.empty() ? "" : ",altitude_m") << "\n";
+  out << "time_s,lat,lon,depth_m,heading_deg,good,sigma_m" << (altitude.empty() ? "" : ",altitude_m") << "\n";
   char line[200];
   for (size_t i = 0; i < rows.size(); ++i) {
     const KeyframeGeoref* k = rows[i];
     const LatLon ll = frame.ToLatLon({k->position_enu_m.x(), k->position_enu_m.y()});
     const double depth = k->depth_m.value_or(-k->position_enu_m.z());
-    std::snprintf(line, sizeof line, "%.6f,%.9f,%.9f,%.3f,%.2f,%d", k->time_s, ll.lat, ll.lon, depth, k->heading_deg,
-                  k->good ? 1 : 0);
+    std::snprintf(line, sizeof line, "%.6f,%.9f,%.9f,%.3f,%.2f,%d,%.3f", k->time_s, ll.lat, ll.lon, depth,
+                  k->heading_deg, k->good ? 1 : 0, k->sigma_m);
     out << line;
     if (!altitude.empty()) out << "," << (altitude[i] ? Fixed(*altitude[i], 3) : "");
     out << "\n";

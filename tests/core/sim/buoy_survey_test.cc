@@ -259,6 +259,27 @@ TEST_F(BuoySurveyTest, TetherMethodMeasuresASaggingTether) {
   EXPECT_LT(out.rmse_m, 0.3);
 }
 
+TEST_F(BuoySurveyTest, TetherMethodSeesACurrentInTheTurns) {
+  // A current swings the tether off the track (the buoy trails along the
+  // vehicle's motion through the water): 0.6 m across the legs for umeyama.
+  BuoySurveyOptions o = IssueSurvey(Options());
+  o.buoy_model = "tractrix";
+  o.current_east_mps = 0.03;
+  o.current_north_mps = 0.02;
+  o.seed = 2;
+  const Outcome out = Run(o, GeorefMethod::kTether);
+  ASSERT_TRUE(out.submaps[0].fitted) << out.submaps[0].reason;
+  const SubmapGeoref& s = out.submaps[0];
+  EXPECT_TRUE(s.current_estimated);
+  EXPECT_NEAR(s.current_mps.x(), 0.03, 3 * s.current_sigma_mps.x() + 0.002);
+  EXPECT_NEAR(s.current_mps.y(), 0.02, 3 * s.current_sigma_mps.y() + 0.002);
+  EXPECT_LT(out.rmse_m, 0.3);
+  EXPECT_LT(out.rmse_m, 0.5 * Run(o, GeorefMethod::kUmeyama).rmse_m);
+
+  o.current_east_mps = o.current_north_mps = 0;  // none: kept at zero
+  EXPECT_FALSE(Run(o, GeorefMethod::kTether).submaps[0].current_estimated);
+}
+
 TEST_F(BuoySurveyTest, TetherMethodOnASpiralAndWithGpsFaults) {
   BuoySurveyOptions o = IssueSurvey(Options());
   o.buoy_model = "tractrix";

@@ -310,6 +310,9 @@ void FitTether(const SubmapContext& c, const std::vector<Keyframe>& keyframes, S
   out->reach_estimated = r.reach_estimated;
   out->wake_estimated = r.wake_estimated;
   out->current_estimated = r.current_estimated;
+  out->lag_estimated = r.lag_estimated;
+  out->lag_s = r.lag_s;
+  out->lag_sigma_s = r.lag_sigma_s;
   out->current_mps = r.current_mps;
   out->current_sigma_mps = r.current_covariance.diagonal().cwiseMax(0).cwiseSqrt();
   out->wake_share = r.wake_share;

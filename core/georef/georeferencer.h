@@ -59,7 +59,8 @@ struct SubmapGeoref {
   bool reach_estimated = false;
   Eigen::Vector2d current_mps = Eigen::Vector2d::Zero();  // east, north, carrying the buoy
   Eigen::Vector2d current_sigma_mps = Eigen::Vector2d::Zero();
-  bool current_estimated = false, wake_estimated = false;
+  double lag_s = 0, lag_sigma_s = 0;  // a fix stamped t shows the buoy at t - lag
+  bool current_estimated = false, wake_estimated = false, lag_estimated = false;
   double wake_share = 0, wake_share_sigma = 0;
   double variance_factor = 1, correlation_factor = 1;
   double taut_model_sigma_m = 0, slack_model_sigma_m = 0;

@@ -11,7 +11,8 @@
 namespace seamap {
 namespace {
 
-constexpr int kParams = 11;  // rotation (3), log scale, translation (3), log reach factor, wake share, current (2)
+// rotation (3), log scale, translation (3), log reach factor, wake share, current (2), the fixes' lag
+constexpr int kParams = 12;
 using Params = Eigen::Matrix<double, kParams, 1>;
 using ParamMatrix = Eigen::Matrix<double, kParams, kParams>;
 
@@ -78,6 +79,7 @@ struct Model {
   double reach_factor = 1;
   double wake_share = 0;
   Eigen::Vector2d current_mps = Eigen::Vector2d::Zero();
+  double lag_s = 0;  // a fix stamped t shows the buoy at t - lag
 };
 
 struct Fix {
@@ -132,6 +134,7 @@ class Problem {
     m.reach_factor = std::exp(theta(7));
     m.wake_share = theta(8);
     m.current_mps = theta.segment<2>(9);
+    m.lag_s = theta(11);
     return m;
   }
 
@@ -173,11 +176,11 @@ class Problem {
     }
     auto at = [&](double t) { return std::clamp(static_cast<int>(std::lround((t - t0_) / step)), 0, steps - 1); };
     for (const Fix& f : fixes_) {
-      const double x = (f.time_s - t0_) / step;
+      const double x = (f.time_s - m.lag_s - t0_) / step;
       const int k = std::clamp(static_cast<int>(std::floor(x)), 0, steps - 2);
       const double w = std::clamp(x - k, 0.0, 1.0);
       out.buoy.push_back((1 - w) * buoy[k] + w * buoy[k + 1]);
-      const int n = at(f.time_s);
+      const int n = at(f.time_s - m.lag_s);
       const Eigen::Vector2d d = vehicle[n] - buoy[n];
       out.towing.push_back(d.norm() > 1e-9 ? Eigen::Vector2d(d / d.norm()) : dir0);
       out.taut.push_back(taut[n]);
@@ -209,7 +212,7 @@ class Problem {
   }
 
   Eigen::MatrixXd Jacobian(const Params& theta) const {
-    static const double kStep[kParams] = {1e-5, 1e-5, 1e-5, 1e-5, 1e-3, 1e-3, 1e-3, 1e-4, 1e-3, 1e-4, 1e-4};
+    static const double kStep[kParams] = {1e-5, 1e-5, 1e-5, 1e-5, 1e-3, 1e-3, 1e-3, 1e-4, 1e-3, 1e-4, 1e-4, 1e-3};
     Eigen::MatrixXd j(2 * fixes_.size() + depth_count(), kParams);
     for (int p = 0; p < kParams; ++p) {
       Params plus = theta, minus = theta;
@@ -250,6 +253,7 @@ ParamMatrix PriorInformation(const TowedFitOptions& o) {
   p(7, 7) = 1 / (o.reach_prior_sigma * o.reach_prior_sigma);
   p(8, 8) = 1 / (o.wake_prior_sigma * o.wake_prior_sigma);
   p(9, 9) = p(10, 10) = 1 / (o.current_prior_mps * o.current_prior_mps);
+  p(11, 11) = 1 / (o.lag_prior_s * o.lag_prior_s);
   return p;
 }
 
@@ -258,6 +262,7 @@ Params PriorOffset(const Params& theta, const TowedFitOptions& o) {
   d(7) = theta(7);
   d(8) = theta(8) - o.wake_prior_mean;
   d.segment<2>(9) = theta.segment<2>(9);
+  d(11) = theta(11);
   return d;
 }
 
@@ -437,6 +442,9 @@ TowedFitResult FitTowedBuoy(const SlamPath& path, const std::vector<double>& rea
     res.wake_share_sigma = std::sqrt(std::max(covariance(8, 8), 0.0));
     res.current_mps = m.current_mps;
     res.current_covariance = covariance.block<2, 2>(9, 9);
+    res.lag_s = m.lag_s;
+    res.lag_sigma_s = std::sqrt(std::max(covariance(11, 11), 0.0));
+    res.reach_lag_covariance << covariance(7, 7), covariance(7, 11), covariance(11, 7), covariance(11, 11);
     res.keyframe_taut = sim.keyframe_taut;
     res.ok = true;
     return res;
@@ -454,9 +462,26 @@ TowedFitResult FitTowedBuoy(const SlamPath& path, const std::vector<double>& rea
   if (!out.ok) return out;
   Params again = free_theta;
   bool refit = false;
-  if (std::fabs(out.reach_factor - 1) <= options.reach_significance * out.reach_factor_sigma) {
+  // The reach and the lag both move the buoy along the track, so they are
+  // tested together: both kept at their defaults unless jointly significant
+  // (chi-square, 2 degrees of freedom, beyond 3 sigmas' 99.73 %); then each
+  // is kept if significant on its own, or else the more significant one.
+  const Eigen::Matrix2d& cov = out.reach_lag_covariance;
+  const Eigen::Vector2d reach_lag(std::log(out.reach_factor), out.lag_s);
+  const double z_reach = std::fabs(reach_lag(0)) / std::sqrt(std::max(cov(0, 0), 1e-30));
+  const double z_lag = std::fabs(reach_lag(1)) / std::sqrt(std::max(cov(1, 1), 1e-30));
+  const bool joint = reach_lag.dot(cov.inverse() * reach_lag) > 11.83;
+  bool keep_reach = joint && z_reach > options.reach_significance;
+  bool keep_lag = joint && z_lag > options.reach_significance;
+  if (joint && !keep_reach && !keep_lag) (z_reach >= z_lag ? keep_reach : keep_lag) = true;
+  if (!keep_reach) {
     fixed.reach_prior_sigma = 1e-5;
     again(7) = 0;
+    refit = true;
+  }
+  if (!keep_lag) {
+    fixed.lag_prior_s = 1e-6;
+    again(11) = 0;
     refit = true;
   }
   for (double pure : {0.0, 1.0})
@@ -474,7 +499,7 @@ TowedFitResult FitTowedBuoy(const SlamPath& path, const std::vector<double>& rea
     refit = true;
   }
   if (!refit) {
-    out.reach_estimated = out.wake_estimated = out.current_estimated = true;
+    out.reach_estimated = out.wake_estimated = out.current_estimated = out.lag_estimated = true;
     return out;
   }
   TowedFitResult final_fit = finish(solve(again, fixed), fixed);
@@ -482,6 +507,7 @@ TowedFitResult FitTowedBuoy(const SlamPath& path, const std::vector<double>& rea
   final_fit.reach_estimated = fixed.reach_prior_sigma > 1e-3;
   final_fit.wake_estimated = fixed.wake_prior_sigma > 1e-3;
   final_fit.current_estimated = fixed.current_prior_mps > 1e-3;
+  final_fit.lag_estimated = fixed.lag_prior_s > 1e-3;
   return final_fit;
 }
 

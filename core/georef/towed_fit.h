@@ -3,14 +3,14 @@
 // fitted jointly to every GPS fix (docs/GEOREF.md, "The towed-buoy fit").
 //
 // For parameters theta = (rotation, scale, translation, reach factor k,
-// wake share a, current c) the SLAM path is mapped into the working frame
-// and a model buoy is towed behind it: (1 - a) of a buoy pulled along a taut
-// tether (a tractrix; it cuts the corners; the current carries it, so it
-// trails along the vehicle's motion through the water) plus a of a buoy
-// running in the vehicle's wake k c_t back along its path (it goes round
-// them). Both agree
-// on straight legs and differ after turns, which is where the data tells
-// them apart. Each fix is compared with the model buoy at its time; each
+// wake share a, current c, the fixes' lag tau) the SLAM path is mapped into
+// the working frame and a model buoy is towed behind it: (1 - a) of a buoy
+// pulled along a taut tether (a tractrix; it cuts the corners; the current
+// carries it, so it trails along the vehicle's motion through the water)
+// plus a of a buoy running in the vehicle's wake k c_t back along its path
+// (it goes round them). Both agree on straight legs and differ after turns,
+// which is where the data tell them apart. Each fix, stamped t, is compared
+// with the model buoy at t - tau (a clock offset, a slow receiver); each
 // keyframe's height with -depth. Gauss-Newton with Levenberg damping,
 // Huber weights, fixes beyond 5 sigma dropped; while the model says the
 // tether is slack (and while the buoy settles after the start) the fixes
@@ -42,6 +42,7 @@ struct TowedFitOptions {
   double wake_prior_sigma = 1;      // ... and pure (0 or 1) unless the data put it 3 sigmas away
   double current_prior_mps = 0.1;   // on each component of a current carrying the buoy, about 0;
                                     // kept at 0 unless the data put it 3 sigmas away
+  double lag_prior_s = 10;          // on the fixes' lag behind the keyframes' clock, about 0; kept at 0 likewise
   double depth_sigma_m = 0.05;      // of a keyframe's depth
   double settle_reaches = 2;        // fixes within this many reaches of travel after the start: widened
   double batch_s = 30;              // batch length for the residuals' correlation
@@ -59,15 +60,18 @@ struct TowedFitResult {
   Eigen::Vector2d current_mps = Eigen::Vector2d::Zero();  // east, north
   Eigen::Matrix2d current_covariance = Eigen::Matrix2d::Zero();
   bool current_estimated = false;
-  std::vector<bool> keyframe_taut;       // the model's tether at each keyframe's time
-  std::vector<double> keyframe_sigma_m;  // predicted horizontal error (2D RMS) per keyframe
-  double predicted_rmse_m = 0;           // RMS of keyframe_sigma_m
-  double gps_bound_rmse_m = 0;           // the same from the taut fixes' GPS noise alone, k and a known
-  double variance_factor = 1;            // chi^2 / dof of the taut fixes (at least 1)
-  double correlation_factor = 1;         // variance of batch means over white noise's (at least 1)
-  double taut_model_sigma_m = 0;         // model noise added to taut fixes (waves, an imperfect model)
-  double slack_model_sigma_m = 0;        // and to the others
-  double residual_rms_m = 0;             // of the taut fixes kept
+  double lag_s = 0, lag_sigma_s = 0;  // a fix stamped t shows the buoy at t - lag
+  bool lag_estimated = false;
+  Eigen::Matrix2d reach_lag_covariance = Eigen::Matrix2d::Zero();  // of (log k, tau) in the free fit
+  std::vector<bool> keyframe_taut;                                 // the model's tether at each keyframe's time
+  std::vector<double> keyframe_sigma_m;                            // predicted horizontal error (2D RMS) per keyframe
+  double predicted_rmse_m = 0;                                     // RMS of keyframe_sigma_m
+  double gps_bound_rmse_m = 0;     // the same from the taut fixes' GPS noise alone, k and a known
+  double variance_factor = 1;      // chi^2 / dof of the taut fixes (at least 1)
+  double correlation_factor = 1;   // variance of batch means over white noise's (at least 1)
+  double taut_model_sigma_m = 0;   // model noise added to taut fixes (waves, an imperfect model)
+  double slack_model_sigma_m = 0;  // and to the others
+  double residual_rms_m = 0;       // of the taut fixes kept
   int fixes = 0, taut_fixes = 0, outliers = 0, iterations = 0;
   Eigen::Vector2d along_cross_bias_m = Eigen::Vector2d::Zero();  // mean taut residual along / across towing
 };

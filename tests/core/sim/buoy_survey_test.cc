@@ -249,13 +249,24 @@ TEST_F(BuoySurveyTest, TetherMethodNoiseFreeWithinFiveCentimetres) {
 }
 
 TEST_F(BuoySurveyTest, TetherMethodMeasuresASaggingTether) {
+  // A tractrix buoy 5 % short of the straight tether's reach: the turns tell
+  // a shorter reach from a lag, and the reach is measured.
   BuoySurveyOptions o = IssueSurvey(Options());
+  o.buoy_model = "tractrix";
   o.tether_sag = 0.05;
   o.seed = 2;
-  const Outcome out = Run(o, GeorefMethod::kTether);
+  Outcome out = Run(o, GeorefMethod::kTether);
   ASSERT_TRUE(out.submaps[0].fitted) << out.submaps[0].reason;
   EXPECT_TRUE(out.submaps[0].reach_estimated);
+  EXPECT_FALSE(out.submaps[0].lag_estimated);
   EXPECT_NEAR(out.submaps[0].reach_factor, 0.95, 0.015);
+  EXPECT_LT(out.rmse_m, 0.3);
+  // In the wake a shorter reach and a lag are the same shift along the
+  // path: either may take it, and the placement holds.
+  o.buoy_model = "path";
+  out = Run(o, GeorefMethod::kTether);
+  ASSERT_TRUE(out.submaps[0].fitted) << out.submaps[0].reason;
+  EXPECT_TRUE(out.submaps[0].reach_estimated || out.submaps[0].lag_estimated);
   EXPECT_LT(out.rmse_m, 0.3);
 }
 
@@ -278,6 +289,17 @@ TEST_F(BuoySurveyTest, TetherMethodSeesACurrentInTheTurns) {
 
   o.current_east_mps = o.current_north_mps = 0;  // none: kept at zero
   EXPECT_FALSE(Run(o, GeorefMethod::kTether).submaps[0].current_estimated);
+}
+
+TEST_F(BuoySurveyTest, TetherMethodMeasuresAClockOffset) {
+  BuoySurveyOptions o = Options();
+  o.gps_sigma_m = 0.3;
+  o.clock_offset_s = 5;  // fixes stamped 5 s late
+  const Outcome out = Run(o, GeorefMethod::kTether);
+  ASSERT_TRUE(out.submaps[0].fitted) << out.submaps[0].reason;
+  EXPECT_TRUE(out.submaps[0].lag_estimated);
+  EXPECT_NEAR(out.submaps[0].lag_s, 5, 0.2);
+  EXPECT_LT(out.rmse_m, 0.1);
 }
 
 TEST_F(BuoySurveyTest, TetherMethodOnASpiralAndWithGpsFaults) {

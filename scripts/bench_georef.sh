@@ -11,9 +11,10 @@
 # (gps_bound_rmse_m); per variation the median and the worst, and the
 # calibration: sqrt(mean actual^2 / mean predicted^2) and the share of runs
 # whose actual / predicted lies within 0.67-1.5.
-#   scripts/bench_georef.sh SEAMAP_BINARY OUT_DIR [SEEDS]      (SEEDS default 5: 12 x 5 = 60 runs)
+#   scripts/bench_georef.sh SEAMAP_BINARY OUT_DIR [SEEDS [ONLY]]
+# SEEDS default 5 (13 x 5 = 65 runs); ONLY: a regular expression naming the variations to run.
 set -euo pipefail
-seamap="$1" out="$2" seeds="${3:-5}"
+seamap="$1" out="$2" seeds="${3:-5}" only="${4:-.}"
 mkdir -p "$out"
 rows="$out/rows.txt"
 : >"$rows"
@@ -34,6 +35,7 @@ variations=(
   "tight_turns_weave|15|$issue --line-spacing 20 --turn-radius 4 --meander 1.5 --meander-wavelength 40 --buoy-model path"
   "keyframes_sparse_dense|15|$issue --keyframe-interval 3"
   "sag_5pct|15|$issue --tether-sag 0.05 --buoy-model path"
+  "clock_offset_3s|15|$issue --clock-offset 3"
 )
 
 georef() {  # survey dir, tether length, method -> "rmse predicted bound" (or "fail rc")
@@ -54,6 +56,7 @@ python3 -c "print(f'noise-free: tether RMSE {$rmse*100:.2f} cm (target <= 5 cm),
 
 for v in "${variations[@]}"; do
   IFS='|' read -r name tether args <<<"$v"
+  [[ "$name" =~ $only ]] || continue
   for seed in $(seq 1 "$seeds"); do
     # shellcheck disable=SC2086
     "$seamap" simulate-buoy --out "$s" --force --seed "$seed" --cloud-points 0 $args >/dev/null

@@ -1,6 +1,6 @@
 #pragma once
 // The similarity, the tether's reach and the buoy's way of following,
-// fitted jointly to every GPS fix (docs/GEOREF.md, "The towed-buoy fit").
+// fitted jointly to every GPS fix (docs/GEOREF.md, "Method: --method tether").
 //
 // For parameters theta = (rotation, scale, translation, reach factor k,
 // wake share a, current c, the fixes' lag tau) the SLAM path is mapped into

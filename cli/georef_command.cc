@@ -22,11 +22,14 @@ Georeferences SLAM keyframes with the GPS fixes of a buoy towed on a tether.
   --buoy FILE         CSV time_s,lat,lon (or easting,northing,zone); optional sigma_m, hdop, fix_quality
   --tether-length M   tether length, metres
   --depth M           constant vehicle depth, metres      --depth-csv FILE   CSV time_s,depth_m
-  --out FILE          nav.csv: time_s,lat,lon,depth_m,heading_deg,good, one row per keyframe
+  --out FILE          nav.csv: time_s,lat,lon,depth_m,heading_deg,good,sigma_m, one row per keyframe
+                      (sigma_m: its predicted horizontal error, 2D RMS; 0 where the method has none)
   --report FILE       report.json: transform, residuals, good keyframes and why the others are not,
                       predicted errors, per sub-map figures
-  --method M          umeyama (default: weighted similarity over all good keyframes, outliers
-                      rejected) | triangle (the paper: largest triangle of good keyframes, rigid SVD)
+  --method M          tether (default: similarity, tether reach and the buoy's way of following
+                      fitted jointly to every fix, slack stretches with a widened noise) | umeyama
+                      (weighted similarity over the taut keyframes' targets, outliers rejected) |
+                      triangle (the paper: largest triangle of good keyframes, rigid SVD)
   --points FILE       PLY point cloud in the (first) SLAM frame ...
   --points-out FILE   ... written georeferenced: UTM easting, northing, up (metres, doubles)
   --origin LAT,LON    centre of the working frame; the cloud is then written in local metres
@@ -52,11 +55,13 @@ BuoyGeorefOptions ParseInputs(Args& args) {
   in.depth_file = args.GetOr("depth-csv", "");
   in.out = args.Require("out");
   in.report = args.GetOr("report", "");
-  const std::string method = args.GetOr("method", "umeyama");
+  const std::string method = args.GetOr("method", "tether");
   if (method == "triangle")
     in.georef.method = GeorefMethod::kTriangle;
-  else if (method != "umeyama")
-    throw InputError("", 0, "--method", "expected umeyama or triangle, got '" + method + "'");
+  else if (method == "umeyama")
+    in.georef.method = GeorefMethod::kUmeyama;
+  else if (method != "tether")
+    throw InputError("", 0, "--method", "expected tether, umeyama or triangle, got '" + method + "'");
   in.georef.tether_length_m = in.tether_length_m;
   in.points = args.GetOr("points", "");
   in.points_out = args.GetOr("points-out", "");

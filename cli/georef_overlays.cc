@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 
 #include "core/georef/georef_inputs.h"
 #include "core/nav/csv_numbers.h"
@@ -31,12 +32,18 @@ GeorefOverlays ReadGeorefOverlays(Args& args) {
   }
   if (o.nav_file) {
     int row_number = 0;
-    for (const CsvNumbers& row : ReadCsvNumbers(*o.nav_file, {"time_s", "lat", "lon", "good"})) {
+    // sigma_m (each keyframe's predicted error) is optional: older nav.csv files lack it.
+    std::vector<std::string> columns{"time_s", "lat", "lon", "good"};
+    std::string header;
+    std::ifstream nav(*o.nav_file);
+    std::getline(nav, header);
+    if (header.find("sigma_m") != std::string::npos) columns.push_back("sigma_m");
+    for (const CsvNumbers& row : ReadCsvNumbers(*o.nav_file, columns)) {
       ++row_number;
       const LatLon at{row.at("lat"), row.at("lon")};
       if (std::abs(at.lat) > 90 || std::abs(at.lon) > 180)
         throw InputError(*o.nav_file, 0, "lat,lon", "off the globe in data row " + std::to_string(row_number));
-      o.keyframes.push_back({row.at("time_s"), at, row.at("good") != 0});
+      o.keyframes.push_back({row.at("time_s"), at, row.at("good") != 0, row.count("sigma_m") ? row.at("sigma_m") : 0});
     }
   }
   return o;

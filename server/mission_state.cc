@@ -252,6 +252,7 @@ nlohmann::json MissionState::KeyframesJson() const {
     features.push_back({{"type", "Feature"},
                         {"geometry", {{"type", "Point"}, {"coordinates", {k.position.lon, k.position.lat}}}},
                         {"properties", {{"time_s", k.time_s}, {"good", k.good}}}});
+    if (k.sigma_m > 0) features.back()["properties"]["sigma_m"] = k.sigma_m;
   }
   return {{"type", "FeatureCollection"}, {"features", features}};
 }

@@ -34,6 +34,7 @@ struct GeorefKeyframe {
   double time_s = 0;
   LatLon position;
   bool good = false;
+  double sigma_m = 0;  // predicted horizontal error (2D RMS, metres); 0 = unknown
 };
 
 class MissionState {
@@ -71,8 +72,8 @@ class MissionState {
   std::vector<TrackPoint> BuoyTrackFrom(int first_seq) const;
   int BuoyTrackSize() const;
   // SLAM keyframes placed by the buoy (seamap georef's nav.csv, given with
-  // --georef-nav): a FeatureCollection of Points with time_s and good (used
-  // in the fit) for /api/keyframes.
+  // --georef-nav): a FeatureCollection of Points with time_s, good (used
+  // in the fit) and sigma_m (predicted error, when known) for /api/keyframes.
   void SetKeyframes(std::vector<GeorefKeyframe> keyframes);
   nlohmann::json KeyframesJson() const;
   // Used frames whose footprint contains the point, nearest footprint centre first.

@@ -41,14 +41,14 @@ void WriteNav(const std::string& path, const std::vector<const KeyframeGeoref*>&
               const std::vector<std::optional<double>>& altitude) {
   std::ofstream out(path);
   if (!out) throw InputError(path, 0, "--out", "cannot write the file");
-  out << "time_s,lat,lon,depth_m,heading_deg,good" << (altitude.empty() ? "" : ",altitude_m") << "\n";
+  out << "time_s,lat,lon,depth_m,heading_deg,good,sigma_m" << (altitude.empty() ? "" : ",altitude_m") << "\n";
   char line[200];
   for (size_t i = 0; i < rows.size(); ++i) {
     const KeyframeGeoref* k = rows[i];
     const LatLon ll = frame.ToLatLon({k->position_enu_m.x(), k->position_enu_m.y()});
     const double depth = k->depth_m.value_or(-k->position_enu_m.z());
-    std::snprintf(line, sizeof line, "%.6f,%.9f,%.9f,%.3f,%.2f,%d", k->time_s, ll.lat, ll.lon, depth, k->heading_deg,
-                  k->good ? 1 : 0);
+    std::snprintf(line, sizeof line, "%.6f,%.9f,%.9f,%.3f,%.2f,%d,%.3f", k->time_s, ll.lat, ll.lon, depth,
+                  k->heading_deg, k->good ? 1 : 0, k->sigma_m);
     out << line;
     if (!altitude.empty()) out << "," << (altitude[i] ? Fixed(*altitude[i], 3) : "");
     out << "\n";

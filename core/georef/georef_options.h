@@ -6,13 +6,14 @@
 namespace seamap {
 
 enum class GeorefMethod {
-  kUmeyama,   // weighted similarity over every good keyframe, outliers rejected (default)
+  kTether,    // similarity, reach and the buoy's way of following fitted jointly to every fix (default)
+  kUmeyama,   // weighted similarity over every good keyframe, outliers rejected
   kTriangle,  // the paper: the largest triangle of good keyframes, rigid SVD (with scale)
 };
 
 struct GeorefOptions {
   double tether_length_m = 0;
-  GeorefMethod method = GeorefMethod::kUmeyama;
+  GeorefMethod method = GeorefMethod::kTether;
   SlamPath::Options path;
   int min_good_keyframes = 10;
   double max_fix_gap_s = 3;              // a keyframe needs a fix this close on each side

@@ -53,6 +53,26 @@ nlohmann::json SubmapReport(const SubmapGeoref& s) {
              {{"rotation_deg_about_east_north_up", Vector(s.uncertainty.rotation_sigma_deg)},
               {"scale_relative", s.uncertainty.scale_sigma},
               {"position_m_at_centroid", Vector(s.uncertainty.position_sigma_m)}}}});
+  j["gps_bound_rmse_m"] = s.gps_bound_rmse_m;
+  if (s.method == "tether")
+    j["tether_model"] = {{"reach_factor", s.reach_factor},
+                         {"reach_factor_sigma", s.reach_factor_sigma},
+                         {"reach_estimated", s.reach_estimated},
+                         {"wake_estimated", s.wake_estimated},
+                         {"current_mps", {s.current_mps.x(), s.current_mps.y()}},
+                         {"current_sigma_mps", {s.current_sigma_mps.x(), s.current_sigma_mps.y()}},
+                         {"current_estimated", s.current_estimated},
+                         {"lag_s", s.lag_s},
+                         {"lag_sigma_s", s.lag_sigma_s},
+                         {"lag_estimated", s.lag_estimated},
+                         {"wake_share", s.wake_share},
+                         {"wake_share_sigma", s.wake_share_sigma},
+                         {"variance_factor", s.variance_factor},
+                         {"correlation_factor", s.correlation_factor},
+                         {"taut_model_sigma_m", s.taut_model_sigma_m},
+                         {"slack_model_sigma_m", s.slack_model_sigma_m},
+                         {"fixes_used", s.fixes_used},
+                         {"taut_fixes", s.taut_fixes}};
   if (s.method == "triangle") j["triangle"] = {{"keyframes", triangle}, {"area_m2", s.triangle_area_m2}};
   return j;
 }
@@ -60,7 +80,7 @@ nlohmann::json SubmapReport(const SubmapGeoref& s) {
 nlohmann::json GeorefReport(const std::vector<SubmapGeoref>& submaps, const GeorefReportContext& c) {
   nlohmann::json per = nlohmann::json::array();
   int keyframes = 0, good = 0;
-  double sq = 0, predicted_sq = 0, n_eff = 0;
+  double sq = 0, predicted_sq = 0, bound_sq = 0, n_eff = 0;
   std::map<std::string, int> rejected;
   bool degenerate = false;
   std::string reason;
@@ -70,6 +90,7 @@ nlohmann::json GeorefReport(const std::vector<SubmapGeoref>& submaps, const Geor
     good += s.good;
     sq += s.rmse_m * s.rmse_m * s.good;
     predicted_sq += s.predicted_rmse_m * s.predicted_rmse_m * s.keyframes.size();
+    bound_sq += s.gps_bound_rmse_m * s.gps_bound_rmse_m * s.keyframes.size();
     n_eff += s.n_eff;
     for (const auto& [r, n] : s.rejected) rejected[r] += n;
     if (s.degenerate && !degenerate) {
@@ -97,7 +118,10 @@ nlohmann::json GeorefReport(const std::vector<SubmapGeoref>& submaps, const Geor
             {"submaps", per},
             {"warnings", c.warnings}});
   if (good > 0) j["rmse_m"] = std::sqrt(sq / good);
-  if (keyframes > 0 && j.contains("predicted_rmse_m")) j["predicted_rmse_m"] = std::sqrt(predicted_sq / keyframes);
+  if (keyframes > 0 && j.contains("predicted_rmse_m")) {
+    j["predicted_rmse_m"] = std::sqrt(predicted_sq / keyframes);
+    j["gps_bound_rmse_m"] = std::sqrt(bound_sq / keyframes);
+  }
   return j;
 }
 

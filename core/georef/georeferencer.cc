@@ -7,6 +7,7 @@
 #include "core/georef/taut_selection.h"
 #include "core/georef/tether.h"
 #include "core/georef/tether_fit.h"
+#include "core/georef/towed_fit.h"
 #include "core/georef/triangle_fit.h"
 #include "core/util/error.h"
 #include "core/util/statistics.h"
@@ -206,6 +207,133 @@ void Summarise(const SubmapContext& c, const TargetSet& set, const FitOutcome& f
   double predicted = 0;
   for (size_t i = 0; i < n; ++i) predicted += std::pow(bound.HorizontalSigma(fit.fit, c.path.position(i)), 2);
   out->predicted_rmse_m = n ? std::sqrt(predicted / n) : 0;
+  out->gps_bound_rmse_m = out->predicted_rmse_m;
+}
+
+// The forward axis: image-up for a camera looking down (the default mount),
+// else the optical axis; each keyframe's heading along it.
+void SetHeadings(const std::string& source, SubmapGeoref* out) {
+  int vertical = 0, looking_up = 0;
+  for (const auto& k : out->keyframes) {
+    const double z = k.enu_from_cam(2, 2);
+    if (std::fabs(z) >= std::cos(45 * kDeg)) ++vertical;
+    if (z >= std::cos(45 * kDeg)) ++looking_up;
+  }
+  const bool image_up = 2 * vertical >= static_cast<int>(out->keyframes.size());
+  out->forward_axis = image_up ? "image_up" : "optical_axis";
+  if (image_up && 2 * looking_up > vertical)
+    out->warnings.push_back(source +
+                            ": the mapped camera looks up, not down: mirrored or mis-ordered input "
+                            "(world-to-camera poses, or the quaternion's scalar first)?");
+  for (auto& k : out->keyframes) k.heading_deg = CameraHeadingDeg(k.enu_from_cam, image_up);
+}
+
+// --method tether: the similarity, the reach and the buoy's way of following
+// fitted jointly to every fix (towed_fit.h), started from the buoy in the
+// vehicle's wake; the keyframes the model tows on a taut tether are the good
+// ones, and they must pin the similarity.
+void FitTether(const SubmapContext& c, const std::vector<Keyframe>& keyframes, SubmapGeoref* out) {
+  const size_t n = c.path.size();
+  std::vector<double> depth(n, NAN);
+  for (size_t i = 0; i < n; ++i)
+    if (c.depth_m[i]) depth[i] = *c.depth_m[i];
+  const double speed = c.buoy.MedianSpeed(c.path.time(0), c.path.time(n - 1));
+  const Similarity start = WakeStart(c.path, c.reach_m, depth, c.buoy, speed);
+  TowedFitOptions to;
+  to.depth_sigma_m = c.options.depth_sigma_m;
+  to.min_taut_fixes = c.options.min_good_keyframes;
+  const TowedFitResult r = FitTowedBuoy(c.path, c.reach_m, depth, c.buoy, start, c.path.NoiseSigma(), to);
+
+  std::vector<std::string> reasons(n);
+  std::vector<Eigen::Vector3d> slam;
+  std::vector<double> w;
+  Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+  for (size_t i = 0; i < n; ++i) {
+    reasons[i] = c.static_reason[i];
+    if (reasons[i].empty() && !(r.ok && r.keyframe_taut[i])) reasons[i] = r.ok ? "slack" : "no_fit";
+    if (!reasons[i].empty()) continue;
+    slam.push_back(c.path.position(i));
+    w.push_back(c.dt_s[i]);
+    centroid += r.fit.Apply(c.path.position(i)).head<2>();
+  }
+  const std::map<std::string, int> counts = CountReasons(reasons);
+  out->rejected = counts;
+  out->good = static_cast<int>(slam.size());
+  auto refuse = [&](const std::string& why) {
+    out->degenerate = true;
+    out->reason = why;
+    out->keyframes.clear();
+    for (size_t i = 0; i < n; ++i) {
+      KeyframeGeoref k;
+      k.time_s = keyframes[i].time_s;
+      k.line = keyframes[i].line;
+      k.depth_m = c.depth_m[i];
+      k.reason = reasons[i];
+      out->keyframes.push_back(k);
+    }
+  };
+  if (!r.ok || out->good < c.options.min_good_keyframes)
+    return refuse("too few taut keyframes: " + std::to_string(out->good) + " of " + std::to_string(n) +
+                  " are good (at least " + std::to_string(c.options.min_good_keyframes) + " needed; " +
+                  std::to_string(r.taut_fixes) + " fixes on a taut tether); rejected: " + ListCounts(counts));
+  centroid /= out->good;
+  double spread = 0;
+  for (size_t i = 0; i < n; ++i)
+    if (reasons[i].empty()) spread += (r.fit.Apply(c.path.position(i)).head<2>() - centroid).squaredNorm();
+  spread = std::sqrt(spread / out->good);
+  if (spread < c.options.spot_sigmas * out->gps_sigma_m)
+    return refuse("all fixes in one spot: the good keyframes lie within " + Fixed(spread, 2) +
+                  " m RMS of their centroid, under " + Fixed(c.options.spot_sigmas, 0) + " GPS sigmas (" +
+                  Fixed(out->gps_sigma_m, 2) + " m): scale and rotation cannot be known");
+  out->eigen_ratio = EigenRatio(slam, w);
+  if (out->eigen_ratio < c.options.min_eigen_ratio)
+    return refuse("straight line: the good keyframes lie on one line (sqrt(l2/l1) = " + Fixed(out->eigen_ratio, 3) +
+                  " < " + Fixed(c.options.min_eigen_ratio, 3) +
+                  "), so the rotation about it cannot be known; survey at least two legs apart");
+
+  out->fitted = true;
+  out->transform = r.fit;
+  out->rounds = r.iterations;
+  out->outliers = r.outliers;
+  out->rmse_m = r.residual_rms_m;
+  out->predicted_rmse_m = r.predicted_rmse_m;
+  out->gps_bound_rmse_m = r.gps_bound_rmse_m;
+  out->along_track_bias_m = r.along_cross_bias_m.x();
+  out->reach_factor = r.reach_factor;
+  out->reach_factor_sigma = r.reach_factor_sigma;
+  out->reach_estimated = r.reach_estimated;
+  out->wake_estimated = r.wake_estimated;
+  out->current_estimated = r.current_estimated;
+  out->lag_estimated = r.lag_estimated;
+  out->lag_s = r.lag_s;
+  out->lag_sigma_s = r.lag_sigma_s;
+  out->current_mps = r.current_mps;
+  out->current_sigma_mps = r.current_covariance.diagonal().cwiseMax(0).cwiseSqrt();
+  out->wake_share = r.wake_share;
+  out->wake_share_sigma = r.wake_share_sigma;
+  out->variance_factor = r.variance_factor;
+  out->correlation_factor = r.correlation_factor;
+  out->taut_model_sigma_m = r.taut_model_sigma_m;
+  out->slack_model_sigma_m = r.slack_model_sigma_m;
+  out->fixes_used = r.fixes - r.outliers;
+  out->taut_fixes = r.taut_fixes;
+  out->good_duration_s = 0;
+  for (size_t i = 0; i < n; ++i)
+    if (reasons[i].empty()) out->good_duration_s += c.dt_s[i];
+  out->n_eff = r.taut_fixes;
+  out->keyframes.clear();
+  for (size_t i = 0; i < n; ++i) {
+    KeyframeGeoref k;
+    k.time_s = keyframes[i].time_s;
+    k.line = keyframes[i].line;
+    k.depth_m = c.depth_m[i];
+    k.reason = reasons[i];
+    k.good = reasons[i].empty();
+    k.position_enu_m = r.fit.Apply(keyframes[i].position_slam);
+    k.enu_from_cam = r.fit.rotation * keyframes[i].world_from_cam.toRotationMatrix();
+    k.sigma_m = r.keyframe_sigma_m[i];
+    out->keyframes.push_back(k);
+  }
 }
 
 }  // namespace
@@ -222,7 +350,9 @@ SubmapGeoref GeoreferenceSubmap(const std::string& source, const std::vector<Key
                                 const BuoyTrack& buoy, const DepthProfile& depth, const GeorefOptions& options) {
   SubmapGeoref out;
   out.source = source;
-  out.method = options.method == GeorefMethod::kTriangle ? "triangle" : "umeyama";
+  out.method = options.method == GeorefMethod::kTriangle ? "triangle"
+               : options.method == GeorefMethod::kTether ? "tether"
+                                                         : "umeyama";
   const bool overlap = std::any_of(keyframes.begin(), keyframes.end(), [&](const Keyframe& k) {
     return k.time_s >= buoy.start_s() && k.time_s <= buoy.end_s();
   });
@@ -282,6 +412,13 @@ SubmapGeoref GeoreferenceSubmap(const std::string& source, const std::vector<Key
     return out;
   }
 
+  if (options.method == GeorefMethod::kTether) {
+    FitTether(context, keyframes, &out);
+    if (!out.fitted) return out;
+    SetHeadings(source, &out);
+    return out;
+  }
+
   const SubmapFitter fitter(context, out.gps_sigma_m);
   TargetSet set = SelectFromBuoy(context);
   FitOutcome fit = fitter.Fit(set);
@@ -321,21 +458,7 @@ SubmapGeoref GeoreferenceSubmap(const std::string& source, const std::vector<Key
   fill_keyframes(&set, &fit);
   out.outliers = out.rejected.count("outlier") ? out.rejected.at("outlier") : 0;
 
-  // The forward axis: image-up for a camera looking down (the default mount),
-  // else the optical axis.
-  int vertical = 0, looking_up = 0;
-  for (const auto& k : out.keyframes) {
-    const double z = k.enu_from_cam(2, 2);
-    if (std::fabs(z) >= std::cos(45 * kDeg)) ++vertical;
-    if (z >= std::cos(45 * kDeg)) ++looking_up;
-  }
-  const bool image_up = 2 * vertical >= static_cast<int>(out.keyframes.size());
-  out.forward_axis = image_up ? "image_up" : "optical_axis";
-  if (image_up && 2 * looking_up > vertical)
-    out.warnings.push_back(source +
-                           ": the mapped camera looks up, not down: mirrored or mis-ordered input "
-                           "(world-to-camera poses, or the quaternion's scalar first)?");
-  for (auto& k : out.keyframes) k.heading_deg = CameraHeadingDeg(k.enu_from_cam, image_up);
+  SetHeadings(source, &out);
   return out;
 }
 

@@ -31,6 +31,7 @@ struct KeyframeGeoref {
   std::optional<double> depth_m;                               // measured
   bool good = false;                                           // in the final fit
   std::string reason;                                          // why not ("" when good)
+  double sigma_m = 0;  // predicted horizontal error (2D RMS); 0 where the method has none
   bool has_target = false;
   Eigen::Vector3d target_enu_m = Eigen::Vector3d::Zero();
 };
@@ -41,7 +42,7 @@ struct SubmapGeoref {
   Similarity transform;
   bool degenerate = false;
   std::string reason;  // why degenerate
-  std::string method;  // "umeyama" or "triangle"
+  std::string method;  // "tether", "umeyama" or "triangle"
   std::vector<KeyframeGeoref> keyframes;
   int good = 0;
   std::map<std::string, int> rejected;  // reason -> keyframes
@@ -51,7 +52,19 @@ struct SubmapGeoref {
   double fix_rate_hz = 0;
   double good_duration_s = 0;
   double n_eff = 0;             // distinct fixes behind the good keyframes
-  double predicted_rmse_m = 0;  // GPS-limited error over all keyframes (the bound)
+  double predicted_rmse_m = 0;  // expected error over all keyframes (tether: every term; else the GPS bound)
+  double gps_bound_rmse_m = 0;  // the GPS-limited error over all keyframes (the bound)
+  // --method tether: the tether and buoy model fitted with the similarity.
+  double reach_factor = 1, reach_factor_sigma = 0;
+  bool reach_estimated = false;
+  Eigen::Vector2d current_mps = Eigen::Vector2d::Zero();  // east, north, carrying the buoy
+  Eigen::Vector2d current_sigma_mps = Eigen::Vector2d::Zero();
+  double lag_s = 0, lag_sigma_s = 0;  // a fix stamped t shows the buoy at t - lag
+  bool current_estimated = false, wake_estimated = false, lag_estimated = false;
+  double wake_share = 0, wake_share_sigma = 0;
+  double variance_factor = 1, correlation_factor = 1;
+  double taut_model_sigma_m = 0, slack_model_sigma_m = 0;
+  int fixes_used = 0, taut_fixes = 0;
   double along_track_bias_m = 0;
   double eigen_ratio = 0;
   double reach_m = 0;      // median over the keyframes

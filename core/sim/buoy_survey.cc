@@ -1,5 +1,6 @@
 #include "core/sim/buoy_survey.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -31,8 +32,24 @@ void Require(bool ok, const char* option, const std::string& what) {
 
 void Check(const BuoySurveyOptions& o) {
   Require(!o.out_dir.empty(), "--out", "is required: the folder to write the survey to");
-  Require(o.pattern == "lawnmower" || o.pattern == "line" || o.pattern == "hover" || o.pattern == "circles",
-          "--pattern", "expected lawnmower, line, hover or circles, got '" + o.pattern + "'");
+  Require(o.pattern == "lawnmower" || o.pattern == "line" || o.pattern == "hover" || o.pattern == "circles" ||
+              o.pattern == "spiral" || o.pattern == "transect",
+          "--pattern", "expected lawnmower, line, hover, circles, spiral or transect, got '" + o.pattern + "'");
+  Require(o.turn_radius_m >= 0 && o.turn_radius_m <= o.line_spacing_m / 2 + 1e-9, "--turn-radius",
+          "expected a radius within [0, half the line spacing] metres (0: half the spacing)");
+  Require(o.meander_m >= 0, "--meander", "expected an amplitude >= 0 metres");
+  Require(o.meander_wavelength_m > 0, "--meander-wavelength", "expected a positive length in metres");
+  Require(o.depth_period_s > 0, "--depth-period", "expected a positive time in seconds");
+  Require(o.buoy_model == "tractrix" || o.buoy_model == "path", "--buoy-model",
+          "expected tractrix or path, got '" + o.buoy_model + "'");
+  Require(o.tether_sag >= 0 && o.tether_sag < 0.5, "--tether-sag", "expected a fraction within [0, 0.5)");
+  Require(o.wave_height_m >= 0, "--wave-height", "expected a height >= 0 metres");
+  Require(o.wave_period_s > 0, "--wave-period", "expected a positive time in seconds");
+  Require(std::hypot(o.current_east_mps, o.current_north_mps) < 0.8 * o.speed_mps, "--current-east",
+          "expected a current (with --current-north) slower than 0.8 times the vehicle's speed");
+  Require(o.multipath_m >= 0, "--multipath-m", "expected a distance >= 0 metres");
+  Require(o.gps_outages >= 0 && o.gps_outages <= 100, "--gps-outages", "expected 0 to 100 outages");
+  Require(o.gps_outage_s > 0, "--gps-outage", "expected a positive time in seconds");
   Require(o.lines >= 1 && o.lines <= 100, "--lines", "expected 1 to 100 lines");
   Require(o.line_length_m > 0, "--line-length", "expected a positive length in metres");
   Require(o.line_spacing_m > 0, "--line-spacing", "expected a positive spacing in metres");
@@ -83,13 +100,84 @@ SurveyPath Circle(double radius_m, double length_m) {
   return SurveyPath::FromWaypoints(points);
 }
 
+// Waypoints every 0.2 m along an arc about `centre` from angle a0 to a1 (radians, from east, counter-clockwise).
+void AddArc(std::vector<LocalXY>* points, LocalXY centre, double radius, double a0, double a1) {
+  const int steps = std::max(2, static_cast<int>(std::ceil(std::fabs(a1 - a0) * radius / 0.2)));
+  for (int k = 1; k <= steps; ++k) {
+    const double a = a0 + (a1 - a0) * k / steps;
+    points->push_back({centre.east + radius * std::cos(a), centre.north + radius * std::sin(a)});
+  }
+}
+
+void AddLine(std::vector<LocalXY>* points, LocalXY to) {
+  const LocalXY from = points->back();
+  const int steps =
+      std::max(1, static_cast<int>(std::ceil(std::hypot(to.east - from.east, to.north - from.north) / 0.2)));
+  for (int k = 1; k <= steps; ++k)
+    points->push_back(
+        {from.east + (to.east - from.east) * k / steps, from.north + (to.north - from.north) * k / steps});
+}
+
+// Lines north then south, `spacing` apart towards the east, joined by turns of radius r (<= spacing / 2):
+// a quarter circle, a straight run across, a quarter circle.
+std::vector<LocalXY> LawnmowerPoints(int lines, double length, double spacing, double r) {
+  std::vector<LocalXY> p{{0, 0}};
+  for (int k = 0; k < lines; ++k) {
+    const double east = k * spacing;
+    const bool north = k % 2 == 0;
+    AddLine(&p, {east, north ? length : 0.0});
+    if (k + 1 == lines) break;
+    const double y = north ? length : 0.0, sign = north ? 1 : -1;
+    AddArc(&p, {east + r, y}, r, M_PI, M_PI - sign * M_PI / 2);
+    AddLine(&p, {east + spacing - r, y + sign * r});
+    AddArc(&p, {east + spacing - r, y}, r, M_PI / 2 * sign, 0);
+  }
+  return p;
+}
+
+// An Archimedean spiral outwards from `inner` metres, arms `spacing` apart, `length` metres long.
+std::vector<LocalXY> SpiralPoints(double inner, double spacing, double length) {
+  std::vector<LocalXY> p;
+  const double b = spacing / (2 * M_PI);
+  double a = 0, travelled = 0;
+  while (travelled < length) {
+    const double r = inner + b * a;
+    p.push_back({r * std::cos(a), r * std::sin(a)});
+    a += 0.2 / r;
+    travelled += 0.2;
+  }
+  return p;
+}
+
+// Each point moved sideways (normal to the track) by amplitude sin(2 pi s / wavelength).
+std::vector<LocalXY> Meander(const std::vector<LocalXY>& p, double amplitude, double wavelength) {
+  if (amplitude <= 0) return p;
+  std::vector<LocalXY> out(p.size());
+  double s = 0;
+  for (size_t i = 0; i < p.size(); ++i) {
+    if (i > 0) s += std::hypot(p[i].east - p[i - 1].east, p[i].north - p[i - 1].north);
+    const size_t a = i > 0 ? i - 1 : i, b = i + 1 < p.size() ? i + 1 : i;
+    const double de = p[b].east - p[a].east, dn = p[b].north - p[a].north, d = std::max(std::hypot(de, dn), 1e-9);
+    const double off = amplitude * std::sin(2 * M_PI * s / wavelength);
+    out[i] = {p[i].east + off * dn / d, p[i].north - off * de / d};
+  }
+  return out;
+}
+
 Pattern MakePattern(const BuoySurveyOptions& o) {
   const double total_m = o.lines * o.line_length_m;
+  const double r = o.turn_radius_m > 0 ? o.turn_radius_m : o.line_spacing_m / 2;
   if (o.pattern == "line") return {SurveyPath::FromWaypoints({{0, 0}, {0, total_m}}), o.speed_mps};
   if (o.pattern == "circles") return {Circle(o.line_spacing_m / 3, total_m), o.speed_mps};
   if (o.pattern == "hover") return {Circle(0.5, 0.05 * total_m / o.speed_mps), 0.05};  // drifting on the spot
-  const double turns_m = (o.lines - 1) * M_PI * o.line_spacing_m / 2;
-  return {SurveyPath::Lawnmower(o.line_length_m, o.line_spacing_m, total_m + turns_m - 1e-6), o.speed_mps};
+  std::vector<LocalXY> points;
+  if (o.pattern == "spiral")
+    points = SpiralPoints(std::max(2 * r, 10.0), o.line_spacing_m, total_m);
+  else if (o.pattern == "transect")
+    points = LawnmowerPoints(2, total_m / 2, o.line_spacing_m, r);
+  else
+    points = LawnmowerPoints(o.lines, o.line_length_m, o.line_spacing_m, r);
+  return {SurveyPath::FromWaypoints(Meander(points, o.meander_m, o.meander_wavelength_m)), o.speed_mps};
 }
 
 Eigen::Matrix3d RandomRotation(std::mt19937_64& rng) {
@@ -135,7 +223,7 @@ BuoySurveySummary SimulateBuoySurvey(const BuoySurveyOptions& o) {
     return Eigen::Vector2d(p.east, p.north);
   };
   auto heading_at = [&](double t) { return pattern.path.HeadingAt(t * pattern.speed_mps); };
-  auto depth_at = [&](double t) { return o.depth_m + o.depth_wave_m * std::sin(2 * M_PI * t / 600); };
+  auto depth_at = [&](double t) { return o.depth_m + o.depth_wave_m * std::sin(2 * M_PI * t / o.depth_period_s); };
 
   BuoySurveySummary summary;
   summary.duration_s = duration;
@@ -147,25 +235,47 @@ BuoySurveySummary SimulateBuoySurvey(const BuoySurveyOptions& o) {
   std::normal_distribution<double> gauss(0, 1);
   std::uniform_real_distribution<double> uniform(0, 1);
   const double h0 = heading_at(0) * kDeg;
-  TowedBuoy buoy(position_at(0) - summary.reach_m * Eigen::Vector2d(std::sin(h0), std::cos(h0)));
+  TowedBuoy buoy(position_at(0) - (1 - o.tether_sag) * summary.reach_m * Eigen::Vector2d(std::sin(h0), std::cos(h0)));
   const int steps_per_fix = std::max(1, static_cast<int>(std::lround(1.0 / (o.gps_rate_hz * kStepS))));
   const double fix_interval = steps_per_fix * kStepS;
   const double decay = std::exp(-fix_interval / o.gps_tau_s);
   Eigen::Vector2d correlated(gauss(rng), gauss(rng));
   correlated *= o.gps_correlated_m;
+  // Waves and outages from a generator of their own: surveys without them stay as they were.
+  std::mt19937_64 sea(o.seed * 0x2545F4914F6CDD1Dull + 0x77617665);  // "wave"
+  std::uniform_real_distribution<double> sea_uniform(0, 1);
+  const double wave_direction = 2 * M_PI * sea_uniform(sea), wave_phase = 2 * M_PI * sea_uniform(sea);
+  std::vector<double> outage_start;
+  for (int k = 0; k < o.gps_outages; ++k)
+    outage_start.push_back(sea_uniform(sea) * std::max(duration - o.gps_outage_s, 0.0));
+  const Eigen::Vector2d current(o.current_east_mps, o.current_north_mps);
   std::string buoy_csv = "time_s,lat,lon\n";
   for (long k = 0; k * kStepS <= duration; ++k) {
     const double t = k * kStepS;
-    if (!buoy.Step(position_at(t), TetherReach(o.tether_length_m, depth_at(t))))
+    buoy.Drift(current * kStepS);  // taut, the tether then pulls it along v - current
+    const double reach = (1 - o.tether_sag) * TetherReach(o.tether_length_m, depth_at(t));
+    if (o.buoy_model == "path") {
+      // The buoy runs in the vehicle's wake: `reach` metres back along its path (cutting no corner).
+      const double s = t * pattern.speed_mps - reach;
+      const LocalXY p = pattern.path.PositionAt(std::max(s, 0.0));
+      buoy =
+          TowedBuoy(Eigen::Vector2d(p.east, p.north) + std::min(s, 0.0) * Eigen::Vector2d(std::sin(h0), std::cos(h0)));
+    } else if (!buoy.Step(position_at(t), reach)) {
       buoy.Drift({o.slack_drift_mps * kStepS, 0});
+    }
     if (k % steps_per_fix) continue;
     correlated = decay * correlated +
                  std::sqrt(1 - decay * decay) * o.gps_correlated_m * Eigen::Vector2d(gauss(rng), gauss(rng));
     Eigen::Vector2d fix = buoy.position() + Eigen::Vector2d(o.current_offset_m, 0) + correlated +
                           o.gps_sigma_m * Eigen::Vector2d(gauss(rng), gauss(rng));
     const double thrown = uniform(rng), angle = 2 * M_PI * uniform(rng), dropped = uniform(rng);
-    if (thrown < o.multipath_fraction) fix += 20.0 * Eigen::Vector2d(std::cos(angle), std::sin(angle));
+    if (thrown < o.multipath_fraction) fix += o.multipath_m * Eigen::Vector2d(std::cos(angle), std::sin(angle));
+    fix += 0.5 * o.wave_height_m * std::cos(2 * M_PI * t / o.wave_period_s + wave_phase) *
+           Eigen::Vector2d(std::cos(wave_direction), std::sin(wave_direction));
     if (dropped < o.dropout_fraction) continue;
+    if (std::any_of(outage_start.begin(), outage_start.end(),
+                    [&](double s) { return t >= s && t < s + o.gps_outage_s; }))
+      continue;
     const LatLon ll = frame.ToLatLon({fix.x(), fix.y()});
     buoy_csv += Line("%.3f,%.9f,%.9f\n", kEpochS + t + o.clock_offset_s, ll.lat, ll.lon);
     ++summary.fixes;
@@ -291,13 +401,26 @@ BuoySurveySummary SimulateBuoySurvey(const BuoySurveyOptions& o) {
                         {"lines", o.lines},
                         {"line_length_m", o.line_length_m},
                         {"line_spacing_m", o.line_spacing_m},
+                        {"turn_radius_m", o.turn_radius_m},
+                        {"meander_m", o.meander_m},
+                        {"meander_wavelength_m", o.meander_wavelength_m},
                         {"speed_mps", pattern.speed_mps},
                         {"depth_m", o.depth_m},
                         {"depth_wave_m", o.depth_wave_m},
+                        {"depth_period_s", o.depth_period_s},
                         {"depth_noise_m", o.depth_noise_m},
                         {"tether_length_m", o.tether_length_m},
                         {"slack_drift_mps", o.slack_drift_mps},
                         {"current_offset_m", o.current_offset_m},
+                        {"current_east_mps", o.current_east_mps},
+                        {"current_north_mps", o.current_north_mps},
+                        {"tether_sag", o.tether_sag},
+                        {"buoy_model", o.buoy_model},
+                        {"wave_height_m", o.wave_height_m},
+                        {"wave_period_s", o.wave_period_s},
+                        {"multipath_m", o.multipath_m},
+                        {"gps_outages", o.gps_outages},
+                        {"gps_outage_s", o.gps_outage_s},
                         {"gps_rate_hz", o.gps_rate_hz},
                         {"gps_sigma_m", o.gps_sigma_m},
                         {"gps_correlated_m", o.gps_correlated_m},

@@ -36,6 +36,7 @@ await runE2E({name: 'georef', timeoutMs: 120000}, async ({checks, work, seamap, 
     buoy: document.querySelectorAll('path.track-buoy').length ? window.seamap.tracks.buoy.points.length : 0,
     good: document.querySelectorAll('path.keyframe-good').length,
     dropped: document.querySelectorAll('path.keyframe-dropped').length,
+    sigma: document.querySelectorAll('path.keyframe-sigma').length,
   }));
 
   await checks.run('the buoy track is drawn beside the vehicle\'s, every fix', async () => {
@@ -59,6 +60,38 @@ await runE2E({name: 'georef', timeoutMs: 120000}, async ({checks, work, seamap, 
     });
     await shot(page, 'console-georef');
     return `${d.good} used, ${d.dropped} dropped`;
+  });
+
+  await checks.run('each keyframe\'s predicted error drawn around it, to scale', async () => {
+    const withSigma = keyframes.filter(f => f.properties.sigma_m > 0);
+    if (withSigma.length !== keyframes.length) throw new Error(`${withSigma.length} of ${keyframes.length} keyframes have sigma_m`);
+    const d = await drawn();
+    if (d.sigma !== withSigma.length) throw new Error(`${d.sigma} circles drawn for ${withSigma.length} keyframes`);
+    // Zoomed in on one keyframe, its circle's radius in pixels is 1.73 sigma_m in metres at the map's scale.
+    const k = withSigma[Math.floor(withSigma.length / 2)];
+    const [lon, lat] = k.geometry.coordinates;
+    const measured = await page.evaluate(([lat, lon, sigma]) => {
+      const {map} = window.seamap;
+      map.setView([lat, lon], 22, {animate: false});
+      const centre = map.latLngToContainerPoint([lat, lon]);
+      const east = map.latLngToContainerPoint([lat, lon + 1e-5]);
+      const metresPerDegree = 111320 * Math.cos(lat * Math.PI / 180);
+      const pixelsPerMetre = (east.x - centre.x) / (1e-5 * metresPerDegree);
+      let best = null;
+      map.eachLayer(l => {
+        if (!(l instanceof window.L.Circle)) return;
+        const c = l.getLatLng();
+        if (Math.abs(c.lat - lat) < 1e-9 && Math.abs(c.lng - lon) < 1e-9) best = l;
+      });
+      const result = best && {radiusPx: best._radius, expectedPx: 1.73 * sigma * pixelsPerMetre};
+      map.fitBounds(window.seamap.tracks.buoy.line.getBounds(), {padding: [20, 20], animate: false});
+      return result;
+    }, [lat, lon, k.properties.sigma_m]);
+    if (!measured) throw new Error('no circle around the keyframe');
+    if (Math.abs(measured.radiusPx / measured.expectedPx - 1) > 0.05) {
+      throw new Error(`radius ${measured.radiusPx.toFixed(1)} px, expected ${measured.expectedPx.toFixed(1)} px`);
+    }
+    return `${d.sigma} circles; sigma_m ${k.properties.sigma_m} m drawn ${measured.radiusPx.toFixed(1)} px at zoom 22`;
   });
 
   await checks.run('the legend names each and hides each', async () => {

@@ -58,11 +58,11 @@ TEST_F(GeorefCli, NoisySurveyGeoreferencedWithinItsBound) {
       << log;
   const auto report = ReadJson(Path("report.json"));
   EXPECT_FALSE(report["degenerate"].get<bool>());
-  EXPECT_EQ(report["method"], "umeyama");
+  EXPECT_EQ(report["method"], "tether");
   EXPECT_GT(report["good_keyframes"].get<int>(), 300);
   EXPECT_NEAR(report["gps_sigma_m"].get<double>(), 1.5, 0.2);
   EXPECT_EQ(report["utm_zone"], "33N");
-  for (const char* key : {"scale", "rotation", "translation", "rmse_m", "n_eff", "predicted_rmse_m",
+  for (const char* key : {"scale", "rotation", "translation", "rmse_m", "n_eff", "predicted_rmse_m", "gps_bound_rmse_m",
                           "along_track_bias_m", "eigen_ratio", "rejected", "submaps"})
     EXPECT_TRUE(report.contains(key)) << key;
 
@@ -70,7 +70,7 @@ TEST_F(GeorefCli, NoisySurveyGeoreferencedWithinItsBound) {
   std::ifstream nav(Path("nav.csv"));
   std::string header;
   std::getline(nav, header);
-  EXPECT_EQ(header, "time_s,lat,lon,depth_m,heading_deg,good");
+  EXPECT_EQ(header, "time_s,lat,lon,depth_m,heading_deg,good,sigma_m");
 
   ASSERT_EQ(Seamap("georef-eval --nav " + Path("nav.csv") + " --truth " + Path("survey") + " --report " +
                        Path("report.json") + " --points " + Path("cloud_georef.ply") + " --json " + Path("eval.json"),
@@ -80,6 +80,7 @@ TEST_F(GeorefCli, NoisySurveyGeoreferencedWithinItsBound) {
   const auto eval = ReadJson(Path("eval.json"));
   EXPECT_LT(eval["rmse_m"].get<double>(), 0.5) << log;
   EXPECT_LT(eval["rmse_m"].get<double>(), 2 * report["predicted_rmse_m"].get<double>()) << log;
+  EXPECT_GT(eval["rmse_m"].get<double>(), 0.33 * report["predicted_rmse_m"].get<double>()) << log;
   EXPECT_LT(eval["heading_rms_deg"].get<double>(), 1.0) << log;
   EXPECT_LT(std::fabs(eval["submaps"][0]["scale_error_pct"].get<double>()), 1.0) << log;
   EXPECT_LT(eval["cloud"]["rmse_m"].get<double>(), 0.6) << log;
@@ -161,10 +162,10 @@ TEST_F(GeorefCli, TheGeoreferencedTrajectoryFeedsSeamapBuild) {
   std::string log;
   ASSERT_EQ(Georef("--altitude-csv " + Path("survey/altitude.csv"), &log), 0) << log;
   const CsvTable nav = ParseCsv(ReadTextLines(Path("nav.csv")));
-  ASSERT_EQ(nav.header,
-            (std::vector<std::string>{"time_s", "lat", "lon", "depth_m", "heading_deg", "good", "altitude_m"}));
+  ASSERT_EQ(nav.header, (std::vector<std::string>{"time_s", "lat", "lon", "depth_m", "heading_deg", "good", "sigma_m",
+                                                  "altitude_m"}));
   ASSERT_GT(nav.rows.size(), 300u);
-  EXPECT_NEAR(std::stod(nav.rows[100].fields[6]), 7.5, 0.6);  // seabed 20 +- 0.5 m, vehicle at 12.5 m
+  EXPECT_NEAR(std::stod(nav.rows[100].fields[7]), 7.5, 0.6);  // seabed 20 +- 0.5 m, vehicle at 12.5 m
 
   // Another survey's photos, timed at keyframes 200..239 (their content does not matter here).
   const auto& photos = testing::DriftingSurvey();
@@ -188,7 +189,7 @@ TEST_F(GeorefCli, TheGeoreferencedTrajectoryFeedsSeamapBuild) {
     const auto& row = nav.rows[200 + k].fields;
     EXPECT_NEAR(track[k].position.lat, std::stod(row[1]), 1e-8) << k;
     EXPECT_NEAR(track[k].position.lon, std::stod(row[2]), 1e-8) << k;
-    EXPECT_NEAR(track[k].altitude_m, std::stod(row[6]), 1e-3) << k;
+    EXPECT_NEAR(track[k].altitude_m, std::stod(row[7]), 1e-3) << k;
   }
 
   // Served with the buoy's fixes and georef's keyframes: the vehicle's track,
@@ -223,6 +224,9 @@ TEST_F(GeorefCli, TheGeoreferencedTrajectoryFeedsSeamapBuild) {
   for (size_t k = 0; k < nav.rows.size(); ++k) {
     good += std::stod(nav.rows[k].fields[5]) != 0;
     served_good += keyframes["features"][k]["properties"]["good"].get<bool>();
+    // Each keyframe's predicted error, as nav.csv has it.
+    EXPECT_NEAR(keyframes["features"][k]["properties"]["sigma_m"].get<double>(), std::stod(nav.rows[k].fields[6]),
+                1e-9);
   }
   EXPECT_EQ(served_good, good);
   EXPECT_GT(good, 0u);
@@ -258,11 +262,11 @@ TEST_F(GeorefCli, AltitudeFromTheGeoreferencedCloud) {
   int with = 0;
   double sq = 0;
   for (const auto& row : nav.rows) {
-    if (row.fields.size() < 7 || row.fields[6].empty()) continue;
+    if (row.fields.size() < 8 || row.fields[7].empty()) continue;
     // altitude.csv has a sample each second from the survey's start: the nearest one.
     const double t = std::stod(row.fields[0]) - std::stod(truth.rows[0].fields[0]);
     const auto& sample = truth.rows.at(static_cast<size_t>(std::lround(t))).fields;
-    sq += std::pow(std::stod(row.fields[6]) - std::stod(sample[1]), 2);
+    sq += std::pow(std::stod(row.fields[7]) - std::stod(sample[1]), 2);
     ++with;
   }
   EXPECT_GT(with, static_cast<int>(nav.rows.size() * 9 / 10));

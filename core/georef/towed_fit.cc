@@ -1,0 +1,533 @@
+#include "core/georef/towed_fit.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Dense>
+#include <Eigen/Geometry>
+
+#include "core/georef/tether_model.h"
+
+namespace seamap {
+namespace {
+
+// rotation (3), log scale, translation (3), log reach factor, wake share, current (2), the fixes' lag
+constexpr int kParams = 12;
+using Params = Eigen::Matrix<double, kParams, 1>;
+using ParamMatrix = Eigen::Matrix<double, kParams, kParams>;
+
+double Median(std::vector<double> values) {
+  if (values.empty()) return 0;
+  const size_t mid = values.size() / 2;
+  std::nth_element(values.begin(), values.begin() + mid, values.end());
+  return values[mid];
+}
+
+Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d m;
+  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+  return m;
+}
+
+Eigen::Matrix3d ExpRotation(const Eigen::Vector3d& w) {
+  const double angle = w.norm();
+  if (angle < 1e-15) return Eigen::Matrix3d::Identity() + Skew(w);
+  return Eigen::AngleAxisd(angle, w / angle).toRotationMatrix();
+}
+
+// Per keyframe value interpolated in time (values <= 0 skipped by the caller's choice of fill).
+class TimeSeries {
+ public:
+  TimeSeries(const SlamPath& path, std::vector<double> values) : path_(path), values_(std::move(values)) {}
+  double At(double t) const {
+    const size_t n = path_.size();
+    if (n == 0) return 0;
+    if (t <= path_.time(0)) return values_[0];
+    if (t >= path_.time(n - 1)) return values_[n - 1];
+    size_t lo = 0, hi = n - 1;
+    while (hi - lo > 1) {
+      const size_t mid = (lo + hi) / 2;
+      (path_.time(mid) <= t ? lo : hi) = mid;
+    }
+    const double w = (t - path_.time(lo)) / (path_.time(hi) - path_.time(lo));
+    return (1 - w) * values_[lo] + w * values_[hi];
+  }
+
+ private:
+  const SlamPath& path_;
+  std::vector<double> values_;
+};
+
+// Fills gaps (values <= 0 or NaN) from the nearest known neighbour.
+std::vector<double> Filled(const std::vector<double>& values, double fallback) {
+  std::vector<double> out(values.size(), fallback);
+  double last = NAN;
+  for (size_t i = 0; i < values.size(); ++i) {
+    if (std::isfinite(values[i]) && values[i] > 0) last = values[i];
+    out[i] = last;
+  }
+  double next = NAN;
+  for (size_t i = values.size(); i-- > 0;) {
+    if (std::isfinite(values[i]) && values[i] > 0) next = values[i];
+    if (!std::isfinite(out[i])) out[i] = std::isfinite(next) ? next : fallback;
+  }
+  return out;
+}
+
+struct Model {
+  Similarity fit;
+  double reach_factor = 1;
+  double wake_share = 0;
+  Eigen::Vector2d current_mps = Eigen::Vector2d::Zero();
+  double lag_s = 0;  // a fix stamped t shows the buoy at t - lag
+};
+
+struct Fix {
+  double time_s;
+  Eigen::Vector2d position;
+  double sigma;
+};
+
+// The model buoy at each fix, and what the tether did there.
+struct Simulation {
+  std::vector<Eigen::Vector2d> buoy;    // per fix
+  std::vector<Eigen::Vector2d> towing;  // unit, buoy to vehicle, per fix
+  std::vector<bool> taut, settled;      // per fix
+  std::vector<bool> keyframe_taut;      // per keyframe (settled too)
+};
+
+class Problem {
+ public:
+  Problem(const SlamPath& path, const std::vector<double>& reach_m, const std::vector<double>& depth_m,
+          const BuoyTrack& buoy, const Similarity& start, double slam_sigma, const TowedFitOptions& options)
+      : path_(path),
+        reach_(path, Filled(reach_m, 1)),
+        depth_(depth_m),
+        options_(options),
+        start_(start),
+        slam_sigma_(slam_sigma) {
+    t0_ = std::max(path.time(0), buoy.start_s());
+    t1_ = std::min(path.time(path.size() - 1), buoy.end_s());
+    for (const BuoyFix& f : buoy.fixes())
+      if (f.time_s >= t0_ && f.time_s <= t1_) fixes_.push_back({f.time_s, f.position_en_m, std::max(f.sigma_m, 0.01)});
+    centroid_.setZero();
+    for (size_t i = 0; i < path.size(); ++i) centroid_ += path.position(i);
+    centroid_ /= std::max<size_t>(path.size(), 1);
+  }
+
+  size_t fixes() const { return fixes_.size(); }
+  const std::vector<Fix>& fix_list() const { return fixes_; }
+  const Eigen::Vector3d& centroid() const { return centroid_; }
+
+  Params Initial() const {
+    Params theta = Params::Zero();
+    theta.segment<3>(4) = start_.Apply(centroid_);
+    theta(8) = 0.5;
+    return theta;
+  }
+
+  Model ModelAt(const Params& theta) const {
+    Model m;
+    m.fit.rotation = ExpRotation(theta.head<3>()) * start_.rotation;
+    m.fit.scale = start_.scale * std::exp(theta(3));
+    m.fit.translation = theta.segment<3>(4) - m.fit.scale * m.fit.rotation * centroid_;
+    m.reach_factor = std::exp(theta(7));
+    m.wake_share = theta(8);
+    m.current_mps = theta.segment<2>(9);
+    m.lag_s = theta(11);
+    return m;
+  }
+
+  Simulation Simulate(const Model& m) const {
+    Simulation out;
+    const double step = options_.step_s;
+    const int steps = std::max(2, static_cast<int>(std::ceil((t1_ - t0_) / step)) + 1);
+    std::vector<Eigen::Vector2d> vehicle(steps), buoy(steps);
+    std::vector<double> arc(steps, 0), reach(steps);
+    std::vector<bool> taut(steps), settled(steps);
+    for (int k = 0; k < steps; ++k) vehicle[k] = m.fit.Apply(path_.PositionAt(t0_ + k * step)).head<2>();
+    for (int k = 1; k < steps; ++k) arc[k] = arc[k - 1] + (vehicle[k] - vehicle[k - 1]).norm();
+    // The direction the vehicle started in: the buoy trails behind it.
+    int ahead = 1;
+    while (ahead + 1 < steps && (vehicle[ahead] - vehicle[0]).norm() < 2) ++ahead;
+    Eigen::Vector2d dir0 = vehicle[ahead] - vehicle[0];
+    dir0 = dir0.norm() > 1e-9 ? Eigen::Vector2d(dir0 / dir0.norm()) : Eigen::Vector2d(0, 1);
+    for (int k = 0; k < steps; ++k) reach[k] = m.reach_factor * reach_.At(t0_ + k * step);
+    TowedBuoy tractrix(vehicle[0] - reach[0] * dir0);
+    int back = 0;
+    for (int k = 0; k < steps; ++k) {
+      tractrix.Drift(m.current_mps * step);  // taut, the tether then pulls it along v - current
+      tractrix.Step(vehicle[k], reach[k]);
+      // The wake: reach back along the path (before the start, along the start's direction).
+      const double s = arc[k] - reach[k];
+      Eigen::Vector2d wake;
+      if (s <= 0) {
+        wake = vehicle[0] + s * dir0;
+      } else {
+        while (back + 1 < k && arc[back + 1] < s) ++back;
+        while (back > 0 && arc[back] > s) --back;
+        const double span = arc[back + 1] - arc[back];
+        const double w = span > 0 ? (s - arc[back]) / span : 0;
+        wake = (1 - w) * vehicle[back] + w * vehicle[back + 1];
+      }
+      buoy[k] = (1 - m.wake_share) * tractrix.position() + m.wake_share * wake;
+      taut[k] = (vehicle[k] - buoy[k]).norm() >= 0.98 * reach[k];
+      settled[k] = arc[k] >= options_.settle_reaches * reach[k];
+    }
+    auto at = [&](double t) { return std::clamp(static_cast<int>(std::lround((t - t0_) / step)), 0, steps - 1); };
+    for (const Fix& f : fixes_) {
+      const double x = (f.time_s - m.lag_s - t0_) / step;
+      const int k = std::clamp(static_cast<int>(std::floor(x)), 0, steps - 2);
+      const double w = std::clamp(x - k, 0.0, 1.0);
+      out.buoy.push_back((1 - w) * buoy[k] + w * buoy[k + 1]);
+      const int n = at(f.time_s - m.lag_s);
+      const Eigen::Vector2d d = vehicle[n] - buoy[n];
+      out.towing.push_back(d.norm() > 1e-9 ? Eigen::Vector2d(d / d.norm()) : dir0);
+      out.taut.push_back(taut[n]);
+      out.settled.push_back(settled[n]);
+    }
+    for (size_t i = 0; i < path_.size(); ++i) {
+      const double t = path_.time(i);
+      const int n = at(t);
+      out.keyframe_taut.push_back(t >= t0_ && t <= t1_ && taut[n] && settled[n]);
+    }
+    return out;
+  }
+
+  // Horizontal residuals of the fixes (2 per fix), then the keyframes' heights.
+  Eigen::VectorXd Residuals(const Params& theta, Simulation* sim = nullptr) const {
+    const Model m = ModelAt(theta);
+    Simulation s = Simulate(m);
+    Eigen::VectorXd r(2 * fixes_.size() + depth_count());
+    for (size_t j = 0; j < fixes_.size(); ++j) r.segment<2>(2 * j) = fixes_[j].position - s.buoy[j];
+    size_t row = 2 * fixes_.size();
+    for (size_t i = 0; i < path_.size(); ++i)
+      if (std::isfinite(depth_[i])) r(row++) = -depth_[i] - m.fit.Apply(path_.position(i)).z();
+    if (sim) *sim = std::move(s);
+    return r;
+  }
+
+  size_t depth_count() const {
+    return static_cast<size_t>(std::count_if(depth_.begin(), depth_.end(), [](double d) { return std::isfinite(d); }));
+  }
+
+  Eigen::MatrixXd Jacobian(const Params& theta) const {
+    static const double kStep[kParams] = {1e-5, 1e-5, 1e-5, 1e-5, 1e-3, 1e-3, 1e-3, 1e-4, 1e-3, 1e-4, 1e-4, 1e-3};
+    Eigen::MatrixXd j(2 * fixes_.size() + depth_count(), kParams);
+    for (int p = 0; p < kParams; ++p) {
+      Params plus = theta, minus = theta;
+      plus(p) += kStep[p];
+      minus(p) -= kStep[p];
+      j.col(p) = (Residuals(plus) - Residuals(minus)) / (2 * kStep[p]);
+    }
+    return j;
+  }
+
+  double DepthSigma(const Model& m) const { return std::hypot(options_.depth_sigma_m, m.fit.scale * slam_sigma_); }
+
+  // d(mapped keyframe, east and north) / d(theta).
+  Eigen::Matrix<double, 2, kParams> KeyframeJacobian(const Model& m, const Eigen::Vector3d& slam) const {
+    const Eigen::Vector3d p = m.fit.scale * m.fit.rotation * (slam - centroid_);
+    Eigen::Matrix<double, 3, kParams> j = Eigen::Matrix<double, 3, kParams>::Zero();
+    j.block<3, 3>(0, 0) = -Skew(p);
+    j.col(3) = p;
+    j.block<3, 3>(0, 4) = Eigen::Matrix3d::Identity();
+    return j.topRows<2>();
+  }
+
+ private:
+  const SlamPath& path_;
+  TimeSeries reach_;
+  std::vector<double> depth_;
+  const TowedFitOptions& options_;
+  Similarity start_;
+  double slam_sigma_;
+  double t0_ = 0, t1_ = 0;
+  std::vector<Fix> fixes_;
+  Eigen::Vector3d centroid_;
+};
+
+// The priors: log k about 0, the wake share about 0.5.
+ParamMatrix PriorInformation(const TowedFitOptions& o) {
+  ParamMatrix p = ParamMatrix::Zero();
+  p(7, 7) = 1 / (o.reach_prior_sigma * o.reach_prior_sigma);
+  p(8, 8) = 1 / (o.wake_prior_sigma * o.wake_prior_sigma);
+  p(9, 9) = p(10, 10) = 1 / (o.current_prior_mps * o.current_prior_mps);
+  p(11, 11) = 1 / (o.lag_prior_s * o.lag_prior_s);
+  return p;
+}
+
+Params PriorOffset(const Params& theta, const TowedFitOptions& o) {
+  Params d = Params::Zero();
+  d(7) = theta(7);
+  d(8) = theta(8) - o.wake_prior_mean;
+  d.segment<2>(9) = theta.segment<2>(9);
+  d(11) = theta(11);
+  return d;
+}
+
+}  // namespace
+
+TowedFitResult FitTowedBuoy(const SlamPath& path, const std::vector<double>& reach_m,
+                            const std::vector<double>& depth_m, const BuoyTrack& buoy, const Similarity& start,
+                            double slam_sigma, const TowedFitOptions& options) {
+  if (path.size() < 3) return {};
+  const Problem problem(path, reach_m, depth_m, buoy, start, slam_sigma, options);
+  const size_t nf = problem.fixes();
+  if (nf < 3) return {};
+  const auto& fixes = problem.fix_list();
+
+  Eigen::VectorXd w;  // per residual
+  std::vector<bool> kept(nf, true);
+  std::vector<double> sigma(nf, 0);
+  double taut_model = 0, slack_model = 0;
+  int iterations = 0;
+  Simulation sim;
+  // Levenberg-Marquardt with reweighting; o: the priors to use.
+  auto solve = [&](Params theta, const TowedFitOptions& o) {
+    double lambda = 1e-3;
+    for (int iteration = 0; iteration < o.max_iterations; ++iteration) {
+      iterations = iteration + 1;
+      const Eigen::VectorXd r = problem.Residuals(theta, &sim);
+      const Model m = problem.ModelAt(theta);
+      // The model's own noise per class, from the fixes' scatter beyond the GPS's.
+      std::vector<double> length[2], gps_var;
+      for (size_t j = 0; j < nf; ++j) {
+        const int c = sim.taut[j] && sim.settled[j] ? 0 : 1;
+        length[c].push_back(r.segment<2>(2 * j).norm());
+        gps_var.push_back(fixes[j].sigma * fixes[j].sigma);
+      }
+      const double gps = Median(gps_var);
+      auto model_sigma = [&](std::vector<double>& l) {
+        if (l.size() < 5) return 0.0;
+        const double ms = std::pow(Median(l) / 1.1774, 2);
+        return std::sqrt(std::max(ms - gps, 0.0));
+      };
+      taut_model = model_sigma(length[0]);
+      slack_model = std::max(model_sigma(length[1]), taut_model);
+      w.setZero(r.size());
+      for (size_t j = 0; j < nf; ++j) {
+        const double extra = sim.taut[j] && sim.settled[j] ? taut_model : slack_model;
+        sigma[j] = std::hypot(fixes[j].sigma, extra);
+        const double z = r.segment<2>(2 * j).norm() / sigma[j];
+        kept[j] = iteration < 2 || z <= o.outlier_sigmas;
+        const double huber = z <= o.huber_k ? 1.0 : o.huber_k / z;
+        w(2 * j) = w(2 * j + 1) = kept[j] ? huber / (sigma[j] * sigma[j]) : 0;
+      }
+      const double depth_w = 1 / std::pow(problem.DepthSigma(m), 2);
+      for (Eigen::Index k = 2 * nf; k < r.size(); ++k) w(k) = depth_w;
+
+      const Eigen::MatrixXd j = problem.Jacobian(theta);
+      const ParamMatrix prior = PriorInformation(o);
+      const ParamMatrix h = j.transpose() * w.asDiagonal() * j + prior;
+      // r = data - model and j = d r / d theta: the gradient of (r^T W r) / 2 is j^T W r.
+      const Params g = j.transpose() * (w.asDiagonal() * r) + prior * PriorOffset(theta, o);
+      const double cost = r.dot(w.asDiagonal() * r) + PriorOffset(theta, o).dot(prior * PriorOffset(theta, o));
+      bool improved = false;
+      Params delta = Params::Zero();
+      for (int attempt = 0; attempt < 10; ++attempt) {
+        ParamMatrix damped = h;
+        damped.diagonal() += lambda * h.diagonal();
+        Params next = theta - damped.ldlt().solve(g);
+        next(8) = std::clamp(next(8), 0.0, 1.0);
+        const Eigen::VectorXd rn = problem.Residuals(next);
+        const double next_cost = rn.dot(w.asDiagonal() * rn) + PriorOffset(next, o).dot(prior * PriorOffset(next, o));
+        if (next_cost <= cost) {
+          delta = next - theta;
+          theta = next;
+          lambda = std::max(lambda / 10, 1e-7);
+          improved = true;
+          break;
+        }
+        lambda *= 10;
+      }
+      const bool small = delta.head<3>().norm() < 1e-7 && std::fabs(delta(3)) < 1e-7 &&
+                         delta.segment<3>(4).norm() < 1e-4 && std::fabs(delta(7)) < 1e-5 && std::fabs(delta(8)) < 1e-4;
+      if ((!improved || small) && iteration >= 3) break;
+    }
+    return theta;
+  };
+
+  auto finish = [&](const Params& theta, const TowedFitOptions& o) {
+    TowedFitResult res;
+    res.iterations = iterations;
+    // The final state: residuals, weights (no Huber: the covariance of a converged M-estimate near Gaussian).
+    const Eigen::VectorXd r = problem.Residuals(theta, &sim);
+    const Model m = problem.ModelAt(theta);
+    const Eigen::MatrixXd j = problem.Jacobian(theta);
+    Eigen::VectorXd wf = Eigen::VectorXd::Zero(r.size());
+    Eigen::VectorXd wg = Eigen::VectorXd::Zero(r.size());  // GPS alone, taut fixes
+    double chi2 = 0, taut_sq = 0;
+    int taut_n = 0;
+    Eigen::Vector2d bias = Eigen::Vector2d::Zero();
+    std::vector<std::pair<double, Eigen::Vector2d>> normalised;  // time, residual / sigma (taut fixes)
+    res.outliers = 0;
+    for (size_t k = 0; k < nf; ++k) {
+      const bool taut = sim.taut[k] && sim.settled[k];
+      sigma[k] = std::hypot(fixes[k].sigma, taut ? taut_model : slack_model);
+      const Eigen::Vector2d rk = r.segment<2>(2 * k);
+      if (rk.norm() > o.outlier_sigmas * sigma[k]) {
+        ++res.outliers;
+        continue;
+      }
+      wf(2 * k) = wf(2 * k + 1) = 1 / (sigma[k] * sigma[k]);
+      if (!taut) continue;
+      wg(2 * k) = wg(2 * k + 1) = 1 / (fixes[k].sigma * fixes[k].sigma);
+      chi2 += rk.squaredNorm() / (sigma[k] * sigma[k]);
+      taut_sq += rk.squaredNorm();
+      ++taut_n;
+      const Eigen::Vector2d u = sim.towing[k];
+      bias += Eigen::Vector2d(rk.dot(u), u.x() * rk.y() - u.y() * rk.x());
+      normalised.push_back({fixes[k].time_s, rk / sigma[k]});
+    }
+    const double depth_w = 1 / std::pow(problem.DepthSigma(m), 2);
+    for (Eigen::Index k = 2 * nf; k < r.size(); ++k) wf(k) = wg(k) = depth_w;
+    res.fixes = static_cast<int>(nf);
+    res.taut_fixes = taut_n;
+    if (taut_n < o.min_taut_fixes) return res;
+    res.residual_rms_m = std::sqrt(taut_sq / taut_n);
+    res.along_cross_bias_m = bias / taut_n;
+    res.variance_factor = std::max(1.0, chi2 / std::max(2.0 * taut_n - kParams, 1.0));
+    res.taut_model_sigma_m = taut_model;
+    res.slack_model_sigma_m = slack_model;
+
+    // Correlation in time: the variance of batch means over what white noise would give.
+    {
+      double sum_batch = 0, sum_all = 0;
+      int batches = 0;
+      size_t a = 0;
+      while (a < normalised.size()) {
+        size_t b = a;
+        Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+        while (b < normalised.size() && normalised[b].first < normalised[a].first + o.batch_s)
+          mean += normalised[b++].second;
+        const double n = static_cast<double>(b - a);
+        if (n >= 3) {
+          mean /= n;
+          sum_batch += n * mean.squaredNorm() / 2;
+          ++batches;
+        }
+        a = b;
+      }
+      for (const auto& e : normalised) sum_all += e.second.squaredNorm() / 2;
+      if (batches >= 4 && sum_all > 0)
+        res.correlation_factor = std::max(1.0, (sum_batch / batches) / (sum_all / normalised.size()));
+    }
+
+    const ParamMatrix h = j.transpose() * wf.asDiagonal() * j + PriorInformation(o);
+    const ParamMatrix covariance = h.inverse() * res.variance_factor * res.correlation_factor;
+    Eigen::Matrix<double, 7, 7> hg = (j.leftCols<7>().transpose() * wg.asDiagonal() * j.leftCols<7>()).eval();
+    Eigen::FullPivLU<Eigen::Matrix<double, 7, 7>> lu(hg);
+    const bool bound_ok = lu.isInvertible();
+    const Eigen::Matrix<double, 7, 7> bound_cov =
+        bound_ok ? Eigen::Matrix<double, 7, 7>(lu.inverse()) : Eigen::Matrix<double, 7, 7>::Zero();
+    if (!covariance.allFinite()) return res;
+
+    const double slam_m = m.fit.scale * slam_sigma;
+    double sq = 0, bound_sq = 0;
+    for (size_t i = 0; i < path.size(); ++i) {
+      const Eigen::Matrix<double, 2, kParams> ji = problem.KeyframeJacobian(m, path.position(i));
+      const double var = (ji * covariance * ji.transpose()).trace() + 2 * slam_m * slam_m;
+      res.keyframe_sigma_m.push_back(std::sqrt(std::max(var, 0.0)));
+      sq += var;
+      const Eigen::Matrix<double, 2, 7> jb = ji.leftCols<7>();
+      bound_sq += (jb * bound_cov * jb.transpose()).trace();
+    }
+    res.predicted_rmse_m = std::sqrt(sq / path.size());
+    res.gps_bound_rmse_m = std::sqrt(std::max(bound_sq, 0.0) / path.size());
+    res.fit = m.fit;
+    res.reach_factor = m.reach_factor;
+    res.reach_factor_sigma = std::sqrt(std::max(covariance(7, 7), 0.0)) * m.reach_factor;
+    res.wake_share = m.wake_share;
+    res.wake_share_sigma = std::sqrt(std::max(covariance(8, 8), 0.0));
+    res.current_mps = m.current_mps;
+    res.current_covariance = covariance.block<2, 2>(9, 9);
+    res.lag_s = m.lag_s;
+    res.lag_sigma_s = std::sqrt(std::max(covariance(11, 11), 0.0));
+    res.reach_lag_covariance << covariance(7, 7), covariance(7, 11), covariance(11, 7), covariance(11, 11);
+    res.keyframe_taut = sim.keyframe_taut;
+    res.ok = true;
+    return res;
+  };
+
+  // First everything free (loose priors). Then the reach is the straight
+  // tether's unless the data put it away from it, and the buoy a pure
+  // tractrix or a pure wake follower unless the data want a mix: a free
+  // parameter the data barely see costs accuracy (on a spiral both trade
+  // with the heading and the scale).
+  TowedFitOptions loose = options, fixed = options;
+  loose.reach_prior_sigma = std::max(options.reach_prior_sigma, 0.15);
+  const Params free_theta = solve(problem.Initial(), loose);
+  TowedFitResult out = finish(free_theta, loose);
+  if (!out.ok) return out;
+  Params again = free_theta;
+  bool refit = false;
+  // The reach and the lag both move the buoy along the track, so they are
+  // tested together: both kept at their defaults unless jointly significant
+  // (chi-square, 2 degrees of freedom, beyond 3 sigmas' 99.73 %); then each
+  // is kept if significant on its own, or else the more significant one.
+  const Eigen::Matrix2d& cov = out.reach_lag_covariance;
+  const Eigen::Vector2d reach_lag(std::log(out.reach_factor), out.lag_s);
+  const double z_reach = std::fabs(reach_lag(0)) / std::sqrt(std::max(cov(0, 0), 1e-30));
+  const double z_lag = std::fabs(reach_lag(1)) / std::sqrt(std::max(cov(1, 1), 1e-30));
+  const bool joint = reach_lag.dot(cov.inverse() * reach_lag) > 11.83;
+  bool keep_reach = joint && z_reach > options.reach_significance;
+  bool keep_lag = joint && z_lag > options.reach_significance;
+  if (joint && !keep_reach && !keep_lag) (z_reach >= z_lag ? keep_reach : keep_lag) = true;
+  if (!keep_reach) {
+    fixed.reach_prior_sigma = 1e-5;
+    again(7) = 0;
+    refit = true;
+  }
+  if (!keep_lag) {
+    fixed.lag_prior_s = 1e-6;
+    again(11) = 0;
+    refit = true;
+  }
+  for (double pure : {0.0, 1.0})
+    if (std::fabs(out.wake_share - pure) <= options.reach_significance * out.wake_share_sigma) {
+      fixed.wake_prior_mean = pure;
+      fixed.wake_prior_sigma = 1e-5;
+      again(8) = pure;
+      refit = true;
+      break;
+    }
+  // The current: zero unless it shows (chi-square with 2 degrees of freedom beyond 3 sigmas' 99.73 %).
+  if (out.current_mps.dot(out.current_covariance.inverse() * out.current_mps) <= 11.83) {
+    fixed.current_prior_mps = 1e-6;
+    again.segment<2>(9).setZero();
+    refit = true;
+  }
+  if (!refit) {
+    out.reach_estimated = out.wake_estimated = out.current_estimated = out.lag_estimated = true;
+    return out;
+  }
+  TowedFitResult final_fit = finish(solve(again, fixed), fixed);
+  if (!final_fit.ok) return out;
+  final_fit.reach_estimated = fixed.reach_prior_sigma > 1e-3;
+  final_fit.wake_estimated = fixed.wake_prior_sigma > 1e-3;
+  final_fit.current_estimated = fixed.current_prior_mps > 1e-3;
+  final_fit.lag_estimated = fixed.lag_prior_s > 1e-3;
+  return final_fit;
+}
+
+Similarity WakeStart(const SlamPath& path, const std::vector<double>& reach_m, const std::vector<double>& depth_m,
+                     const BuoyTrack& buoy, double speed_mps) {
+  const TimeSeries reach(path, Filled(reach_m, 1));
+  const TimeSeries depth(path, Filled(depth_m, 0));
+  std::vector<Eigen::Vector3d> from, to;
+  std::vector<double> weights;
+  const double t0 = path.time(0), t1 = path.time(path.size() - 1);
+  const double speed = std::max(speed_mps, 0.05);
+  for (const BuoyFix& f : buoy.fixes()) {
+    const double t = f.time_s - reach.At(f.time_s) / speed;
+    if (t < t0 || f.time_s > t1) continue;
+    from.push_back(path.PositionAt(t));
+    to.push_back({f.position_en_m.x(), f.position_en_m.y(), -depth.At(t)});
+    weights.push_back(1);
+  }
+  if (from.size() < 3) return Similarity{};
+  return FitSimilarity(from, to, weights);
+}
+
+}  // namespace seamap

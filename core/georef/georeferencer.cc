@@ -26,6 +26,17 @@ std::string Fixed(double value, int decimals) {
   return s.str();
 }
 
+// A keyframe's record before any fit: when, which line, its depth and why it is not used.
+KeyframeGeoref UnfittedKeyframe(const Keyframe& keyframe, const decltype(KeyframeGeoref::depth_m)& depth_m,
+                                const std::string& reason) {
+  KeyframeGeoref k;
+  k.time_s = keyframe.time_s;
+  k.line = keyframe.line;
+  k.depth_m = depth_m;
+  k.reason = reason;
+  return k;
+}
+
 std::map<std::string, int> CountReasons(const std::vector<std::string>& reasons) {
   std::map<std::string, int> counts;
   for (const auto& r : reasons)
@@ -263,14 +274,7 @@ void FitTether(const SubmapContext& c, const std::vector<Keyframe>& keyframes, S
     out->degenerate = true;
     out->reason = why;
     out->keyframes.clear();
-    for (size_t i = 0; i < n; ++i) {
-      KeyframeGeoref k;
-      k.time_s = keyframes[i].time_s;
-      k.line = keyframes[i].line;
-      k.depth_m = c.depth_m[i];
-      k.reason = reasons[i];
-      out->keyframes.push_back(k);
-    }
+    for (size_t i = 0; i < n; ++i) out->keyframes.push_back(UnfittedKeyframe(keyframes[i], c.depth_m[i], reasons[i]));
   };
   if (!r.ok || out->good < c.options.min_good_keyframes)
     return refuse("too few taut keyframes: " + std::to_string(out->good) + " of " + std::to_string(n) +
@@ -323,11 +327,7 @@ void FitTether(const SubmapContext& c, const std::vector<Keyframe>& keyframes, S
   out->n_eff = r.taut_fixes;
   out->keyframes.clear();
   for (size_t i = 0; i < n; ++i) {
-    KeyframeGeoref k;
-    k.time_s = keyframes[i].time_s;
-    k.line = keyframes[i].line;
-    k.depth_m = c.depth_m[i];
-    k.reason = reasons[i];
+    KeyframeGeoref k = UnfittedKeyframe(keyframes[i], c.depth_m[i], reasons[i]);
     k.good = reasons[i].empty();
     k.position_enu_m = r.fit.Apply(keyframes[i].position_slam);
     k.enu_from_cam = r.fit.rotation * keyframes[i].world_from_cam.toRotationMatrix();
@@ -379,12 +379,8 @@ SubmapGeoref GeoreferenceSubmap(const std::string& source, const std::vector<Key
   auto fill_keyframes = [&](const TargetSet* set, const FitOutcome* fit) {
     out.keyframes.clear();
     for (size_t i = 0; i < keyframes.size(); ++i) {
-      KeyframeGeoref k;
-      k.time_s = keyframes[i].time_s;
-      k.line = keyframes[i].line;
-      k.depth_m = context.depth_m[i];
+      KeyframeGeoref k = UnfittedKeyframe(keyframes[i], context.depth_m[i], set ? set->reason[i] : std::string());
       if (set) {
-        k.reason = set->reason[i];
         k.has_target = set->reason[i].empty();
         k.target_enu_m = set->target_enu_m[i];
       }

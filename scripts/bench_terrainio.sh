@@ -72,7 +72,7 @@ line("store + relief layer", 3, "s per 100k cells", ".3f", "once per build, afte
 line("relief tiles", 4, "tiles", ".0f", "map's min zoom to half a cell")
 line("export --dem", 5, "s", ".3f", "gdalinfo reads it")
 line("DEM overviews", 6, "levels", ".0f", ">= 1, nodata-aware AVERAGE", worst=min)
-print(f"terrainio DEM nodata: {sorted(set(col(7)))} (target -32768 in holes and outside)")
+print(f"terrainio DEM nodata: {sorted(set(col(7)))} (target -32767 in holes and outside)")
 line("/api/terrain height at the probe vs the stored model", 8, "mm", ".3f", "target 0: bilinear of the stored cells")
 line("/api/terrain answered over the model", 9, "of 200", ".0f", "200 where the model has data", worst=min)
 line("/api/terrain request (curl, loopback)", 10, "ms", ".2f", "interactive: a click in the console")

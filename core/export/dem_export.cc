@@ -9,10 +9,10 @@
 #include <filesystem>
 #include <limits>
 #include <memory>
-#include <sstream>
 #include <vector>
 
 #include "core/terrain/height_datum.h"
+#include "core/terrain/height_grid_io.h"
 #include "core/util/error.h"
 
 namespace seamap {
@@ -23,15 +23,12 @@ struct DatasetCloser {
 };
 using Dataset = std::unique_ptr<GDALDataset, DatasetCloser>;
 
-// The local frame as a projected CRS (the same definition as LocalFrame's).
+// The local frame as a projected CRS (LocalFrame's definition, as truth/terrain.tif has it).
 std::string LocalFrameWkt(LatLon origin) {
-  std::ostringstream proj;
-  proj.precision(17);
-  proj << "+proj=tmerc +lat_0=" << origin.lat << " +lon_0=" << origin.lon
-       << " +k=1 +x_0=0 +y_0=0 +datum=WGS84 +units=m +no_defs";
+  const std::string proj = LocalTmercProj4(origin);
   OGRSpatialReference srs;
-  if (srs.importFromProj4(proj.str().c_str()) != OGRERR_NONE)
-    throw std::runtime_error("GDAL cannot express the mission's local frame: " + proj.str());
+  if (srs.importFromProj4(proj.c_str()) != OGRERR_NONE)
+    throw std::runtime_error("GDAL cannot express the mission's local frame: " + proj);
   char* wkt = nullptr;
   srs.exportToWkt(&wkt);
   std::string out = wkt ? wkt : "";
@@ -80,7 +77,7 @@ DemSummary ExportDem(const MissionTerrain& terrain, const std::string& path) {
   double transform[6] = {g.east0_m - 0.5 * g.cell_m, g.cell_m, 0, g.north0_m + 0.5 * g.cell_m, 0, -g.cell_m};
   model->SetGeoTransform(transform);
   model->SetProjection(LocalFrameWkt(terrain.origin).c_str());
-  model->SetMetadataItem("SEAMAP_DATUM", datum.name.c_str());
+  model->SetMetadataItem("SEAMAP_HEIGHT_DATUM", datum.name.c_str());
   model->SetMetadataItem("SEAMAP_HEIGHT", datum.name == "sea_surface" ? "metres up from the sea surface"
                                                                       : "metres up from the survey's mean seabed");
   GDALRasterBand* band = model->GetRasterBand(1);

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include <opencv2/imgproc.hpp>
+
 namespace seamap {
 
 // Deep blue, blue, cyan-green, green, sand, brown: dark for deep, warm for
@@ -56,18 +58,43 @@ cv::Vec3b RampColour(double t) {
 namespace {
 
 // d height / d index along one axis, one-sided next to a hole or the edge; 0 alone.
-double Derivative(const HeightGrid& g, int r, int c, int dr, int dc) {
-  const auto at = [&](int rr, int cc, double* h) {
-    if (rr < 0 || cc < 0 || rr >= g.rows() || cc >= g.cols()) return false;
-    *h = g.height_m(rr, cc);
-    return std::isfinite(*h);
+double Derivative(const cv::Mat1f& h, int r, int c, int dr, int dc) {
+  const auto at = [&](int rr, int cc, double* v) {
+    if (rr < 0 || cc < 0 || rr >= h.rows || cc >= h.cols) return false;
+    *v = h(rr, cc);
+    return std::isfinite(*v);
   };
-  double centre = g.height_m(r, c), before = 0, after = 0;
+  double centre = h(r, c), before = 0, after = 0;
   const bool has_before = at(r - dr, c - dc, &before), has_after = at(r + dr, c + dc, &after);
   if (has_before && has_after) return 0.5 * (after - before);
   if (has_after) return after - centre;
   if (has_before) return centre - before;
   return 0;
+}
+
+// Heights smoothed by a normalised Gaussian (holes and the outside weigh
+// nothing, so a hole does not drag its neighbours down); NaN stays NaN.
+cv::Mat1f SmoothHeights(const cv::Mat1f& height, double sigma_cells) {
+  if (!(sigma_cells > 0)) return height;
+  cv::Mat1f filled(height.size()), valid(height.size());
+  for (int r = 0; r < height.rows; ++r)
+    for (int c = 0; c < height.cols; ++c) {
+      const bool ok = std::isfinite(height(r, c));
+      filled(r, c) = ok ? height(r, c) : 0.f;
+      valid(r, c) = ok ? 1.f : 0.f;
+    }
+  // Relative to the mean height: float32 keeps the smoothing exact to the micrometre at 35 m depth.
+  const double mean = cv::sum(filled)[0] / std::max(1.0, cv::sum(valid)[0]);
+  filled -= static_cast<float>(mean);
+  filled = filled.mul(valid);
+  cv::Mat1f sum, weight;
+  cv::GaussianBlur(filled, sum, cv::Size(), sigma_cells, sigma_cells, cv::BORDER_CONSTANT);
+  cv::GaussianBlur(valid, weight, cv::Size(), sigma_cells, sigma_cells, cv::BORDER_CONSTANT);
+  cv::Mat1f out(height.size());
+  for (int r = 0; r < height.rows; ++r)
+    for (int c = 0; c < height.cols; ++c)
+      out(r, c) = valid(r, c) > 0 ? static_cast<float>(sum(r, c) / weight(r, c) + mean) : NAN;
+  return out;
 }
 
 }  // namespace
@@ -77,13 +104,14 @@ cv::Mat4b ShadeRelief(const HeightGrid& grid, const ReliefStyle& style) {
   const double az = style.sun_azimuth_deg * M_PI / 180, el = style.sun_elevation_deg * M_PI / 180;
   const double light_e = std::sin(az) * std::cos(el), light_n = std::cos(az) * std::cos(el), light_u = std::sin(el);
   const double span = style.high_m - style.low_m;
+  const cv::Mat1f smooth = SmoothHeights(grid.height_m, style.smooth_cells);
   for (int r = 0; r < grid.rows(); ++r)
     for (int c = 0; c < grid.cols(); ++c) {
       const float h = grid.height_m(r, c);
       if (!std::isfinite(h)) continue;
       // Rows run south: d/d north = -d/d row.
-      const double dh_de = style.z_factor * Derivative(grid, r, c, 0, 1) / grid.cell_m;
-      const double dh_dn = -style.z_factor * Derivative(grid, r, c, 1, 0) / grid.cell_m;
+      const double dh_de = style.z_factor * Derivative(smooth, r, c, 0, 1) / grid.cell_m;
+      const double dh_dn = -style.z_factor * Derivative(smooth, r, c, 1, 0) / grid.cell_m;
       const double norm = std::sqrt(dh_de * dh_de + dh_dn * dh_dn + 1);
       const double shade = std::max(0.0, (-dh_de * light_e - dh_dn * light_n + light_u) / norm);
       const cv::Vec3b colour = RampColour(span > 0 ? (h - style.low_m) / span : 0.5);

@@ -17,6 +17,10 @@ struct ReliefStyle {
   double sun_azimuth_deg = 315;  // clockwise from north: the light comes from the north-west
   double sun_elevation_deg = 45;
   double z_factor = 1;  // vertical exaggeration of the hillshade
+  // The hillshade's slopes from heights smoothed by a Gaussian of this many
+  // cells (holes left out): a height model's cell-scale noise, and the facets
+  // of an interpolated one, would otherwise speckle the shading.
+  double smooth_cells = 1;
 };
 
 // The ramp's stops (RGB), evenly spaced from low (deep blue) to high (brown).
@@ -30,8 +34,9 @@ ReliefStyle ReliefStyleFor(const HeightGrid& grid);
 // The ramp's colour (BGR) at t in [0, 1] (clamped).
 cv::Vec3b RampColour(double t);
 
-// One BGRA pixel per cell: ramp colour times the hillshade (0.4 + 0.6 *
-// cos of the angle between the surface normal and the light); holes are
+// One BGRA pixel per cell: ramp colour (of the cell's height) times the
+// hillshade (0.4 + 0.6 * cos of the angle between the smoothed surface's
+// normal and the light); holes are
 // transparent (alpha 0), every other cell opaque.
 cv::Mat4b ShadeRelief(const HeightGrid& grid, const ReliefStyle& style);
 

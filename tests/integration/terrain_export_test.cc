@@ -68,7 +68,7 @@ TEST(TerrainExport, DemIsAGeoTiffGdalReadsWithNodataOverviewsAndTheLocalFrame) {
   ASSERT_EQ(info["bands"].size(), 1u);
   const nlohmann::json& band = info["bands"][0];
   EXPECT_EQ(band["type"], "Float32");
-  EXPECT_EQ(band["noDataValue"], -32768);
+  EXPECT_EQ(band["noDataValue"], -32767);
   EXPECT_GE(band["overviews"].size(), 1u);
   const std::string wkt = info["coordinateSystem"]["wkt"];
   EXPECT_NE(wkt.find("Transverse Mercator"), std::string::npos) << wkt;

@@ -1,9 +1,11 @@
-// seed_terrain MISSION [--no-depth]: stores a synthetic height model in a
+// seed_terrain MISSION [--no-depth | --from TERRAIN.tif]: stores a synthetic height model in a
 // built mission and draws its relief layer (StoreMissionTerrain, what
 // `build --terrain` calls), for the console's browser test and the bench,
 // until the build estimates one: 5 cm cells over the frames' footprints, the
 // seabed at the frames' depth + altitude with a 0.4 m mound and ripples, a
 // hole in the south-west. --no-depth: heights without a depth datum.
+// --from: the height model of a GeoTIFF instead (e.g. `simulate --relief`'s
+// truth/terrain.tif; core/terrain/height_grid_io.h), probed at its centre.
 // Prints JSON: {low_m, high_m, datum, probe: {lat, lon, height_m, sigma_m}}
 // (the probe at the mound's top, heights in the user's datum).
 #include <algorithm>
@@ -19,19 +21,42 @@
 #include "core/mission/mission_metadata.h"
 #include "core/mission/relief_layer.h"
 #include "core/terrain/height_datum.h"
+#include "core/terrain/height_grid_io.h"
 #include "core/tiles/tile_store.h"
 
 int main(int argc, char** argv) {
   using namespace seamap;
   const bool no_depth = argc == 3 && std::strcmp(argv[2], "--no-depth") == 0;
-  if (argc != 2 && !no_depth) {
-    std::fprintf(stderr, "usage: seed_terrain MISSION [--no-depth]\n");
+  const bool from_file = argc == 4 && std::strcmp(argv[2], "--from") == 0;
+  if (argc != 2 && !no_depth && !from_file) {
+    std::fprintf(stderr, "usage: seed_terrain MISSION [--no-depth | --from TERRAIN.tif]\n");
     return 2;
   }
   try {
     std::unique_ptr<TileStore> store = OpenExistingMap(argv[1], /*writable=*/true);
     const LatLon origin = RequireMissionOrigin(ReadMissionMetadata(*store), argv[1]);
     const LocalFrame frame(origin);
+    if (from_file) {
+      MissionTerrain t{ReadHeightGridGeotiff(argv[3], origin), origin};
+      StoreMissionTerrain(store.get(), t, false);
+      const HeightGrid& g = t.grid;
+      const LocalXY centre = g.CellCentre(g.rows() / 2, g.cols() / 2);
+      double height = 0, sigma = 0;
+      if (!g.Sample(centre, &height, &sigma)) throw std::runtime_error("the model has a hole at its centre");
+      const nlohmann::json relief = *ReadMissionMetadata(*store).relief;
+      const LatLon probe = frame.ToLatLon(centre);
+      std::printf("%s\n", nlohmann::json({{"low_m", relief["low_m"]},
+                                          {"high_m", relief["high_m"]},
+                                          {"datum", relief["datum"]},
+                                          {"probe",
+                                           {{"lat", probe.lat},
+                                            {"lon", probe.lon},
+                                            {"height_m", height + UserDatum(g).offset_m},
+                                            {"sigma_m", sigma}}}})
+                              .dump()
+                              .c_str());
+      return 0;
+    }
     double w = std::numeric_limits<double>::infinity(), e = -w, s = w, n = -w, seabed = 0;
     int used = 0;
     for (const FrameRecord& f : store->Records().Frames()) {

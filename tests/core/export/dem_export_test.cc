@@ -116,7 +116,7 @@ TEST(DemExport, WithoutDepthHeightsAreRelativeToTheMeanSeabed) {
     if (v != kDemNodata) sum += v, ++n;
   EXPECT_NEAR(sum / n, 0, 1e-4);
   EXPECT_NEAR(dem.At(0, 0) - dem.At(77, 13), t.grid.height_m(0, 0) - t.grid.height_m(77, 13), 1e-5);
-  EXPECT_STREQ(dem.ds->GetMetadataItem("SEAMAP_DATUM"), "mean_seabed");
+  EXPECT_STREQ(dem.ds->GetMetadataItem("SEAMAP_HEIGHT_DATUM"), "mean_seabed");
 }
 
 TEST(DemExport, AnUnwritablePlaceIsAnErrorNamingIt) {

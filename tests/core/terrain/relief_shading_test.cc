@@ -57,7 +57,29 @@ TEST(ReliefShading, SlopesFacingTheLightAreBrighterAndHolesTransparent) {
   towards.height_m(2, 3) = NAN;
   const cv::Mat4b holed = ShadeRelief(towards, style);
   EXPECT_EQ(holed(2, 3)[3], 0);
-  EXPECT_EQ(holed(2, 4), lit(2, 4));  // a one-sided slope next to the hole is the same plane
+  // Next to the hole the slope is still the plane's: the smoothing leaves the hole out.
+  EXPECT_EQ(holed(2, 4)[3], 255);
+  EXPECT_NEAR(Brightness(holed(2, 4)), Brightness(lit(2, 4)), 6);
+}
+
+TEST(ReliefShading, CellScaleNoiseDoesNotSpeckleTheShading) {
+  HeightGrid noisy = Plane(0, 0);
+  cv::Mat1f noise(noisy.height_m.size());
+  cv::randn(noise, 0, 0.01);  // 1 cm noise on 10 cm cells: slopes of +-0.14 cell to cell
+  noisy.height_m += noise;
+  ReliefStyle style;
+  style.low_m = -100;
+  style.high_m = 100;
+  ReliefStyle raw = style;
+  raw.smooth_cells = 0;
+  const auto spread = [](const cv::Mat4b& shaded) {
+    int lo = 1000, hi = 0;
+    for (int r = 2; r < 7; ++r)
+      for (int c = 2; c < 7; ++c)
+        lo = std::min(lo, Brightness(shaded(r, c))), hi = std::max(hi, Brightness(shaded(r, c)));
+    return hi - lo;
+  };
+  EXPECT_LT(spread(ShadeRelief(noisy, style)), spread(ShadeRelief(noisy, raw)) / 2);
 }
 
 TEST(ReliefShading, HeightPicksTheRampColour) {

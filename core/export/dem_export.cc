@@ -88,7 +88,7 @@ DemSummary ExportDem(const MissionTerrain& terrain, const std::string& path) {
       CE_None)
     throw std::runtime_error("GDAL cannot hold the height model in memory");
   std::vector<int> levels;
-  for (int f = 2; (std::max(g.rows(), g.cols()) + f - 1) / f >= 64; f *= 2) levels.push_back(f);
+  for (int f = 2; (std::max(g.rows(), g.cols()) + f - 1) / f >= 32; f *= 2) levels.push_back(f);
   if (!levels.empty() && model->BuildOverviews("AVERAGE", static_cast<int>(levels.size()), levels.data(), 0, nullptr,
                                                nullptr, nullptr) != CE_None)
     throw std::runtime_error("GDAL cannot build the height model's overviews");

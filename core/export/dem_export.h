@@ -6,7 +6,7 @@
 // model are nodata (-32767, as truth/terrain.tif). Cloud-Optimised (GDAL's COG driver, DEFLATE with
 // the floating-point predictor) in the model's own grid: the mission's local
 // transverse Mercator (core/geo/local_frame.h), so no cell is resampled;
-// overviews (AVERAGE, nodata-aware) down to about 64 cells. (The simulator's
+// overviews (AVERAGE, nodata-aware) down to about 32 cells. (The simulator's
 // WriteHeightGridGeotiff, core/terrain/height_grid_io.h, writes the stored
 // datum, plain GTiff, overviews only past 256 cells; a DEM for a user wants
 // the user's datum, a COG, overviews at any size and an atomic write.)

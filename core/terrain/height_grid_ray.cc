@@ -9,6 +9,7 @@ namespace {
 constexpr double kHitTolerance_m = 1e-4;
 constexpr double kMinStepCells = 0.5;
 constexpr int kBlockCells = 4;
+constexpr int kSuperCells = 16;  // a whole number of blocks
 
 }  // namespace
 
@@ -42,6 +43,13 @@ HeightGridRayCaster::HeightGridRayCaster(const HeightGrid& grid) : grid_(grid) {
         // A little margin for float rounding.
         block = std::max(block, static_cast<float>(std::sqrt(g2) / grid_.cell_m * 1.001 + 1e-6));
       }
+    }
+  constexpr int kPerSuper = kSuperCells / kBlockCells;
+  super_max_ = cv::Mat1f((block_rows + kPerSuper - 1) / kPerSuper, (block_cols + kPerSuper - 1) / kPerSuper, -INFINITY);
+  for (int br = 0; br < block_rows; ++br)
+    for (int bc = 0; bc < block_cols; ++bc) {
+      float& super = super_max_(br / kPerSuper, bc / kPerSuper);
+      super = std::max(super, block_max_(br, bc));
     }
   last_row_ = h.rows - 1;
   last_col_ = h.cols - 1;
@@ -97,16 +105,28 @@ bool HeightGridRayCaster::Cast(const Eigen::Vector3d& origin, const Eigen::Vecto
     // The block holding the ray at t, and where the ray leaves it.
     const double col = col0 + t * dcol, row = row0 + t * drow;
     if (!(col >= 0 && row >= 0)) return false;
-    const int bc = static_cast<int>(col) / kBlockCells;
-    const int br = static_cast<int>(row) / kBlockCells;
-    if (br >= block_max_.rows || bc >= block_max_.cols) return false;
-    double t_exit = INFINITY;
-    if (dcol > 0) t_exit = std::min(t_exit, ((bc + 1) * kBlockCells - col0) * inv_dcol);
-    if (dcol < 0) t_exit = std::min(t_exit, (bc * kBlockCells - col0) * inv_dcol);
-    if (drow > 0) t_exit = std::min(t_exit, ((br + 1) * kBlockCells - row0) * inv_drow);
-    if (drow < 0) t_exit = std::min(t_exit, (br * kBlockCells - row0) * inv_drow);
-    // The ray is lowest where it leaves the block: above the block's highest
-    // cell there, it cannot meet the surface in this block.
+    const int cell_col = static_cast<int>(col), cell_row = static_cast<int>(row);
+    if (cell_row / kBlockCells >= block_max_.rows || cell_col / kBlockCells >= block_max_.cols) return false;
+    // Where the ray leaves the square of `size` cells holding it.
+    const auto exit_of = [&](int size, int sr, int sc) {
+      double exit = INFINITY;
+      if (dcol > 0) exit = std::min(exit, ((sc + 1) * size - col0) * inv_dcol);
+      if (dcol < 0) exit = std::min(exit, (sc * size - col0) * inv_dcol);
+      if (drow > 0) exit = std::min(exit, ((sr + 1) * size - row0) * inv_drow);
+      if (drow < 0) exit = std::min(exit, (sr * size - row0) * inv_drow);
+      return exit;
+    };
+    // The ray is lowest where it leaves a square: above the square's highest
+    // cell there, it cannot meet the surface in it. Superblocks first.
+    const int sr = cell_row / kSuperCells, sc = cell_col / kSuperCells;
+    const double t_super_exit = exit_of(kSuperCells, sr, sc);
+    if (origin.z() + t_super_exit * d.z() > super_max_(sr, sc)) {
+      t = t_super_exit + nudge;
+      gap_known = false;
+      continue;
+    }
+    const int br = cell_row / kBlockCells, bc = cell_col / kBlockCells;
+    const double t_exit = exit_of(kBlockCells, br, bc);
     if (origin.z() + t_exit * d.z() > block_max_(br, bc)) {
       t = t_exit + nudge;
       gap_known = false;

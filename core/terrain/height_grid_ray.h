@@ -5,8 +5,8 @@
 // ray grazing a bump stops on the bump.
 //
 // Method: conservative marching (sphere tracing for a height field) over
-// blocks of 4 x 4 cells. A block whose highest cell lies below the ray
-// where the ray leaves it is skipped whole. Within a block the bilinear
+// blocks of 4 x 4 cells. A block (or a superblock of 4 x 4 blocks) whose
+// highest cell lies below the ray where the ray leaves it is skipped whole. Within a block the bilinear
 // surface has a slope no steeper than the block's bound, so from a point
 // `gap` metres above the surface the ray can advance
 // gap / (descent + slope * horizontal) of its length without crossing it;
@@ -51,6 +51,7 @@ class HeightGridRayCaster {
   // Per block of 4 x 4 cells: the highest height (rays passing above it
   // skip the block) and the slope bound (steps within it).
   cv::Mat1f block_max_, block_slope_;
+  cv::Mat1f super_max_;  // highest height per 16 x 16 cells (4 x 4 blocks)
 };
 
 }  // namespace seamap

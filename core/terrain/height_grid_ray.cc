@@ -132,6 +132,9 @@ bool HeightGridRayCaster::Cast(const Eigen::Vector3d& origin, const Eigen::Vecto
       gap_known = false;
       continue;
     }
+    // Down to the block's highest cell the ray is free: no look-up needed.
+    const double t_free = (origin.z() - block_max_(br, bc)) / descent;
+    if (t_free > t) t = t_free, gap_known = false;
     if (!gap_known && !gap_at(t, &gap)) return false;
     gap_known = true;
     if (gap < 0 && t == 0) return false;  // starts below the surface

@@ -54,7 +54,7 @@ MosaicBuilder::MosaicBuilder(const BuildConfig& config, const CameraModel& camer
       plan_(plan),
       store_(store),
       hooks_(std::move(hooks)),
-      warper_(camera, frame, plan.base_zoom, config.map.tile_size, WarpOptionsOf(config, plan)),
+      warper_(camera, frame, plan.base_zoom, config.map.tile_size, WarpOptionsOf(config, plan), hooks_.surface),
       pool_(std::make_unique<ThreadPool>(config.threads)),
       writer_(std::make_unique<TileWriter>(store, pool_.get(), config.map.encoding, hooks_.tile_consumers)),
       pyramid_(std::make_unique<OverviewPyramid>(writer_.get(), config.map.tile_size, plan.channels, plan.min_zoom,
@@ -224,7 +224,7 @@ void MosaicBuilder::Foresee(const std::vector<FrameSpec>& frames) {
       const auto corners = projection.GroundCorners(f.pose);
       if (!corners || TooSteep(projection.camera(), f.pose, *corners, config_.frames.max_footprint_ratio))
         return std::nullopt;
-      Outline outline = projection.Outline(f.pose);
+      Outline outline = warper_.Outline(f.pose);
       if (outline &&
           FramePaintBytes(static_cast<double>(outline->box[2]), static_cast<double>(outline->box[3]),
                           config_.map.tile_size, plan_.channels) >

@@ -18,6 +18,9 @@ void MissionBuildOptions::Check() const {
   if (live && resume) throw InputError(out, 0, "--resume", "a live build keeps no checkpoints to resume from");
   if (live && poses.mode == PoseMode::kRefine)
     throw InputError("", 0, "--refine-nav", "needs the whole survey; a live build places frames as they come");
+  if (live && config.terrain.estimate)
+    throw InputError(config_source, 0, "terrain",
+                     "estimating the seabed needs the whole survey; a live build takes a height model's file");
   if (static_cast<bool>(start_detector) != static_cast<bool>(finish_detector))
     throw std::logic_error("MissionBuildOptions: start_detector and finish_detector go together");
   poses.Check();
@@ -56,6 +59,8 @@ bool MissionBuild::Open() {
   CheckPlanFitsMemory(PlanMosaic(config.map, options_.camera, options_.frame, frames, options_.channels),
                       options_.camera, config.map.tile_size, cap_mb,
                       options_.config_source == "build config" ? "" : options_.config_source);
+  // A height model's file is read before the map is created: a bad file leaves no map behind.
+  if (!config.terrain.file.empty()) surface_ = ReadSeabedSurface(config.terrain.file, options_.frame);
   output_ = OpenOutput(options_.out, config, {options_.append, options_.overwrite, options_.resume});
   TileStore& store = *output_.store;
   if (!options_.live) {
@@ -79,6 +84,19 @@ bool MissionBuild::Open() {
       mission.trajectory = summary;
       WriteMissionMetadata(&store, mission);
     }
+  }
+  // The seabed's shape, once the poses are placed (refined ones with
+  // --refine-nav), painted onto: estimated from the photos (a file was read
+  // before the map was opened).
+  if (config.terrain.estimate) {
+    if (observer_.on_note) observer_.on_note("estimating the seabed's shape from the photos");
+    surface_ = EstimateSeabedSurface(options_.frame, options_.camera, frames, config.threads);
+  }
+  if (surface_.grid) {
+    surface_.hole_share = HoleShare(*surface_.grid, options_.camera, frames);
+    if (observer_.on_note) observer_.on_note(surface_.Summary());
+    // TODO(terrainio): store the height model in the mission and render its
+    // relief layer here (store, *surface_.grid), with the calls terrainio provides.
   }
   plan_ = PlanMosaic(config.map, options_.camera, options_.frame, frames, options_.channels);
 
@@ -154,8 +172,10 @@ void MissionBuild::Start() {
     start.frames_total = static_cast<int>(options_.survey.frames.size());
     start.command = options_.command;
   }
+  enhance_.surface = surface_.grid;  // both layers paint onto the same seabed
   BuildHooks hooks = both_ ? BuildHooks{} : enhance_;
   hooks.on_frame = observer_.on_frame_placed;
+  hooks.surface = surface_.grid;
   TileStore* raw_store = output_.store.get();
   if (options_.start_detector) {
     detector_ = options_.start_detector(*plan_, raw_store);

@@ -116,23 +116,27 @@ MosaicBuilder::~MosaicBuilder() {
 }
 
 nlohmann::json MosaicBuilder::Settings(const BuildConfig& c, const MosaicPlan& plan, bool enhanced) {
-  return {{"tile_size", c.map.tile_size},
-          {"base_zoom", plan.base_zoom},
-          {"min_zoom", plan.min_zoom},
-          {"channels", plan.channels},
-          {"tile_format", TileExtension(c.map.encoding.format)},
-          {"png_level", c.map.encoding.png_level},
-          {"jpeg_quality", c.map.encoding.jpeg_quality},
-          {"webp_quality", c.map.encoding.webp_quality},
-          {"feather_power", c.blend.feather_power},
-          {"seam_band", c.blend.seam_band},
-          {"blend_all_overlaps", c.blend.blend_all_overlaps},
-          {"linger_frames", c.buffer.linger_frames},
-          {"lookahead_frames", c.buffer.lookahead_frames},
-          {"memory_cap_mb", c.buffer.memory_cap_mb},
-          {"max_footprint_ratio", c.frames.max_footprint_ratio},
-          {"sixteen_bit_white", c.frames.sixteen_bit_white},
-          {"enhance", enhanced ? c.enhance.value_or(nlohmann::json("on")) : nlohmann::json(nullptr)}};
+  nlohmann::json settings = {
+      {"tile_size", c.map.tile_size},
+      {"base_zoom", plan.base_zoom},
+      {"min_zoom", plan.min_zoom},
+      {"channels", plan.channels},
+      {"tile_format", TileExtension(c.map.encoding.format)},
+      {"png_level", c.map.encoding.png_level},
+      {"jpeg_quality", c.map.encoding.jpeg_quality},
+      {"webp_quality", c.map.encoding.webp_quality},
+      {"feather_power", c.blend.feather_power},
+      {"seam_band", c.blend.seam_band},
+      {"blend_all_overlaps", c.blend.blend_all_overlaps},
+      {"linger_frames", c.buffer.linger_frames},
+      {"lookahead_frames", c.buffer.lookahead_frames},
+      {"memory_cap_mb", c.buffer.memory_cap_mb},
+      {"max_footprint_ratio", c.frames.max_footprint_ratio},
+      {"sixteen_bit_white", c.frames.sixteen_bit_white},
+      {"enhance", enhanced ? c.enhance.value_or(nlohmann::json("on")) : nlohmann::json(nullptr)}};
+  // Only when set: checkpoints of flat builds stay as they were.
+  if (c.terrain.enabled()) settings["terrain"] = c.terrain.file.empty() ? nlohmann::json(true) : nlohmann::json(c.terrain.file);
+  return settings;
 }
 
 void MosaicBuilder::WriteCheckpoint(bool keep_start) {

@@ -2,10 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
 #include "core/camera/frame_projector.h"
-#include "core/terrain/surface_ray.h"
 
 namespace seamap {
 namespace {
@@ -16,15 +14,15 @@ constexpr int kBoxMarginPx = 4;
 // A ray must point at least this much downwards (sine) to meet the seabed, as the flat projection's.
 constexpr double kMinDownSine = 1e-3;
 
-// Where a camera ray (ENU direction) meets the seabed: the surface, else the frame's plane.
-std::optional<Eigen::Vector3d> SeabedHit(const HeightGrid& surface, const CameraPlacement& c,
+// Where a camera ray (ENU direction) meets the seabed: the surface, else
+// (a hole on the way, off the grid) the frame's plane.
+std::optional<Eigen::Vector3d> SeabedHit(const HeightGridRayCaster& rays, const CameraPlacement& c,
                                          const Eigen::Vector3d& ray) {
   if (!(ray.z() < -kMinDownSine * ray.norm())) return std::nullopt;
   const double to_plane = (c.eye_enu.z() - c.plane_up_m) / -ray.z();  // in units of `ray`
   if (!(to_plane > 0)) return std::nullopt;
-  // Relief within a few times the altitude: past three times the plane's distance, the plane.
-  const double range_m = std::min(3 * to_plane * ray.norm() + 2.0, 1000.0);
-  if (auto hit = FirstSurfaceHit(surface, c.eye_enu, ray, range_m)) return hit;
+  double t = 0;
+  if (rays.Cast(c.eye_enu, ray, &t)) return c.eye_enu + t * ray;
   return c.eye_enu + to_plane * ray;
 }
 
@@ -46,22 +44,21 @@ CameraPlacement PlaceCamera(const CameraModel& camera, const VehiclePose& pose) 
   return c;
 }
 
-SurfaceMapping::SurfaceMapping(const SeabedProjection& flat, const HeightGrid& surface, const VehiclePose& pose,
-                               const SeabedProjection::MapTangent& box_to_map, int64_t x0, int64_t y0, double ceiling_m)
+SurfaceMapping::SurfaceMapping(const SeabedProjection& flat, const LineOfSight& surface, const VehiclePose& pose,
+                               const SeabedProjection::MapTangent& box_to_map, int64_t x0, int64_t y0)
     : flat_(flat),
       surface_(surface),
       camera_(PlaceCamera(flat.camera(), pose)),
       box_to_map_(box_to_map),
       x0_(x0),
-      y0_(y0),
-      ceiling_m_(ceiling_m) {}
+      y0_(y0) {}
 
 bool SurfaceMapping::PointAt(double x, double y, Eigen::Vector3d* east_north_up) const {
   // Box pixel-index coordinates -> global ones (a pixel's centre is its
   // index; the tangent's are its corner's) -> local metres.
   const LocalXY p = box_to_map_.ToLocal({static_cast<double>(x0_) + x + 0.5, static_cast<double>(y0_) + y + 0.5});
   double up = 0;
-  const bool known = surface_.Sample(p, &up);
+  const bool known = surface_.Height(p.east, p.north, &up);
   *east_north_up = {p.east, p.north, known ? up : camera_.plane_up_m};
   return known;
 }
@@ -83,12 +80,12 @@ RawPosition SurfaceMapping::ToRaw(double x, double y) const {
   constexpr float kMarginPx = 8;
   if (raw.u < -kMarginPx || raw.v < -kMarginPx || raw.u > c.width + kMarginPx || raw.v > c.height + kMarginPx)
     return raw;
-  if (!InSight(surface_, point, camera_.eye_enu, ceiling_m_)) return {};
+  if (!surface_.Clear(point, camera_.eye_enu)) return {};
   return raw;
 }
 
 SurfaceProjection::SurfaceProjection(const SeabedProjection& flat, std::shared_ptr<const HeightGrid> surface)
-    : flat_(flat), surface_(std::move(surface)) {}
+    : flat_(flat), rays_(*surface), sight_(*surface) {}
 
 std::optional<SeabedProjection::MapOutline> SurfaceProjection::Outline(const VehiclePose& pose) const {
   if (!flat_.SeesSeabed(pose)) return std::nullopt;
@@ -98,7 +95,7 @@ std::optional<SeabedProjection::MapOutline> SurfaceProjection::Outline(const Veh
   std::vector<Eigen::Vector3d> hits;
   hits.reserve(border.size());
   for (const auto& b : border) {
-    auto hit = SeabedHit(*surface_, c, RayOf(camera, c, b));
+    auto hit = SeabedHit(rays_, c, RayOf(camera, c, b));
     if (!hit) return std::nullopt;
     hits.push_back(*hit);
   }
@@ -127,26 +124,9 @@ std::vector<std::unique_ptr<BoxMapping>> SurfaceProjection::Mappings(const Seabe
   // Box pixels <-> local metres: the tangent where the frame's centre lands.
   const SeabedProjection::MapTangent probe = flat_.TangentAt({views[0].east_m, views[0].north_m});
   const SeabedProjection::MapTangent box_to_map = flat_.TangentAt(probe.ToLocal(frame.centre + cv::Point2d(0.5, 0.5)));
-  // The highest ground between the box and the cameras bounds every line of sight.
   const int64_t x0 = frame.box[0], y0 = frame.box[1];
-  double e0 = 1e300, e1 = -1e300, n0 = 1e300, n1 = -1e300;
-  auto extend = [&](double e, double n) {
-    e0 = std::min(e0, e), e1 = std::max(e1, e), n0 = std::min(n0, n), n1 = std::max(n1, n);
-  };
-  for (int corner = 0; corner < 4; ++corner) {
-    const LocalXY p = box_to_map.ToLocal({static_cast<double>(x0 + (corner & 1 ? frame.box[2] : 0)),
-                                          static_cast<double>(y0 + (corner & 2 ? frame.box[3] : 0))});
-    extend(p.east, p.north);
-  }
-  for (const VehiclePose& v : views) {
-    const Eigen::Vector3d eye = PlaceCamera(flat_.camera(), v).eye_enu;
-    extend(eye.x(), eye.y());
-  }
-  const double margin = 2 * surface_->cell_m;
-  double ceiling = HighestHeight(*surface_, e0 - margin, e1 + margin, n0 - margin, n1 + margin);
-  if (!std::isfinite(ceiling)) ceiling = -std::numeric_limits<double>::infinity();  // all holes: nothing hides
   for (const VehiclePose& v : views)
-    out.push_back(std::make_unique<SurfaceMapping>(flat_, *surface_, v, box_to_map, x0, y0, ceiling));
+    out.push_back(std::make_unique<SurfaceMapping>(flat_, sight_, v, box_to_map, x0, y0));
   return out;
 }
 

@@ -19,6 +19,8 @@
 #include "core/mosaic/box_mapping.h"
 #include "core/mosaic/seabed_projection.h"
 #include "core/terrain/height_grid.h"
+#include "core/terrain/height_grid_ray.h"
+#include "core/terrain/line_of_sight.h"
 
 namespace seamap {
 
@@ -33,10 +35,9 @@ CameraPlacement PlaceCamera(const CameraModel& camera, const VehiclePose& pose);
 // One frame's mapping over a box on the map, through the surface.
 class SurfaceMapping : public BoxMapping {
  public:
-  // box_to_map: local metres <-> global pixels around the box; (x0, y0): its
-  // top-left global pixel; ceiling_m: no cell between the box and the camera is higher.
-  SurfaceMapping(const SeabedProjection& flat, const HeightGrid& surface, const VehiclePose& pose,
-                 const SeabedProjection::MapTangent& box_to_map, int64_t x0, int64_t y0, double ceiling_m);
+  // box_to_map: local metres <-> global pixels around the box; (x0, y0): its top-left global pixel.
+  SurfaceMapping(const SeabedProjection& flat, const LineOfSight& surface, const VehiclePose& pose,
+                 const SeabedProjection::MapTangent& box_to_map, int64_t x0, int64_t y0);
   RawPosition ToRaw(double x, double y) const override;
   // The seabed point seen at box pixel (x, y); false: the model has no height there (the plane stands in).
   bool PointAt(double x, double y, Eigen::Vector3d* east_north_up) const;
@@ -45,11 +46,10 @@ class SurfaceMapping : public BoxMapping {
 
  private:
   const SeabedProjection& flat_;
-  const HeightGrid& surface_;
+  const LineOfSight& surface_;
   CameraPlacement camera_;
   SeabedProjection::MapTangent box_to_map_;
   int64_t x0_, y0_;
-  double ceiling_m_;
 };
 
 class SurfaceProjection {
@@ -66,11 +66,12 @@ class SurfaceProjection {
   std::vector<std::unique_ptr<BoxMapping>> Mappings(const SeabedProjection::MapOutline& frame,
                                                     const std::vector<VehiclePose>& views) const;
 
-  const HeightGrid& surface() const { return *surface_; }
+  const HeightGrid& surface() const { return sight_.grid(); }
 
  private:
   const SeabedProjection& flat_;
-  std::shared_ptr<const HeightGrid> surface_;
+  HeightGridRayCaster rays_;  // the border's rays onto the surface
+  LineOfSight sight_;         // heights and occlusion
 };
 
 }  // namespace seamap

@@ -1,0 +1,61 @@
+#include "core/controllers/seabed_surface.h"
+
+#include <cstdio>
+
+#include "core/camera/frame_projector.h"
+#include "core/terrain/height_grid_io.h"
+#include "core/util/error.h"
+
+namespace seamap {
+
+std::string SeabedSurface::Summary() const {
+  if (!grid) return "flat seabed (the plane at each frame's altitude)";
+  char line[256];
+  std::snprintf(line, sizeof line,
+                "terrain %s: %dx%d cells of %.0f mm; %.1f %% of the frames' footprint without a height, painted on "
+                "the frame's own plane there",
+                source.c_str(), grid->cols(), grid->rows(), grid->cell_m * 1000, hole_share * 100);
+  return line;
+}
+
+double HoleShare(const HeightGrid& grid, const CameraModel& camera, const std::vector<FrameSpec>& frames) {
+  int samples = 0, holes = 0;
+  for (const FrameSpec& f : frames) {
+    const auto corners = Footprint(camera, f.pose);
+    if (!corners) continue;
+    std::vector<LocalXY> points(corners->begin(), corners->end());
+    LocalXY centre{0, 0};
+    for (const auto& c : *corners) centre = {centre.east + c.east / 4, centre.north + c.north / 4};
+    points.push_back(centre);
+    // Halfway between the centre and each corner too: most of what a frame paints.
+    for (const auto& c : *corners) points.push_back({(c.east + centre.east) / 2, (c.north + centre.north) / 2});
+    for (const LocalXY& p : points) {
+      double h = 0;
+      ++samples;
+      holes += !grid.Sample(p, &h);
+    }
+  }
+  return samples ? static_cast<double>(holes) / samples : 0;
+}
+
+SeabedSurface ReadSeabedSurface(const std::string& path, const LocalFrame& frame) {
+  SeabedSurface out;
+  auto grid = std::make_shared<HeightGrid>(ReadHeightGridGeotiff(path, frame.origin()));
+  if (grid->empty()) throw InputError(path, 0, "--terrain-file", "holds no heights");
+  out.grid = std::move(grid);
+  out.source = "file " + path;
+  return out;
+}
+
+SeabedSurface EstimateSeabedSurface(const LocalFrame& frame, const CameraModel& camera,
+                                    const std::vector<FrameSpec>& frames, int threads) {
+  (void)frame, (void)camera, (void)frames, (void)threads;
+  // TODO(dem): the one call, when it lands on main:
+  //   out.grid = std::make_shared<HeightGrid>(EstimateSeabedTerrain(frames, camera, options));
+  //   (core/trajectory/seabed_terrain.h), out.source = "estimated from the photos".
+  throw InputError("", 0, "--terrain",
+                   "estimating the seabed from the photos is not in this build yet; give a height model with "
+                   "--terrain-file");
+}
+
+}  // namespace seamap

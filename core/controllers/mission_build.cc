@@ -60,7 +60,10 @@ bool MissionBuild::Open() {
                       options_.camera, config.map.tile_size, cap_mb,
                       options_.config_source == "build config" ? "" : options_.config_source);
   // A height model's file is read before the map is created: a bad file leaves no map behind.
-  if (!config.terrain.file.empty()) surface_ = ReadSeabedSurface(config.terrain.file, options_.frame);
+  if (!config.terrain.file.empty()) {
+    surface_ = ReadSeabedSurface(config.terrain.file, options_.frame);
+    CheckAgainstNavigation(options_.camera, frames, "--terrain-file", &surface_);
+  }
   output_ = OpenOutput(options_.out, config, {options_.append, options_.overwrite, options_.resume});
   TileStore& store = *output_.store;
   if (!options_.live) {
@@ -93,7 +96,8 @@ bool MissionBuild::Open() {
     surface_ = EstimateSeabedSurface(options_.frame, options_.camera, frames, config.threads);
   }
   if (surface_.grid) {
-    surface_.hole_share = HoleShare(*surface_.grid, options_.camera, frames);
+    CheckAgainstNavigation(options_.camera, frames, config.terrain.file.empty() ? "--terrain" : "--terrain-file",
+                           &surface_);
     if (observer_.on_note) observer_.on_note(surface_.Summary());
     // TODO(terrainio): store the height model in the mission and render its
     // relief layer here (store, *surface_.grid), with the calls terrainio provides.

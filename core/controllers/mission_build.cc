@@ -99,10 +99,12 @@ bool MissionBuild::Open() {
     CheckAgainstNavigation(options_.camera, frames, config.terrain.file.empty() ? "--terrain" : "--terrain-file",
                            &surface_);
     if (observer_.on_note) observer_.on_note(surface_.Summary());
-    // TODO(terrainio): store the height model in the mission and render its
-    // relief layer here (store, *surface_.grid), with the calls terrainio provides.
   }
   plan_ = PlanMosaic(config.map, options_.camera, options_.frame, frames, options_.channels);
+  // TODO(terrainio): once StoreMissionTerrain (core/mission/relief_layer.h, branch
+  // i29-terrainio) is on main, keep the height model in the mission and draw its relief layer:
+  //   if (surface_.grid) StoreMissionTerrain(&store, {*surface_.grid, options_.frame.origin()}, false);
+  // (the map's zooms are known from here on; a live console sees the layer from the start).
 
   // The main layer is raw unless only the enhanced map was asked for; with
   // "both", the enhanced map is built alongside as layer "enhanced".

@@ -80,9 +80,14 @@ SeabedSurface ReadSeabedSurface(const std::string& path, const LocalFrame& frame
 SeabedSurface EstimateSeabedSurface(const LocalFrame& frame, const CameraModel& camera,
                                     const std::vector<FrameSpec>& frames, int threads) {
   (void)frame, (void)camera, (void)frames, (void)threads;
-  // TODO(dem): the one call, when it lands on main:
-  //   out.grid = std::make_shared<HeightGrid>(EstimateSeabedTerrain(frames, camera, options));
-  //   (core/trajectory/seabed_terrain.h), out.source = "estimated from the photos".
+  // TODO(dem): the one call, once EstimateSeabedTerrain (core/trajectory/seabed_terrain.h,
+  // branch i29-dem) is on main; this function then becomes:
+  //   TerrainOptions options;  options.threads = threads;  TerrainReport report;
+  //   HeightGrid grid = EstimateSeabedTerrain(frames, camera, options, &report);
+  //   if (grid.empty()) throw InputError("", 0, "--terrain", "no seabed point could be triangulated ...");
+  //   SeabedSurface out;  out.grid = std::make_shared<HeightGrid>(std::move(grid));
+  //   out.source = "estimated from the photos";  return out;
+  // (and seamap_controllers gains nothing: seamap_trajectory is a dependency already).
   throw InputError("", 0, "--terrain",
                    "estimating the seabed from the photos is not in this build yet; give a height model with "
                    "--terrain-file");

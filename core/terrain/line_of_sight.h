@@ -5,9 +5,10 @@
 //
 // Method: march up the line from the point in half-cell steps, but skip
 // whole blocks of cells at once where the line is above their highest
-// height (a max grid over blocks of kBlockCells cells, with a cell of
-// border for the bilinear surface between blocks); once above the grid's
-// highest height the line is clear. Holes are transparent: they neither hide
+// height (max grids over blocks of 4 and of 16 cells, each with a cell of
+// border for the bilinear surface between blocks: the line, rising, stays
+// above the block until it leaves it); once above the grid's highest height
+// the line is clear. Holes are transparent: they neither hide
 // a point nor stop the line (where the model has no height, nothing is known
 // to be in the way).
 #include <Eigen/Core>
@@ -18,7 +19,7 @@ namespace seamap {
 
 class LineOfSight {
  public:
-  static constexpr int kBlockCells = 8;
+  static constexpr int kBlockCells = 4, kSuperBlockCells = 16;
 
   // Keeps a shallow copy of the grid's heights.
   explicit LineOfSight(const HeightGrid& grid);
@@ -36,8 +37,8 @@ class LineOfSight {
 
  private:
   HeightGrid grid_;
-  cv::Mat1f block_max_;        // highest height over each block and a cell around it; -inf: holes only
-  double highest_m_ = -1e300;  // over the whole grid
+  cv::Mat1f block_max_, super_max_;  // highest height over each block and a cell around it; -inf: holes only
+  double highest_m_ = -1e300;        // over the whole grid
 };
 
 }  // namespace seamap

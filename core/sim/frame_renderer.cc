@@ -153,9 +153,9 @@ void FrameRenderer::TerrainMaps(const SeabedTexture& texture, const VehiclePose&
   });
 }
 
-cv::Mat FrameRenderer::Render(const SeabedTexture& texture, const VehiclePose& pose, uint64_t noise_seed) const {
+void FrameRenderer::PlaneMaps(const SeabedTexture& texture, const VehiclePose& pose, cv::Mat1f* map_x_out,
+                              cv::Mat1f* map_y_out, cv::Mat1f* range_out) const {
   const RayCaster caster(camera_, pose);
-  const Degradations& deg = degradations_;
   // Texture coordinates are a homography of the ray (x, y, 1): with d = R (x, y, 1),
   // column = (e0 - east_min) / res - 0.5 + (h / res) d_east / d_down, and likewise the row.
   const Eigen::Matrix3d& r = caster.rotation;
@@ -164,32 +164,38 @@ cv::Mat FrameRenderer::Render(const SeabedTexture& texture, const VehiclePose& p
   const Eigen::RowVector3d num_x = col0 * r.row(2) + scale * r.row(1);
   const Eigen::RowVector3d num_y = row0 * r.row(2) - scale * r.row(0);
   const Eigen::RowVector3d den = r.row(2);
-  cv::Mat1f map_x, map_y, range;
-  if (terrain_) {
-    TerrainMaps(texture, pose, &map_x, &map_y, &range);
-  } else {
-    map_x.create(rays_.size());
-    map_y.create(rays_.size());
-    if (deg.haze > 0) range.create(rays_.size());
-  }
-  if (!terrain_)
-    cv::parallel_for_(cv::Range(0, rays_.rows), [&](const cv::Range& rows) {
-      for (int v = rows.start; v < rows.end; ++v) {
-        const cv::Vec2f* ray = rays_[v];
-        float* mx = map_x[v];
-        float* my = map_y[v];
-        for (int u = 0; u < rays_.cols; ++u) {
-          const double x = ray[u][0], y = ray[u][1];
-          const double w = den[0] * x + den[1] * y + den[2];  // d_down
-          const bool hit = caster.height > 0 && w > 1e-6;
-          const double inv_w = hit ? 1 / w : 0;
-          mx[u] = hit ? static_cast<float>((num_x[0] * x + num_x[1] * y + num_x[2]) * inv_w) : kMiss;
-          my[u] = hit ? static_cast<float>((num_y[0] * x + num_y[1] * y + num_y[2]) * inv_w) : kMiss;
-          // |d| = |(x, y, 1)|; a ray that misses sees only water.
-          if (!range.empty()) range(v, u) = hit ? static_cast<float>(caster.height * ray_norm_(v, u) * inv_w) : 1e3f;
-        }
+  cv::Mat1f& map_x = *map_x_out;
+  cv::Mat1f& map_y = *map_y_out;
+  cv::Mat1f& range = *range_out;
+  map_x.create(rays_.size());
+  map_y.create(rays_.size());
+  if (degradations_.haze > 0) range.create(rays_.size());
+  cv::parallel_for_(cv::Range(0, rays_.rows), [&](const cv::Range& rows) {
+    for (int v = rows.start; v < rows.end; ++v) {
+      const cv::Vec2f* ray = rays_[v];
+      float* mx = map_x[v];
+      float* my = map_y[v];
+      for (int u = 0; u < rays_.cols; ++u) {
+        const double x = ray[u][0], y = ray[u][1];
+        const double w = den[0] * x + den[1] * y + den[2];  // d_down
+        const bool hit = caster.height > 0 && w > 1e-6;
+        const double inv_w = hit ? 1 / w : 0;
+        mx[u] = hit ? static_cast<float>((num_x[0] * x + num_x[1] * y + num_x[2]) * inv_w) : kMiss;
+        my[u] = hit ? static_cast<float>((num_y[0] * x + num_y[1] * y + num_y[2]) * inv_w) : kMiss;
+        // |d| = |(x, y, 1)|; a ray that misses sees only water.
+        if (!range.empty()) range(v, u) = hit ? static_cast<float>(caster.height * ray_norm_(v, u) * inv_w) : 1e3f;
       }
-    });
+    }
+  });
+}
+
+cv::Mat FrameRenderer::Render(const SeabedTexture& texture, const VehiclePose& pose, uint64_t noise_seed) const {
+  const Degradations& deg = degradations_;
+  cv::Mat1f map_x, map_y, range;
+  if (terrain_)
+    TerrainMaps(texture, pose, &map_x, &map_y, &range);
+  else
+    PlaneMaps(texture, pose, &map_x, &map_y, &range);
   cv::Mat frame;
   cv::remap(texture.image, frame, map_x, map_y, cv::INTER_LINEAR, cv::BORDER_CONSTANT, cv::Scalar::all(0));
   if (!deg.Any()) return frame;

@@ -53,7 +53,10 @@ class FrameRenderer {
   const CameraModel& camera() const { return camera_; }
 
  private:
-  // Texture coordinates (remap maps) and ranges of every pixel on the terrain.
+  // Texture coordinates (remap maps) and ranges (with haze) of every pixel,
+  // on the plane or on the terrain.
+  void PlaneMaps(const SeabedTexture& texture, const VehiclePose& pose, cv::Mat1f* map_x, cv::Mat1f* map_y,
+                 cv::Mat1f* range) const;
   void TerrainMaps(const SeabedTexture& texture, const VehiclePose& pose, cv::Mat1f* map_x, cv::Mat1f* map_y,
                    cv::Mat1f* range) const;
 

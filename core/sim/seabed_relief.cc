@@ -103,7 +103,7 @@ HeightGrid MakeSeabedRelief(const SeabedReliefOptions& o, const cv::Rect2d& exte
   cv::Mat1f relief(rows, cols, 0.f);
   if (!o.Flat() && !o.texture_file.empty()) {
     const cv::Mat1f source = LoadHeightImage(o.texture_file);
-    const bool shrink = source.cols > cols || source.rows > rows;
+    const bool shrink = source.cols >= cols && source.rows >= rows;  // else linear: INTER_AREA zooms as nearest
     cv::resize(source, relief, relief.size(), 0, 0, shrink ? cv::INTER_AREA : cv::INTER_LINEAR);
     ScaleToRms(&relief, o.rms_m, o.texture_file);
   } else if (!o.Flat()) {

@@ -199,9 +199,7 @@ nlohmann::json SurveyJson(const SimulationOptions& o, const SimulationSummary& s
       {"area_m2", s.area_m2}};
   if (!o.relief.Flat())
     j["relief"] = {{"rms_m", o.relief.rms_m},
-                   {"source", o.relief.Flat()                 ? "flat"
-                              : o.relief.texture_file.empty() ? "random"
-                                                              : o.relief.texture_file},
+                   {"source", o.relief.texture_file.empty() ? "random" : o.relief.texture_file},
                    {"cell_m", o.relief.cell_m},
                    {"min_wavelength_m", o.relief.min_wavelength_m},
                    {"max_wavelength_m", o.relief.max_wavelength_m},

@@ -179,7 +179,7 @@ void WriteHeightGridGeotiff(const HeightGrid& grid, LatLon origin, const std::st
   }
 }
 
-HeightGrid ReadHeightGridGeotiff(const std::string& path, LatLon origin) {
+HeightGrid ReadHeightGridGeotiff(const std::string& path, LatLon origin, const cv::Rect2d& local_extent_m) {
   RegisterGdal();
   QuietGdal quiet;
   Dataset ds(GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
@@ -195,30 +195,48 @@ HeightGrid ReadHeightGridGeotiff(const std::string& path, LatLon origin) {
   double gt[6];
   if (ds->GetGeoTransform(gt) != CE_None)
     throw InputError(path, 0, "", "has no georeference (geotransform): cannot place the heights on the map");
-  const char* datum = ds->GetMetadataItem(kDatumKey);
+  const char* datum_item = ds->GetMetadataItem(kDatumKey);
+  const std::string datum = datum_item ? datum_item : "";
+  const bool windowed = local_extent_m.width > 0 && local_extent_m.height > 0;
 
   const OGRSpatialReference local = LocalSrs(origin);
   const bool same_grid =
       srs->IsSame(&local) && gt[2] == 0 && gt[4] == 0 && gt[1] > 0 && std::fabs(gt[5] + gt[1]) <= 1e-9 * gt[1];
   if (!same_grid) {
-    ds = WarpToMemory(
-        ds.get(),
-        {"-of", "MEM", "-t_srs", WktOf(local), "-r", "bilinear", "-dstnodata", "nan", "-wo", "INIT_DEST=NO_DATA"},
-        path);
+    std::vector<std::string> args = {"-of",      "MEM",        "-t_srs", WktOf(local), "-r",
+                                     "bilinear", "-dstnodata", "nan",    "-wo",        "INIT_DEST=NO_DATA"};
+    if (windowed) {
+      // Only the window, in local metres: GDAL reads just the source blocks it needs.
+      for (const double v : {local_extent_m.x, local_extent_m.y, local_extent_m.x + local_extent_m.width,
+                             local_extent_m.y + local_extent_m.height})
+        args.push_back(Number(v));
+      args.insert(args.end() - 4, "-te");
+    }
+    ds = WarpToMemory(ds.get(), args, path);
     if (ds->GetGeoTransform(gt) != CE_None || gt[2] != 0 || gt[4] != 0)
       throw InputError(path, 0, "", "cannot reproject the heights onto a north-up grid");
   }
 
+  // The window of cells to read: all of them, or those covering the extent.
+  int col0 = 0, row0 = 0, cols = ds->GetRasterXSize(), rows = ds->GetRasterYSize();
+  if (windowed && same_grid) {
+    const int col1 = std::min(cols, static_cast<int>(std::ceil((local_extent_m.br().x - gt[0]) / gt[1])));
+    const int row1 = std::min(rows, static_cast<int>(std::ceil((gt[3] - local_extent_m.y) / gt[1])));
+    col0 = std::max(0, static_cast<int>(std::floor((local_extent_m.x - gt[0]) / gt[1])));
+    row0 = std::max(0, static_cast<int>(std::floor((gt[3] - local_extent_m.br().y) / gt[1])));
+    cols = col1 - col0, rows = row1 - row0;
+  }
+  if (cols <= 0 || rows <= 0) throw InputError(path, 0, "", "does not cover the survey's area");
+
   HeightGrid grid;
   grid.cell_m = gt[1];
-  grid.east0_m = gt[0] + gt[1] / 2;
-  grid.north0_m = gt[3] + gt[5] / 2;
-  grid.has_depth_datum = !(datum && std::strcmp(datum, "vehicle") == 0);
-  const int cols = ds->GetRasterXSize(), rows = ds->GetRasterYSize();
+  grid.east0_m = gt[0] + (col0 + 0.5) * gt[1];
+  grid.north0_m = gt[3] + (row0 + 0.5) * gt[5];
+  grid.has_depth_datum = datum != "vehicle";
   for (int b = 0; b < (has_sigma ? 2 : 1); ++b) {
     cv::Mat1f values(rows, cols);
     GDALRasterBand* band = ds->GetRasterBand(b + 1);
-    if (band->RasterIO(GF_Read, 0, 0, cols, rows, values.ptr<float>(), cols, rows, GDT_Float32, 0,
+    if (band->RasterIO(GF_Read, col0, row0, cols, rows, values.ptr<float>(), cols, rows, GDT_Float32, 0,
                        static_cast<GSpacing>(values.step[0]), nullptr) != CE_None)
       throw InputError(path, 0, "", "cannot read the heights" + GdalMessage());
     int has_nodata = 0;

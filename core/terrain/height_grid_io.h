@@ -17,6 +17,8 @@
 // reprojected (bilinear) onto a north-up grid of about the same cell size.
 #include <string>
 
+#include <opencv2/core.hpp>
+
 #include "core/geo/lat_lon.h"
 #include "core/terrain/height_grid.h"
 
@@ -48,8 +50,12 @@ void WriteHeightGridGeotiff(const HeightGrid& grid, LatLon origin, const std::st
 // warper onto a local north-up grid of about the source's resolution.
 // Nodata and NaN become holes (NaN). Band 2 is read as sigma_m when it is
 // described "sigma_m" (our own files); sigma_m is NaN otherwise (unknown).
-// Throws InputError naming the file when it cannot be read, is not a
-// single-band raster (or height + sigma), or has no CRS or georeference.
-HeightGrid ReadHeightGridGeotiff(const std::string& path, LatLon origin);
+// With a non-empty `local_extent_m` (x east, y north, local metres) only the
+// cells covering it are read (a large DEM around a small survey). Throws
+// InputError naming the file when it cannot be read, is not a single-band
+// raster (or height + sigma), has no CRS or georeference, or does not cover
+// the extent.
+HeightGrid ReadHeightGridGeotiff(const std::string& path, LatLon origin,
+                                 const cv::Rect2d& local_extent_m = cv::Rect2d());
 
 }  // namespace seamap

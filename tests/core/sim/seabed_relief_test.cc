@@ -93,6 +93,16 @@ TEST(SeabedRelief, AnImageOfHeightsIsStretchedAndScaled) {
   EXPECT_LT(g.height_m(75, 10), g.height_m(75, 100));
   EXPECT_LT(g.height_m(75, 100), g.height_m(75, 190));
   EXPECT_NEAR(g.height_m(0, 100), g.height_m(149, 100), 1e-6);  // stretched, not tiled
+  // A float TIFF (as a GeoTIFF of heights), metres below the surface.
+  cv::Mat1f bowl(40, 40);
+  for (int r = 0; r < 40; ++r)
+    for (int c = 0; c < 40; ++c)
+      bowl(r, c) = static_cast<float>(-30 + 0.01 * ((r - 20) * (r - 20) + (c - 20) * (c - 20)));
+  o.texture_file = (dir / "bowl.tif").string();
+  ASSERT_TRUE(cv::imwrite(o.texture_file, bowl));
+  const HeightGrid b = MakeSeabedRelief(o, {0, 0, 4, 4}, -20, 1);
+  EXPECT_NEAR(Rms(b.height_m, -20), 0.25, 1e-4);
+  EXPECT_LT(b.height_m(100, 100), b.height_m(0, 0));  // the bowl's middle is its lowest
 }
 
 TEST(SeabedRelief, BadTexturesAndOptionsAreNamed) {

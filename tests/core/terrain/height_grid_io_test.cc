@@ -82,6 +82,36 @@ TEST(HeightGridGeotiff, RoundTripInTheLocalFrameIsExact) {
   GDALClose(ds);
 }
 
+TEST(HeightGridGeotiff, AWindowReadsOnlyTheCellsCoveringIt) {
+  testing::TempDir dir;
+  const std::string path = (dir / "dem.tif").string();
+  const HeightGrid g = Seabed(300, 400);
+  WriteHeightGridGeotiff(g, kOrigin, path);
+  // Cells 100..199 east, 50..119 south of the first one.
+  const LocalXY corner = g.CellCentre(119, 100);
+  const cv::Rect2d extent(corner.east - 0.01, corner.north - 0.01, 99 * g.cell_m + 0.02, 69 * g.cell_m + 0.02);
+  const HeightGrid window = ReadHeightGridGeotiff(path, kOrigin, extent);
+  ASSERT_EQ(window.cols(), 100);
+  ASSERT_EQ(window.rows(), 70);
+  EXPECT_NEAR(window.east0_m, g.CellCentre(50, 100).east, 1e-9);
+  EXPECT_NEAR(window.north0_m, g.CellCentre(50, 100).north, 1e-9);
+  EXPECT_EQ(cv::norm(window.height_m, g.height_m(cv::Rect(100, 50, 100, 70)), cv::NORM_INF), 0);
+  EXPECT_THROW(ReadHeightGridGeotiff(path, kOrigin, {100, 100, 5, 5}), InputError);  // off the file
+  // Reprojected, the window is what is warped.
+  HeightGridGeotiffOptions utm;
+  utm.crs = HeightGridCrs::kUtm;
+  const std::string utm_path = (dir / "utm.tif").string();
+  WriteHeightGridGeotiff(g, kOrigin, utm_path, utm);
+  const HeightGrid warped = ReadHeightGridGeotiff(utm_path, kOrigin, extent);
+  EXPECT_NEAR(warped.cols() * warped.cell_m, extent.width, 2 * warped.cell_m);
+  EXPECT_NEAR(warped.rows() * warped.cell_m, extent.height, 2 * warped.cell_m);
+  double h = 0, expected = 0;
+  const LocalXY middle{extent.x + extent.width / 2, extent.y + extent.height / 2};
+  ASSERT_TRUE(warped.Sample(middle, &h));
+  ASSERT_TRUE(g.Sample(middle, &expected));
+  EXPECT_NEAR(h, expected, 0.003);
+}
+
 TEST(HeightGridGeotiff, UtmAndWebMercatorFilesAreReprojectedBack) {
   testing::TempDir dir;
   const HeightGrid g = Seabed(120, 150);

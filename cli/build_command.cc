@@ -41,6 +41,10 @@ const char* kHelp =
     "  --report FILE       write the run's figures as JSON (frames, seconds, tiles, bytes, peak RSS)\n"
     "  --refine-nav        refine the navigation from the photos first (seamap trajectory --mode refine),\n"
     "                      then paint with the refined poses; the mission keeps the navigation's beside them\n"
+    "  --terrain           a true orthophoto: estimate the seabed's shape from the photos (after --refine-nav\n"
+    "                      when given) and project every pixel onto it instead of the plane at the altitude\n"
+    "  --terrain-file DEM  the same onto a height model from elsewhere (GeoTIFF or any GDAL raster, metres up,\n"
+    "                      in any CRS GDAL knows)\n"
     "  --detect            search tiles for objects as they are finished (seamap detect's recogniser)\n"
     "  --detect-model FILE its ONNX model (default: data/models/seabed_objects.onnx)\n";
 
@@ -76,7 +80,7 @@ std::string CommandLine(int argc, char** argv, int first) {
 }  // namespace
 
 int RunBuild(int argc, char** argv, int first) {
-  Args args(argc, argv, first, {"append", "overwrite", "resume", "quiet", "refine-nav", "detect", "help"});
+  Args args(argc, argv, first, {"append", "overwrite", "resume", "quiet", "refine-nav", "terrain", "detect", "help"});
   if (args.Flag("help")) {
     std::printf("%s%s", kHelp, kNavigationNoiseHelp);
     return 0;
@@ -91,6 +95,14 @@ int RunBuild(int argc, char** argv, int first) {
   const bool refine = args.Flag("refine-nav") || options.config.navigation.refine;
   options.poses.refine = ReadRefineOptions(args, options.config.navigation, options.config.threads);
   if (refine) options.poses.mode = PoseMode::kRefine;
+  const bool estimate_terrain = args.Flag("terrain");
+  if (auto file = args.Get("terrain-file")) {
+    if (estimate_terrain)
+      throw InputError("", 0, "--terrain-file", "and --terrain: give one (a height model's file, or estimate it)");
+    options.config.terrain = TerrainSettings{false, *file};
+  } else if (estimate_terrain) {
+    options.config.terrain = TerrainSettings{true, ""};
+  }
   options.poses.quiet = quiet;
   options.command = CommandLine(argc, argv, first);
   const std::optional<std::string> report = args.Get("report");
@@ -128,8 +140,15 @@ int RunBuild(int argc, char** argv, int first) {
   mission.Start();
   progress = std::make_unique<ProgressBar>("frames", static_cast<long>(o.survey.frames.size()), !quiet);
   mission.Run();
-  if (report)
-    WriteReport(*report, BuildReportJson(mission.stats(), plan, mission.pose_report(), mission.skipped().size()));
+  if (report) {
+    nlohmann::json figures = BuildReportJson(mission.stats(), plan, mission.pose_report(), mission.skipped().size());
+    if (const SeabedSurface& surface = mission.surface(); surface.grid)
+      figures["terrain"] = {{"source", surface.source},
+                            {"cells", {surface.grid->cols(), surface.grid->rows()}},
+                            {"cell_m", surface.grid->cell_m},
+                            {"hole_share", surface.hole_share}};
+    WriteReport(*report, figures);
+  }
   if (mission.stats().frames_used == 0) {
     std::fprintf(stderr, "seamap build: error: no frame could be used\n");
     return 1;

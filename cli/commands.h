@@ -17,6 +17,7 @@ int RunTrajectoryEval(int argc, char** argv, int first);  // cli/trajectory_eval
 int RunGeoref(int argc, char** argv, int first);          // cli/georef_command.cc
 int RunSimulateBuoy(int argc, char** argv, int first);    // cli/simulate_buoy_command.cc
 int RunGeorefEval(int argc, char** argv, int first);      // cli/georef_eval_command.cc
+int RunMapEval(int argc, char** argv, int first);         // cli/map_eval_command.cc
 
 int RunSimulateStereo(int argc, char** argv, int first);  // cli/stereo_simulate_command.cc
 int RunStereoModel(int argc, char** argv, int first);     // cli/stereo_model_command.cc

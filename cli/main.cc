@@ -31,6 +31,7 @@ const char* kUsage =
     "  georef          georeference SLAM keyframes and point clouds from a towed GPS buoy\n"
     "  simulate-buoy   simulate a buoy-GPS survey with exact truth (for georef)\n"
     "  georef-eval     compare georef's output with a simulated survey's truth\n"
+    "  map-eval        compare a map's texture with a simulated survey's truth (px, mm)\n"
     "  detect          search a map's tiles for objects with a YOLO model (ONNX)\n"
     "  detections-pack a map's detections as 24-byte records for an acoustic modem (and --decode)\n"
     "\n"
@@ -67,6 +68,7 @@ int main(int argc, char** argv) {
     if (command == "georef") return RunGeoref(argc, argv, 2);
     if (command == "simulate-buoy") return RunSimulateBuoy(argc, argv, 2);
     if (command == "georef-eval") return RunGeorefEval(argc, argv, 2);
+    if (command == "map-eval") return RunMapEval(argc, argv, 2);
     if (command == "detect") return RunDetect(argc, argv, 2);
     if (command == "detections-pack") return RunDetectionsPack(argc, argv, 2);
   } catch (const seamap::InputError& e) {

@@ -49,6 +49,7 @@ const char* kHelp =
     "  --watch DIR         take frames from a folder being filled (nav.csv + photo/)\n"
     "  --idle-timeout S    with --watch: finish after S seconds without a new frame (default: Ctrl-C)\n"
     "  --exit-when-done    stop serving when the replay ends (default: keep serving until Ctrl-C)\n"
+    "  --terrain-file DEM  paint a true orthophoto onto this height model (as build --terrain-file)\n"
     "  --nav-mode vo|ekf   run the navigation filter online as frames arrive and paint with its pose\n"
     "                      (vo: visual odometry + depth, navigation positions only for the first fix;\n"
     "                      ekf: also the navigation's positions, gated); the mission keeps both tracks\n"
@@ -316,6 +317,7 @@ int RunReplay(int argc, char** argv, int first) {
   server::ServerOptions options = ReadServerOptions(args, in.config.server, in.config_source);
   options.photo_dir = args.GetOr("images", "");
   const PoseSourceOptions poses = ReadNavMode(args, in);
+  if (auto dem = args.Get("terrain-file")) in.config.terrain = TerrainSettings{false, *dem};
   const GeorefOverlays overlays = ReadGeorefOverlays(args);  // before the map is touched
   const auto detect_model = LiveDetectArgs(args);            // checked before the map is opened
   args.RejectUnknown();

@@ -18,6 +18,9 @@ void MissionBuildOptions::Check() const {
   if (live && resume) throw InputError(out, 0, "--resume", "a live build keeps no checkpoints to resume from");
   if (live && poses.mode == PoseMode::kRefine)
     throw InputError("", 0, "--refine-nav", "needs the whole survey; a live build places frames as they come");
+  if (live && config.terrain.estimate)
+    throw InputError(config_source, 0, "terrain",
+                     "estimating the seabed needs the whole survey; a live build takes a height model's file");
   if (static_cast<bool>(start_detector) != static_cast<bool>(finish_detector))
     throw std::logic_error("MissionBuildOptions: start_detector and finish_detector go together");
   poses.Check();
@@ -56,6 +59,11 @@ bool MissionBuild::Open() {
   CheckPlanFitsMemory(PlanMosaic(config.map, options_.camera, options_.frame, frames, options_.channels),
                       options_.camera, config.map.tile_size, cap_mb,
                       options_.config_source == "build config" ? "" : options_.config_source);
+  // A height model's file is read before the map is created: a bad file leaves no map behind.
+  if (!config.terrain.file.empty()) {
+    surface_ = ReadSeabedSurface(config.terrain.file, options_.frame);
+    CheckAgainstNavigation(options_.camera, frames, "--terrain-file", &surface_);
+  }
   output_ = OpenOutput(options_.out, config, {options_.append, options_.overwrite, options_.resume});
   TileStore& store = *output_.store;
   if (!options_.live) {
@@ -80,7 +88,23 @@ bool MissionBuild::Open() {
       WriteMissionMetadata(&store, mission);
     }
   }
+  // The seabed's shape, once the poses are placed (refined ones with
+  // --refine-nav), painted onto: estimated from the photos (a file was read
+  // before the map was opened).
+  if (config.terrain.estimate) {
+    if (observer_.on_note) observer_.on_note("estimating the seabed's shape from the photos");
+    surface_ = EstimateSeabedSurface(options_.frame, options_.camera, frames, config.threads);
+  }
+  if (surface_.grid) {
+    CheckAgainstNavigation(options_.camera, frames, config.terrain.file.empty() ? "--terrain" : "--terrain-file",
+                           &surface_);
+    if (observer_.on_note) observer_.on_note(surface_.Summary());
+  }
   plan_ = PlanMosaic(config.map, options_.camera, options_.frame, frames, options_.channels);
+  // TODO(terrainio): once StoreMissionTerrain (core/mission/relief_layer.h, branch
+  // i29-terrainio) is on main, keep the height model in the mission and draw its relief layer:
+  //   if (surface_.grid) StoreMissionTerrain(&store, {*surface_.grid, options_.frame.origin()}, false);
+  // (the map's zooms are known from here on; a live console sees the layer from the start).
 
   // The main layer is raw unless only the enhanced map was asked for; with
   // "both", the enhanced map is built alongside as layer "enhanced".
@@ -154,8 +178,10 @@ void MissionBuild::Start() {
     start.frames_total = static_cast<int>(options_.survey.frames.size());
     start.command = options_.command;
   }
+  enhance_.surface = surface_.grid;  // both layers paint onto the same seabed
   BuildHooks hooks = both_ ? BuildHooks{} : enhance_;
   hooks.on_frame = observer_.on_frame_placed;
+  hooks.surface = surface_.grid;
   TileStore* raw_store = output_.store.get();
   if (options_.start_detector) {
     detector_ = options_.start_detector(*plan_, raw_store);

@@ -23,6 +23,7 @@
 #include "core/camera/camera_model.h"
 #include "core/controllers/map_output.h"
 #include "core/controllers/pose_source.h"
+#include "core/controllers/seabed_surface.h"
 #include "core/detect/live_detector.h"
 #include "core/geo/local_frame.h"
 #include "core/mosaic/build_config.h"
@@ -110,8 +111,10 @@ class MissionBuild {
   const std::vector<std::string>& skipped() const { return skipped_; }
   const std::optional<BuildProgress>& resumed_from() const { return output_.checkpoint; }
   const nlohmann::json& pose_report() const { return pose_report_; }  // PlaceSurvey's; null without one
-  const BuildStats& stats() const;                                    // the main layer's
-  const BuildStats* enhanced_stats() const;                           // null without the second layer
+  // The height model painted onto (config.terrain), known after Open; its grid is null when flat.
+  const SeabedSurface& surface() const { return surface_; }
+  const BuildStats& stats() const;           // the main layer's
+  const BuildStats* enhanced_stats() const;  // null without the second layer
   const MissionBuildOptions& options() const { return options_; }
 
  private:
@@ -130,6 +133,7 @@ class MissionBuild {
   std::vector<std::string> layers_;
   std::vector<std::string> skipped_;
   nlohmann::json pose_report_;
+  SeabedSurface surface_;
   std::unique_ptr<LiveDetector> detector_;  // searches the main layer's finished tiles
   std::unique_ptr<MosaicBuilder> builder_;
   std::unique_ptr<TileStore> enhanced_store_;

@@ -198,7 +198,15 @@ void ApplyBuildConfig(const json& s, const std::string& source, BuildConfig* c) 
       c->threads = Int(v, source, key);
     else if (key == "navigation")
       ApplyNavigation(v, source, &c->nav, &c->navigation);
-    else if (key == "enhance")
+    else if (key == "terrain") {
+      if (v.is_boolean()) {
+        c->terrain = TerrainSettings{v.get<bool>(), ""};
+      } else if (v.is_string() && !v.get<std::string>().empty()) {
+        c->terrain = TerrainSettings{false, v.get<std::string>()};
+      } else {
+        throw InputError(source, 0, key, "expected true, false or a height model's file name");
+      }
+    } else if (key == "enhance")
       c->enhance = v;
     else if (key == "layers")
       c->layers = String(v, source, key);

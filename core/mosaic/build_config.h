@@ -75,6 +75,16 @@ struct NavigationSettings {
   void Check(const std::string& source) const;
 };
 
+// The seabed's shape the frames are projected onto (a true orthophoto,
+// core/mosaic/surface_projection.h): the config's "terrain", true to
+// estimate it from the photos (build --terrain), or a height model's file
+// (build --terrain-file DEM.tif). Neither: the plane at each frame's altitude.
+struct TerrainSettings {
+  bool estimate = false;
+  std::string file;
+  bool enabled() const { return estimate || !file.empty(); }
+};
+
 struct BuildConfig {
   MapSettings map;
   BlendSettings blend;
@@ -83,6 +93,7 @@ struct BuildConfig {
   int threads = 0;     // 0: one per core
   NavReadOptions nav;  // column names, utm zone, origin
   NavigationSettings navigation;
+  TerrainSettings terrain;
   std::optional<nlohmann::json> enhance;  // the enhancement chain (core/enhance), if any
   // "raw", "enhanced" (frames pass through `enhance`) or "both" (the
   // enhanced map as the mission's second layer, "enhanced").

@@ -8,9 +8,17 @@
 namespace seamap {
 
 FrameWarper::FrameWarper(const CameraModel& camera, const LocalFrame& frame, int zoom, int tile_size,
-                         const WarpOptions& options)
+                         const WarpOptions& options, std::shared_ptr<const HeightGrid> surface)
     : projection_(camera, frame, zoom, tile_size), shape_(camera), feather_(options.feather_power), options_(options) {
+  if (surface) {
+    surface_ = std::make_unique<SurfaceProjection>(projection_, std::move(surface));
+    options_.grid_step = options_.surface_grid_step;
+  }
   options_.grid_step = std::clamp(options_.grid_step, 1, kMaxGridStep);
+}
+
+std::optional<SeabedProjection::MapOutline> FrameWarper::Outline(const VehiclePose& pose) const {
+  return surface_ ? surface_->Outline(pose) : projection_.Outline(pose);
 }
 
 std::optional<WarpedFrame> FrameWarper::Warp(const cv::Mat& image, const VehiclePose& pose,
@@ -21,33 +29,43 @@ std::optional<WarpedFrame> FrameWarper::Warp(const cv::Mat& image, const Vehicle
 std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const VehiclePose& pose,
                                              const std::vector<VehiclePose>& neighbours) const {
   // 1. Map: the frame's box, and how its pixels map to this frame's and the
-  // neighbours' raw images.
-  const auto outline = projection_.Outline(pose);
+  // neighbours' raw images (through the plane, or the surface).
+  const auto outline = Outline(pose);
   if (!outline) return std::nullopt;
   WarpedFrame out;
   out.box_x0 = outline->box[0];
   out.box_y0 = outline->box[1];
   const int width = out.box_width = static_cast<int>(outline->box[2]);
   const int height = out.box_height = static_cast<int>(outline->box[3]);
-  // Each neighbour's seam spans the same share of the spacing at any
-  // overlap: the spacing is how centrally the neighbour sees this frame's centre.
-  std::vector<cv::Matx33d> neighbour_maps;
-  float inv_seam[kMaxNeighbours] = {1, 1};
-  if (options_.seam_band > 0) {
-    const cv::Point2d centre(outline->centre.x - out.box_x0, outline->centre.y - out.box_y0);
+  std::vector<std::unique_ptr<BoxMapping>> maps;  // this frame's, then the neighbours' that see the seabed
+  if (surface_) {
+    std::vector<VehiclePose> views{pose};
+    for (const VehiclePose& n : neighbours)
+      if (options_.seam_band > 0 && views.size() < 1 + kMaxNeighbours && projection_.SeesSeabed(n)) views.push_back(n);
+    maps = surface_->Mappings(*outline, views);
+  } else {
+    maps.push_back(
+        std::make_unique<PlaneMapping>(projection_, projection_.CameraFromBox(*outline, out.box_x0, out.box_y0)));
     for (const VehiclePose& n : neighbours) {
-      if (neighbour_maps.size() == kMaxNeighbours) break;
+      if (options_.seam_band <= 0 || maps.size() == 1 + kMaxNeighbours) break;
       const auto other = projection_.Outline(n);
-      if (!other) continue;
-      const cv::Matx33d m = projection_.CameraFromBox(*other, out.box_x0, out.box_y0);
-      const RawPosition c = projection_.ToRaw(m, centre.x, centre.y);
-      inv_seam[neighbour_maps.size()] =
-          InverseSeamWidth(options_.seam_band, c.valid ? shape_.Centrality(c.u, c.v) : 1.0f);
-      neighbour_maps.push_back(m);
+      if (other)
+        maps.push_back(
+            std::make_unique<PlaneMapping>(projection_, projection_.CameraFromBox(*other, out.box_x0, out.box_y0)));
     }
   }
-  const MappingGrid grid(projection_, shape_, projection_.CameraFromBox(*outline, out.box_x0, out.box_y0),
-                         neighbour_maps, inv_seam, width, height, options_.grid_step);
+  // Each neighbour's seam spans the same share of the spacing at any
+  // overlap: the spacing is how centrally the neighbour sees this frame's centre.
+  std::vector<const BoxMapping*> neighbour_maps;
+  float inv_seam[kMaxNeighbours] = {1, 1};
+  const cv::Point2d centre(outline->centre.x - out.box_x0, outline->centre.y - out.box_y0);
+  for (size_t k = 1; k < maps.size(); ++k) {
+    const RawPosition c = maps[k]->ToRaw(centre.x, centre.y);
+    inv_seam[neighbour_maps.size()] =
+        InverseSeamWidth(options_.seam_band, c.valid ? shape_.Centrality(c.u, c.v) : 1.0f);
+    neighbour_maps.push_back(maps[k].get());
+  }
+  const MappingGrid grid(*maps[0], shape_, neighbour_maps, inv_seam, width, height, options_.grid_step);
 
   // 2. Weigh, onto this thread's canvas.
   PaintCanvas canvas(width, height, options_.channels);

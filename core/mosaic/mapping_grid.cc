@@ -5,9 +5,9 @@
 
 namespace seamap {
 
-MappingGrid::MappingGrid(const SeabedProjection& projection, const ImageShape& shape,
-                         const cv::Matx33d& camera_from_box, const std::vector<cv::Matx33d>& neighbours,
-                         const float* inv_seam, int box_width, int box_height, int step)
+MappingGrid::MappingGrid(const BoxMapping& own, const ImageShape& shape,
+                         const std::vector<const BoxMapping*>& neighbours, const float* inv_seam, int box_width,
+                         int box_height, int step)
     : shape_(shape),
       neighbours_(std::min(static_cast<int>(neighbours.size()), kMaxNeighbours)),
       step_(step),
@@ -19,10 +19,10 @@ MappingGrid::MappingGrid(const SeabedProjection& projection, const ImageShape& s
     for (int gx = 0; gx < nx_; ++gx) {
       GridPoint& g = points_[static_cast<size_t>(gy) * nx_ + gx];
       const double x = gx * step, y = gy * step;
-      g.own = projection.ToRaw(camera_from_box, x, y);
+      g.own = own.ToRaw(x, y);
       // Far outside this frame the neighbours do not matter.
       if (!g.own.valid || shape.Tent(g.own.u, g.own.v) < -0.5f) continue;
-      for (int k = 0; k < neighbours_; ++k) g.neighbour[k] = projection.ToRaw(neighbours[k], x, y);
+      for (int k = 0; k < neighbours_; ++k) g.neighbour[k] = neighbours[k]->ToRaw(x, y);
     }
   }
   // How far the mapping moves across a block, measured at the box's centre.

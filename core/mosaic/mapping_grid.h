@@ -13,6 +13,7 @@
 #include <opencv2/core.hpp>
 
 #include "core/mosaic/blend_rule.h"
+#include "core/mosaic/box_mapping.h"
 #include "core/mosaic/seabed_projection.h"
 
 namespace seamap {
@@ -45,11 +46,10 @@ struct Reach {
 
 class MappingGrid {
  public:
-  // camera_from_box: this frame's mapping; neighbours: theirs over the same
-  // box, with their seams' inverse widths (blend_rule.h).
-  MappingGrid(const SeabedProjection& projection, const ImageShape& shape, const cv::Matx33d& camera_from_box,
-              const std::vector<cv::Matx33d>& neighbours, const float* inv_seam, int box_width, int box_height,
-              int step);
+  // own: this frame's mapping; neighbours: theirs over the same box, with
+  // their seams' inverse widths (blend_rule.h).
+  MappingGrid(const BoxMapping& own, const ImageShape& shape, const std::vector<const BoxMapping*>& neighbours,
+              const float* inv_seam, int box_width, int box_height, int step);
 
   int step() const { return step_; }
   int blocks_x() const { return nx_ - 1; }

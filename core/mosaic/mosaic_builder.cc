@@ -54,7 +54,7 @@ MosaicBuilder::MosaicBuilder(const BuildConfig& config, const CameraModel& camer
       plan_(plan),
       store_(store),
       hooks_(std::move(hooks)),
-      warper_(camera, frame, plan.base_zoom, config.map.tile_size, WarpOptionsOf(config, plan)),
+      warper_(camera, frame, plan.base_zoom, config.map.tile_size, WarpOptionsOf(config, plan), hooks_.surface),
       pool_(std::make_unique<ThreadPool>(config.threads)),
       writer_(std::make_unique<TileWriter>(store, pool_.get(), config.map.encoding, hooks_.tile_consumers)),
       pyramid_(std::make_unique<OverviewPyramid>(writer_.get(), config.map.tile_size, plan.channels, plan.min_zoom,
@@ -116,23 +116,27 @@ MosaicBuilder::~MosaicBuilder() {
 }
 
 nlohmann::json MosaicBuilder::Settings(const BuildConfig& c, const MosaicPlan& plan, bool enhanced) {
-  return {{"tile_size", c.map.tile_size},
-          {"base_zoom", plan.base_zoom},
-          {"min_zoom", plan.min_zoom},
-          {"channels", plan.channels},
-          {"tile_format", TileExtension(c.map.encoding.format)},
-          {"png_level", c.map.encoding.png_level},
-          {"jpeg_quality", c.map.encoding.jpeg_quality},
-          {"webp_quality", c.map.encoding.webp_quality},
-          {"feather_power", c.blend.feather_power},
-          {"seam_band", c.blend.seam_band},
-          {"blend_all_overlaps", c.blend.blend_all_overlaps},
-          {"linger_frames", c.buffer.linger_frames},
-          {"lookahead_frames", c.buffer.lookahead_frames},
-          {"memory_cap_mb", c.buffer.memory_cap_mb},
-          {"max_footprint_ratio", c.frames.max_footprint_ratio},
-          {"sixteen_bit_white", c.frames.sixteen_bit_white},
-          {"enhance", enhanced ? c.enhance.value_or(nlohmann::json("on")) : nlohmann::json(nullptr)}};
+  nlohmann::json settings = {
+      {"tile_size", c.map.tile_size},
+      {"base_zoom", plan.base_zoom},
+      {"min_zoom", plan.min_zoom},
+      {"channels", plan.channels},
+      {"tile_format", TileExtension(c.map.encoding.format)},
+      {"png_level", c.map.encoding.png_level},
+      {"jpeg_quality", c.map.encoding.jpeg_quality},
+      {"webp_quality", c.map.encoding.webp_quality},
+      {"feather_power", c.blend.feather_power},
+      {"seam_band", c.blend.seam_band},
+      {"blend_all_overlaps", c.blend.blend_all_overlaps},
+      {"linger_frames", c.buffer.linger_frames},
+      {"lookahead_frames", c.buffer.lookahead_frames},
+      {"memory_cap_mb", c.buffer.memory_cap_mb},
+      {"max_footprint_ratio", c.frames.max_footprint_ratio},
+      {"sixteen_bit_white", c.frames.sixteen_bit_white},
+      {"enhance", enhanced ? c.enhance.value_or(nlohmann::json("on")) : nlohmann::json(nullptr)}};
+  // Only when set: checkpoints of flat builds stay as they were.
+  if (c.terrain.enabled()) settings["terrain"] = c.terrain.file.empty() ? nlohmann::json(true) : nlohmann::json(c.terrain.file);
+  return settings;
 }
 
 void MosaicBuilder::WriteCheckpoint(bool keep_start) {
@@ -224,7 +228,7 @@ void MosaicBuilder::Foresee(const std::vector<FrameSpec>& frames) {
       const auto corners = projection.GroundCorners(f.pose);
       if (!corners || TooSteep(projection.camera(), f.pose, *corners, config_.frames.max_footprint_ratio))
         return std::nullopt;
-      Outline outline = projection.Outline(f.pose);
+      Outline outline = warper_.Outline(f.pose);
       if (outline &&
           FramePaintBytes(static_cast<double>(outline->box[2]), static_cast<double>(outline->box[3]),
                           config_.map.tile_size, plan_.channels) >

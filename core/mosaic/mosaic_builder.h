@@ -65,6 +65,9 @@ struct BuildHooks {
   std::function<cv::Mat(const cv::Mat&)> preprocess;
   // Each gets every tile written (TileConsumer); they must outlive the builder.
   std::vector<TileConsumer*> tile_consumers;
+  // The seabed's height model, when frames are projected onto it (a true
+  // orthophoto, `build --terrain`); null: the plane at each frame's altitude.
+  std::shared_ptr<const HeightGrid> surface;
 };
 
 // How a builder meets its store.

@@ -103,6 +103,19 @@ std::optional<std::vector<cv::Point2d>> SeabedProjection::MapBorder(const Vehicl
   // pixel (tested), and it keeps PROJ to three calls per frame.
   const Eigen::Vector3d centre = *h * Eigen::Vector3d(border_[4].x, border_[4].y, 1.0);
   const LocalXY c{centre.x() / centre.z(), centre.y() / centre.z()};
+  const MapTangent t = TangentAt(c);
+  // A pixel's centre is its index; global pixel i spans [i, i+1).
+  std::vector<cv::Point2d> global(std::min(count, border_.size()));
+  for (size_t i = 0; i < global.size(); ++i) {
+    const Eigen::Vector3d g = *h * Eigen::Vector3d(border_[i].x, border_[i].y, 1.0);
+    const double de = g.x() / g.z() - c.east, dn = g.y() / g.z() - c.north;
+    global[i] = {t.at.x + t.east_px.x * de + t.north_px.x * dn - 0.5,
+                 t.at.y + t.east_px.y * de + t.north_px.y * dn - 0.5};
+  }
+  return global;
+}
+
+SeabedProjection::MapTangent SeabedProjection::TangentAt(LocalXY c) const {
   auto to_pixel = [&](double east, double north) {
     return LatLonToPixel(frame_.ToLatLon({east, north}), zoom_, tile_size_);
   };
@@ -114,15 +127,14 @@ std::optional<std::vector<cv::Point2d>> SeabedProjection::MapBorder(const Vehicl
   p0.x = unwrap(p0.x, origin_x_);
   pe.x = unwrap(pe.x, p0.x);
   pn.x = unwrap(pn.x, p0.x);
-  // A pixel's centre is its index; global pixel i spans [i, i+1).
-  std::vector<cv::Point2d> global(std::min(count, border_.size()));
-  for (size_t i = 0; i < global.size(); ++i) {
-    const Eigen::Vector3d g = *h * Eigen::Vector3d(border_[i].x, border_[i].y, 1.0);
-    const double de = g.x() / g.z() - c.east, dn = g.y() / g.z() - c.north;
-    global[i] = {p0.x + (pe.x - p0.x) * de + (pn.x - p0.x) * dn - 0.5,
-                 p0.y + (pe.y - p0.y) * de + (pn.y - p0.y) * dn - 0.5};
-  }
-  return global;
+  return {c, {p0.x, p0.y}, {pe.x - p0.x, pe.y - p0.y}, {pn.x - p0.x, pn.y - p0.y}};
+}
+
+LocalXY SeabedProjection::MapTangent::ToLocal(cv::Point2d map) const {
+  const cv::Point2d d = map - at;
+  const double det = east_px.x * north_px.y - north_px.x * east_px.y;
+  return {centre.east + (d.x * north_px.y - north_px.x * d.y) / det,
+          centre.north + (east_px.x * d.y - d.x * east_px.y) / det};
 }
 
 std::optional<SeabedProjection::MapOutline> SeabedProjection::Outline(const VehiclePose& pose) const {
@@ -148,8 +160,10 @@ cv::Matx33d SeabedProjection::CameraFromBox(const MapOutline& frame, int64_t x0,
 RawPosition SeabedProjection::ToRaw(const cv::Matx33d& m, double x, double y) const {
   const double z = m(2, 0) * x + m(2, 1) * y + m(2, 2);
   if (!(z > 1e-12)) return {};
-  const double xn = (m(0, 0) * x + m(0, 1) * y + m(0, 2)) / z;
-  const double yn = (m(1, 0) * x + m(1, 1) * y + m(1, 2)) / z;
+  return FromNormalised((m(0, 0) * x + m(0, 1) * y + m(0, 2)) / z, (m(1, 0) * x + m(1, 1) * y + m(1, 2)) / z);
+}
+
+RawPosition SeabedProjection::FromNormalised(double xn, double yn) const {
   const double r2 = xn * xn + yn * yn;
   if (!(r2 <= max_r2_)) return {};
   const auto& d = camera_.distortion;

@@ -56,9 +56,31 @@ class SeabedProjection {
   cv::Matx33d CameraFromBox(const MapOutline& frame, int64_t x0, int64_t y0) const;
   // The raw image position seen at box pixel (x, y) through such a mapping.
   RawPosition ToRaw(const cv::Matx33d& camera_from_box, double x, double y) const;
+  // The raw image position of normalised camera coordinates (x/z, y/z): the
+  // lens model, invalid far outside the image.
+  RawPosition FromNormalised(double xn, double yn) const;
+
+  // Local metres to global pixels around a seabed point: global pixel-index
+  // coordinates = at + east_px * (east - centre.east) + north_px * (north -
+  // centre.north), affine to well under a thousandth of a pixel over a frame
+  // (PROJ at the point and a metre east and north of it). Columns unwrapped
+  // around the mission's origin, as Outline's.
+  struct MapTangent {
+    LocalXY centre;
+    cv::Point2d at, east_px, north_px;
+    cv::Point2d ToMap(LocalXY p) const {
+      const double de = p.east - centre.east, dn = p.north - centre.north;
+      return at + east_px * de + north_px * dn;
+    }
+    LocalXY ToLocal(cv::Point2d map) const;  // the inverse
+  };
+  MapTangent TangentAt(LocalXY centre) const;
 
   const CameraModel& camera() const { return camera_; }
   int tile_size() const { return tile_size_; }
+  // The raw image border samples, undistorted (ideal pixels): the four
+  // corners, the principal point, then points along the edges.
+  const std::vector<cv::Point2d>& border() const { return border_; }
 
  private:
   // The first `count` image border samples (corners, centre, edges) on the

@@ -34,6 +34,26 @@ TEST(BuildConfig, ReadsEveryKey) {
   EXPECT_DOUBLE_EQ(c.nav.origin->lon, 131.9);
 }
 
+TEST(BuildConfig, TerrainIsTrueOrAHeightModelsFile) {
+  BuildConfig c;
+  EXPECT_FALSE(c.terrain.enabled());
+  ApplyBuildConfig(nlohmann::json{{"terrain", true}}, "cfg.json", &c);
+  EXPECT_TRUE(c.terrain.estimate);
+  ApplyBuildConfig(nlohmann::json{{"terrain", "dem.tif"}}, "cfg.json", &c);
+  EXPECT_FALSE(c.terrain.estimate);
+  EXPECT_EQ(c.terrain.file, "dem.tif");
+  ApplyBuildConfig(nlohmann::json{{"terrain", false}}, "cfg.json", &c);
+  EXPECT_FALSE(c.terrain.enabled());
+  for (const auto& bad : {nlohmann::json(3), nlohmann::json(""), nlohmann::json::object()}) {
+    try {
+      ApplyBuildConfig(nlohmann::json{{"terrain", bad}}, "cfg.json", &c);
+      FAIL() << bad.dump();
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("terrain"), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(BuildConfig, KeepsTheServerObjectForTheServerToRead) {
   BuildConfig c;
   EXPECT_FALSE(c.server.has_value());

@@ -1,0 +1,96 @@
+#include "core/controllers/seabed_surface.h"
+
+#include <cmath>
+#include <cstdio>
+
+#include "core/camera/frame_projector.h"
+#include "core/terrain/height_grid_io.h"
+#include "core/util/error.h"
+#include "core/util/statistics.h"
+
+namespace seamap {
+
+std::string SeabedSurface::Summary() const {
+  if (!grid) return "flat seabed (the plane at each frame's altitude)";
+  char line[256];
+  std::snprintf(line, sizeof line,
+                "terrain %s: %dx%d cells of %.0f mm; %.1f %% of the frames' footprint without a height, painted on "
+                "the frame's own plane there; %+.2f m from the navigation's seabed (median)",
+                source.c_str(), grid->cols(), grid->rows(), grid->cell_m * 1000, hole_share * 100, datum_offset_m);
+  return line;
+}
+
+double HoleShare(const HeightGrid& grid, const CameraModel& camera, const std::vector<FrameSpec>& frames) {
+  int samples = 0, holes = 0;
+  for (const FrameSpec& f : frames) {
+    const auto corners = Footprint(camera, f.pose);
+    if (!corners) continue;
+    std::vector<LocalXY> points(corners->begin(), corners->end());
+    LocalXY centre{0, 0};
+    for (const auto& c : *corners) centre = {centre.east + c.east / 4, centre.north + c.north / 4};
+    points.push_back(centre);
+    // Halfway between the centre and each corner too: most of what a frame paints.
+    for (const auto& c : *corners) points.push_back({(c.east + centre.east) / 2, (c.north + centre.north) / 2});
+    for (const LocalXY& p : points) {
+      double h = 0;
+      ++samples;
+      holes += !grid.Sample(p, &h);
+    }
+  }
+  return samples ? static_cast<double>(holes) / samples : 0;
+}
+
+void CheckAgainstNavigation(const CameraModel& camera, const std::vector<FrameSpec>& frames, const std::string& option,
+                            SeabedSurface* surface) {
+  const HeightGrid& grid = *surface->grid;
+  surface->hole_share = HoleShare(grid, camera, frames);
+  std::vector<double> offsets, altitudes;
+  for (const FrameSpec& f : frames) {
+    double up = 0;
+    altitudes.push_back(f.pose.altitude_m);
+    if (grid.Sample({f.pose.east_m, f.pose.north_m}, &up)) offsets.push_back(up + f.pose.depth_m + f.pose.altitude_m);
+  }
+  if (frames.empty()) return;
+  const std::string& what = surface->path;
+  if (offsets.empty())
+    throw InputError(what, 0, option, "the height model has no height below any frame: not this survey's site?");
+  surface->datum_offset_m = Median(offsets);
+  const double limit = std::max(1.0, 0.5 * Median(altitudes));
+  if (std::fabs(surface->datum_offset_m) > limit) {
+    char detail[320];
+    std::snprintf(detail, sizeof detail,
+                  "the height model is %.2f m %s the seabed the navigation puts below the frames (-(depth_m + "
+                  "altitude_m), median over %zu frames): it must be metres up on the same vertical datum (sea "
+                  "surface 0 when the navigation has depth_m)",
+                  std::fabs(surface->datum_offset_m), surface->datum_offset_m > 0 ? "above" : "below", offsets.size());
+    throw InputError(what, 0, option, detail);
+  }
+}
+
+SeabedSurface ReadSeabedSurface(const std::string& path, const LocalFrame& frame) {
+  SeabedSurface out;
+  auto grid = std::make_shared<HeightGrid>(ReadHeightGridGeotiff(path, frame.origin()));
+  if (grid->empty()) throw InputError(path, 0, "--terrain-file", "holds no heights");
+  out.grid = std::move(grid);
+  out.source = "file " + path;
+  out.path = path;
+  return out;
+}
+
+SeabedSurface EstimateSeabedSurface(const LocalFrame& frame, const CameraModel& camera,
+                                    const std::vector<FrameSpec>& frames, int threads) {
+  (void)frame, (void)camera, (void)frames, (void)threads;
+  // TODO(dem): the one call, once EstimateSeabedTerrain (core/trajectory/seabed_terrain.h,
+  // branch i29-dem) is on main; this function then becomes:
+  //   TerrainOptions options;  options.threads = threads;  TerrainReport report;
+  //   HeightGrid grid = EstimateSeabedTerrain(frames, camera, options, &report);
+  //   if (grid.empty()) throw InputError("", 0, "--terrain", "no seabed point could be triangulated ...");
+  //   SeabedSurface out;  out.grid = std::make_shared<HeightGrid>(std::move(grid));
+  //   out.source = "estimated from the photos";  return out;
+  // (and seamap_controllers gains nothing: seamap_trajectory is a dependency already).
+  throw InputError("", 0, "--terrain",
+                   "estimating the seabed from the photos is not in this build yet; give a height model with "
+                   "--terrain-file");
+}
+
+}  // namespace seamap

@@ -1,0 +1,50 @@
+#pragma once
+// The height model a build paints onto (build --terrain, --terrain-file; the
+// config's "terrain"): read from a file, or estimated from the photos once
+// the frames' poses are placed. One call, before the first frame is painted.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/camera/camera_model.h"
+#include "core/geo/local_frame.h"
+#include "core/mosaic/build_config.h"
+#include "core/nav/frame_list.h"
+#include "core/terrain/height_grid.h"
+
+namespace seamap {
+
+struct SeabedSurface {
+  std::shared_ptr<const HeightGrid> grid;  // null: flat (no terrain asked for)
+  std::string source;                      // "file DEM.tif" or "estimated from the photos"
+  std::string path;                        // the file read ("" when estimated)
+  // Share of the frames' footprint samples (centre and corners on the plane)
+  // where the model has no height: painted on the frame's own plane there.
+  double hole_share = 0;
+  // Median of (the model's height - the navigation's seabed height,
+  // -(depth_m + altitude_m)) below the frames: how far the model is off the
+  // seabed the navigation measures (0 on the same vertical datum).
+  double datum_offset_m = 0;
+  std::string Summary() const;  // one line for the build's output
+};
+
+// A height model's file (--terrain-file; GeoTIFF or any GDAL raster, any
+// CRS) in the mission's local frame. InputError naming the file.
+SeabedSurface ReadSeabedSurface(const std::string& path, const LocalFrame& frame);
+
+// The seabed estimated from the photos of `frames` (poses placed: refined
+// first with --refine-nav). InputError naming --terrain.
+SeabedSurface EstimateSeabedSurface(const LocalFrame& frame, const CameraModel& camera,
+                                    const std::vector<FrameSpec>& frames, int threads);
+
+// The share of footprint samples without a height (see SeabedSurface::hole_share).
+double HoleShare(const HeightGrid& grid, const CameraModel& camera, const std::vector<FrameSpec>& frames);
+
+// Sets hole_share and datum_offset_m for `frames`. A model far off the
+// seabed the navigation measures (more than 1 m and half the median
+// altitude: another vertical datum, or another site) is an InputError
+// naming `option`; one that covers none of the frames too.
+void CheckAgainstNavigation(const CameraModel& camera, const std::vector<FrameSpec>& frames, const std::string& option,
+                            SeabedSurface* surface);
+
+}  // namespace seamap

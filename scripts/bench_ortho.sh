@@ -1,0 +1,70 @@
+#!/usr/bin/env bash
+# True orthophoto bench (docs/TERRAIN.md, issue 29 deliverable 4): on the
+# issue's survey (exact navigation, 0.3 m rms relief, 2 m altitude, lanes
+# 0.9 m, JPEG), the base map's texture against its true ground position
+# (seamap map-eval) for a flat build, `build --terrain-file truth/terrain.tif`
+# and `build --terrain` (the height model from the photos), over SEEDS seeds:
+# median and worst of the per-seed median and p90 offsets, the issue's
+# target beside them; and the CPU of a terrain build against a flat one.
+#   scripts/bench_ortho.sh [SEAMAP_BINARY [OUT_DIR [SEEDS [FRAMES]]]]
+# Defaults: build/seamap, out/bench/ortho, 3 seeds, 200 frames.
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+seamap="${1:-$root/build/seamap}" out="${2:-$root/out/bench/ortho}" seeds="${3:-3}" frames="${4:-200}"
+mkdir -p "$out"
+
+json() { python3 -c "import json,sys; print(json.load(open(sys.argv[1]))$2)" "$1"; }
+
+modes=(flat file estimate)
+declare -A args=([flat]="" [file]="--terrain-file TRUTH" [estimate]="--terrain")
+for seed in $(seq 1 "$seeds"); do
+  sim="$out/sim_$seed"
+  if [[ ! -f "$sim/truth/terrain.tif" ]] || [[ "$(($(wc -l <"$sim/nav.csv") - 1))" != "$frames" ]]; then
+    "$seamap" simulate --out "$sim" --force --seed "$seed" --frames "$frames" --relief 0.3 --altitude-min 2 \
+      --altitude-max 2 --line-spacing 0.9 --line-length 6 --image-format jpg --quiet >/dev/null
+  fi
+  for mode in "${modes[@]}"; do
+    map="$out/${mode}_$seed.mbtiles"
+    extra="${args[$mode]//TRUTH/$sim/truth/terrain.tif}"
+    rm -f "$out/${mode}_$seed.eval.json"
+    # shellcheck disable=SC2086
+    if /usr/bin/time -f "%U %S" -o "$out/${mode}_$seed.time" "$seamap" build --images "$sim/photo" --nav "$sim/nav.csv" --camera "$sim/camera.json" --origin 43.1,131.9 \
+      --out "$map" --overwrite --quiet --report "$out/${mode}_$seed.report.json" $extra >"$out/${mode}_$seed.log" 2>&1; then
+      "$seamap" map-eval "$map" "$sim" --json "$out/${mode}_$seed.eval.json" >/dev/null
+    fi
+  done
+done
+
+python3 - "$out" "$seeds" <<'PY'
+import json, os, statistics, sys
+out, seeds = sys.argv[1], int(sys.argv[2])
+names = {"flat": "flat projection", "file": "--terrain-file truth", "estimate": "--terrain (from the photos)"}
+def load(mode, seed, kind):
+    p = os.path.join(out, f"{mode}_{seed}.{kind}.json")
+    return json.load(open(p)) if os.path.exists(p) else None
+cpu = {}
+for mode in ("flat", "file", "estimate"):
+    evals = [load(mode, s, "eval") for s in range(1, seeds + 1)]
+    reports = [load(mode, s, "report") for s in range(1, seeds + 1)]
+    if not all(evals):
+        log = os.path.join(out, f"{mode}_1.log")
+        why = open(log).read().strip().splitlines()[-1] if os.path.exists(log) else "no build"
+        print(f"ortho {names[mode]}: not measured ({why})")
+        continue
+    med = [e["median_px"] for e in evals]
+    p90 = [e["p90_px"] for e in evals]
+    mm = evals[0]["pixel_mm"]
+    target = "target with --terrain: median <= 0.5 px, p90 <= 1 px" if mode != "flat" else "issue: p90 ~6 px today"
+    print(f"ortho {names[mode]}: texture offset median {statistics.median(med):.2f} px (worst {max(med):.2f}), "
+          f"p90 {statistics.median(p90):.2f} px = {statistics.median(p90) * mm:.1f} mm (worst {max(p90):.2f} px) "
+          f"over {seeds} seeds, {min(e['measured_blocks'] for e in evals)}+ blocks each [{target}]")
+    # The whole process's CPU (user + system), the height model's estimate included.
+    cpu[mode] = [sum(map(float, open(os.path.join(out, f"{mode}_{s}.time")).read().split()[-2:])) / r["frames_seen"] * 1000
+                 for s, r in zip(range(1, seeds + 1), reports)]
+for mode in ("file", "estimate"):
+    if mode in cpu and "flat" in cpu:
+        ratio = [c / f for c, f in zip(cpu[mode], cpu["flat"])]
+        print(f"ortho speed {names[mode]}: {statistics.median(cpu[mode]):.1f} CPU ms/frame vs flat "
+              f"{statistics.median(cpu['flat']):.1f} ({statistics.median(ratio):.1f}x, worst {max(ratio):.1f}x)"
+              + (", the estimate included" if mode == "estimate" else ""))
+PY

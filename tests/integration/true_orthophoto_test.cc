@@ -1,0 +1,78 @@
+// A true orthophoto (build --terrain-file): over 0.3 m rms relief at 2 m
+// altitude the flat projection puts raised ground pixels off its true
+// position; projected onto the true height model the map's texture must sit
+// within a base pixel of the truth (map-eval against the simulator's truth
+// texture, which over relief is the true orthophoto).
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "tests/integration/survey_fixture.h"
+
+namespace seamap {
+namespace {
+
+using testing::SharedSurvey;
+
+// Small frames (a quarter of the default's pixels, same field of view) keep the ray-cast survey quick.
+const testing::SimulatedSurvey& ReliefSurvey() {
+  return SharedSurvey("relief",
+                      "--relief 0.3 --altitude-min 2 --altitude-max 2 --line-spacing 0.9 --line-length 4 "
+                      "--frames 70 --width 348 --height 260 --pixel-pitch-um 25.8 --image-format jpg --seed 3 --quiet");
+}
+
+nlohmann::json MapEval(const std::string& map, const std::string& survey_dir) {
+  testing::TempDir dir;
+  const std::string json = (dir / "eval.json").string();
+  std::string log;
+  EXPECT_EQ(testing::Seamap("map-eval " + map + " " + survey_dir + " --json " + json, &log), 0) << log;
+  std::printf("%s", log.c_str());
+  std::ifstream in(json);
+  return nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+}
+
+TEST(TrueOrthophoto, OnTheTrueHeightModelTheTextureIsWithinABasePixel) {
+  const auto& survey = ReliefSurvey();
+  testing::TempDir dir;
+  const std::string flat = (dir / "flat.mbtiles").string(), ortho = (dir / "ortho.mbtiles").string();
+  std::string log;
+  ASSERT_EQ(testing::Seamap(survey.BuildArgs() + " --out " + flat, &log), 0) << log;
+  ASSERT_EQ(testing::Seamap(survey.BuildArgs() + " --out " + ortho + " --terrain-file " + survey.dir +
+                                "/truth/terrain.tif --report " + (dir / "report.json").string(),
+                            &log),
+            0)
+      << log;
+  EXPECT_NE(log.find("terrain file"), std::string::npos) << log;  // the build says what it painted onto
+  const nlohmann::json f = MapEval(flat, survey.dir), o = MapEval(ortho, survey.dir);
+  ASSERT_TRUE(f.is_object() && o.is_object());
+  // The relief shows on a flat map (the measurement sees it) ...
+  EXPECT_GT(f.at("p90_px").get<double>(), 2.0);
+  // ... and the true orthophoto puts it back (the target: p90 <= 1 px, median <= 0.5 px).
+  EXPECT_GT(o.at("measured_blocks").get<int>(), 30);
+  EXPECT_LT(o.at("p90_px").get<double>(), 1.0);
+  EXPECT_LT(o.at("median_px").get<double>(), 0.5);
+  // The report says where the height model came from and how much of it was missing.
+  std::ifstream in(dir / "report.json");
+  const nlohmann::json report = nlohmann::json::parse(in, nullptr, false);
+  ASSERT_TRUE(report.is_object() && report.contains("terrain"));
+  EXPECT_LT(report["terrain"]["hole_share"].get<double>(), 0.01);
+}
+
+TEST(TrueOrthophoto, ABadHeightModelIsRefusedBeforeTheMapIsMade) {
+  const auto& survey = ReliefSurvey();
+  testing::TempDir dir;
+  const std::string out = (dir / "m.mbtiles").string();
+  const std::string not_a_dem = (dir / "dem.tif").string();
+  std::ofstream(not_a_dem) << "not a raster";
+  std::string log;
+  EXPECT_EQ(testing::Seamap(survey.BuildArgs() + " --out " + out + " --terrain-file " + not_a_dem, &log), 2);
+  EXPECT_NE(log.find("dem.tif"), std::string::npos) << log;
+  EXPECT_FALSE(std::filesystem::exists(out));
+  EXPECT_EQ(testing::Seamap(survey.BuildArgs() + " --out " + out + " --terrain --terrain-file " + not_a_dem, &log), 2);
+  EXPECT_NE(log.find("--terrain-file"), std::string::npos) << log;
+}
+
+}  // namespace
+}  // namespace seamap

@@ -124,6 +124,9 @@ std::optional<VoMeasurement> VisualOdometry::Add(const FrameFeatures& features, 
   // NED down, in camera-1 axes: where the seabed is.
   geometry.seabed_normal_cam1 = body_from_camera.transpose() * ned_from_ref.transpose() * Eigen::Vector3d::UnitZ();
   geometry.height_m = height;
+  // The camera sits at mount_offset_m from the navigation's reference point
+  // (where the altitude is measured), body axes.
+  geometry.altimeter_cam1_m = -(body_from_camera.transpose() * camera_.mount_offset_m);
   const TwoViewMotion motion = models_.Next(p1, p2, geometry);
   TakeAsReference(features, time_s, nav);
   if (motion.model == MotionModel::kNone) {

@@ -41,6 +41,8 @@ const char* kHelp =
     "  --report FILE       write the run's figures as JSON (frames, seconds, tiles, bytes, peak RSS)\n"
     "  --refine-nav        refine the navigation from the photos first (seamap trajectory --mode refine),\n"
     "                      then paint with the refined poses; the mission keeps the navigation's beside them\n"
+    "  --feature-enhance off|auto|LIST  with --refine-nav: enhance the frames before their features are\n"
+    "                      detected (seamap trajectory --help)\n"
     "  --detect            search tiles for objects as they are finished (seamap detect's recogniser)\n"
     "  --detect-model FILE its ONNX model (default: data/models/seabed_objects.onnx)\n";
 
@@ -91,6 +93,7 @@ int RunBuild(int argc, char** argv, int first) {
   const bool refine = args.Flag("refine-nav") || options.config.navigation.refine;
   options.poses.refine = ReadRefineOptions(args, options.config.navigation, options.config.threads);
   if (refine) options.poses.mode = PoseMode::kRefine;
+  options.poses.feature_enhance = ReadFeatureEnhance(args);
   options.poses.quiet = quiet;
   options.command = CommandLine(argc, argv, first);
   const std::optional<std::string> report = args.Get("report");

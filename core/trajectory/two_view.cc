@@ -161,20 +161,39 @@ std::vector<Eigen::Vector3d> Triangulate(const std::vector<cv::Point2d>& p1, con
   return points;
 }
 
-// Metres per unit of baseline: the seabed the points describe below the
-// altimeter set at the measured height. The altimeter's footprint, in the
-// points' unit, depends on the answer: two rounds settle it (the offset is
-// centimetres against metres of range).
+// Metres per unit of baseline: the altitude the points would give the
+// altimeter (each beam cast onto the seabed they describe, the vertical
+// ranges averaged as a DVL does) set against the measured one. The
+// altimeter's position, in the points' unit, depends on the answer: a few
+// rounds settle it (its offset is centimetres against metres of range).
 std::optional<double> ScaleAtNadir(const std::vector<Eigen::Vector3d>& points, const PairGeometry& g,
                                    const TwoViewOptions& o) {
   const Eigen::Vector3d& n = g.seabed_normal_cam1;
-  const Eigen::Vector3d lateral = g.altimeter_cam1_m - n * n.dot(g.altimeter_cam1_m);
+  const Eigen::Vector3d& a_m = g.altimeter_cam1_m;
+  const double altitude = g.height_m - n.dot(a_m);  // the altimeter's own range
+  const std::vector<Eigen::Vector3d> straight_down = {n};
+  const auto& beams = g.altimeter_beams_cam1.empty() ? straight_down : g.altimeter_beams_cam1;
   double scale = 0;
-  for (int round = 0; round < (lateral.norm() > 0 ? 3 : 1); ++round) {
-    const Eigen::Vector3d footprint = round == 0 ? Eigen::Vector3d::Zero() : Eigen::Vector3d(lateral / scale);
-    const auto distance = SeabedDistanceAt(points, n, footprint, o.nadir_radius);
-    if (!distance || !(*distance > 0)) return std::nullopt;
-    scale = g.height_m / *distance;
+  for (int round = 0; round < (a_m.norm() > 0 ? 3 : 1); ++round) {
+    const Eigen::Vector3d a = round == 0 ? Eigen::Vector3d::Zero() : Eigen::Vector3d(a_m / scale);
+    double sum = 0;
+    int seen = 0;
+    for (const Eigen::Vector3d& beam : beams) {
+      if (!(n.dot(beam) > 0.1)) continue;
+      // Along the beam until it meets the seabed the points describe.
+      std::optional<double> below = SeabedDistanceAt(points, n, a, o.nadir_radius);
+      for (int step = 0; below && step < 4; ++step) {
+        const double along_beam = (*below - n.dot(a)) / n.dot(beam);
+        below = SeabedDistanceAt(points, n, a + along_beam * beam, o.nadir_radius);
+      }
+      if (!below) continue;
+      sum += *below - n.dot(a);  // the beam's vertical range
+      ++seen;
+    }
+    // A beam whose footprint no point is near is left out, as a DVL leaves
+    // out a beam that loses the bottom.
+    if (seen == 0 || !(sum > 0)) return std::nullopt;
+    scale = altitude / (sum / seen);
   }
   return scale;
 }
@@ -438,7 +457,12 @@ std::optional<double> SeabedDistanceAt(const std::vector<Eigen::Vector3d>& point
   // allow: a crest or a hollow under the vehicle is curved) by least squares,
   // refitted without the points beyond three robust sigmas (fish,
   // mismatches): c0 is the seabed below the footprint.
-  const int terms = near.size() >= 3 * kMinPoints ? 6 : 3;
+  // The quadric only where the points surround the footprint: extrapolated
+  // past their edge it bends away.
+  Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+  for (int k : near) centroid += local[k].head<2>();
+  centroid /= static_cast<double>(near.size());
+  const int terms = near.size() >= 3 * kMinPoints && centroid.norm() < radius / 3 ? 6 : 3;
   auto row = [&](const Eigen::Vector3d& p) {
     Eigen::VectorXd r(terms);
     r.head(3) << 1, p.x(), p.y();

@@ -55,9 +55,13 @@ struct PairGeometry {
   Eigen::Matrix3d cam2_from_cam1_ahrs;  // rotation between the views from the attitude sensor
   Eigen::Vector3d seabed_normal_cam1;   // unit, camera-1 axes, pointing from the camera to the seabed
   double height_m = 0;                  // camera 1 above the seabed, along the normal
-  // Where the altimeter is, seen from camera 1 (camera-1 axes, metres): its
-  // range is measured below it, not below the camera.
+  // Where the altimeter is, seen from camera 1 (camera-1 axes, metres), and
+  // where it looks: a DVL's altitude is the mean vertical range of its
+  // beams (unit directions, camera-1 axes); none: straight down along the
+  // normal. height_m is then the camera's height over the seabed the beams
+  // see: the altitude less the camera's offset below the altimeter.
   Eigen::Vector3d altimeter_cam1_m = Eigen::Vector3d::Zero();
+  std::vector<Eigen::Vector3d> altimeter_beams_cam1;
 };
 
 struct TwoViewMotion {

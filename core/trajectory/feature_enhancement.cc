@@ -11,6 +11,8 @@ void FeatureEnhanceOptions::Check() const {
   if (spec.empty()) throw InputError("", 0, "--feature-enhance", "expected off, auto or an op list");
   if (spec != "off" && spec != "auto") EnhanceChain::FromOpList(spec, "--feature-enhance");  // throws naming the op
   if (probe_frames < 2) throw InputError("", 0, "--feature-enhance", "auto needs at least two probe frames");
+  if (!(min_gain >= 0) || !(enough_inliers > 0))
+    throw InputError("", 0, "--feature-enhance", "auto needs a gain >= 0 and an inlier level > 0");
 }
 
 EnhancementTrial MeasureInliers(const std::vector<cv::Mat>& frames, const CameraModel& camera,
@@ -61,6 +63,7 @@ EnhancementChoice ChooseFeatureEnhancement(const FeatureEnhanceOptions& options,
   FeatureOptions tried = features;
   tried.enhance = EnhanceChain();
   choice.trials.push_back(MeasureInliers(probe, camera, tried));
+  if (choice.trials.front().inliers >= options.enough_inliers) return choice;
   double best = choice.trials.front().inliers * (1 + options.min_gain);
   for (const std::string& list : options.candidates) {
     EnhanceChain chain = EnhanceChain::FromOpList(list, "--feature-enhance");

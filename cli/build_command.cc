@@ -45,6 +45,8 @@ const char* kHelp =
     "                      when given) and project every pixel onto it instead of the plane at the altitude\n"
     "  --terrain-file DEM  the same onto a height model from elsewhere (GeoTIFF or any GDAL raster, metres up,\n"
     "                      in any CRS GDAL knows)\n"
+    "  --feature-enhance off|auto|LIST  with --refine-nav: enhance the frames before their features are\n"
+    "                      detected (seamap trajectory --help)\n"
     "  --detect            search tiles for objects as they are finished (seamap detect's recogniser)\n"
     "  --detect-model FILE its ONNX model (default: data/models/seabed_objects.onnx)\n";
 
@@ -103,6 +105,7 @@ int RunBuild(int argc, char** argv, int first) {
   } else if (estimate_terrain) {
     options.config.terrain = TerrainSettings{true, ""};
   }
+  options.poses.feature_enhance = ReadFeatureEnhance(args);
   options.poses.quiet = quiet;
   options.command = CommandLine(argc, argv, first);
   const std::optional<std::string> report = args.Get("report");

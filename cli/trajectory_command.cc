@@ -38,7 +38,7 @@ const char* kHelp =
 int RunTrajectory(int argc, char** argv, int first) {
   Args args(argc, argv, first, {"quiet", "help"});
   if (args.Flag("help")) {
-    std::printf("%s%s", kHelp, kNavigationNoiseHelp);
+    std::printf("%s%s%s", kHelp, kNavigationNoiseHelp, kFeatureEnhanceHelp);
     return 0;
   }
   BuildConfig config;
@@ -61,6 +61,7 @@ int RunTrajectory(int argc, char** argv, int first) {
   const NavTable nav = ReadNavigation(args.Require("nav"), config.nav);
   FrameList frames = MatchFrames(nav, images, args.Get("image-times"));
   const RefineOptions options = ReadRefineOptions(args, config.navigation, threads);
+  const FeatureEnhanceOptions feature_enhance = ReadFeatureEnhance(args);
   args.RejectUnknown();
   for (const auto& w : nav.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   for (const auto& r : nav.rejected) std::fprintf(stderr, "skipped: %s\n", r.Message().c_str());
@@ -72,6 +73,7 @@ int RunTrajectory(int argc, char** argv, int first) {
   poses.mode = mode == "refine" ? PoseMode::kRefine : PoseMode::kFilter;
   poses.refine = options;
   if (mode != "refine") poses.filter = EstimatorOptionsFrom(mode, options, "--mode");
+  poses.feature_enhance = feature_enhance;
   poses.threads = threads;
   poses.quiet = quiet;
   std::vector<std::string> flags;

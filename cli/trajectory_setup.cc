@@ -7,6 +7,18 @@ const char* kNavigationNoiseHelp =
     "  --nav-drift M_MIN   its drift rate, metres per minute (default 1; navigation.drift_m_per_min)\n"
     "  --heading-noise DEG its heading noise (default 1; navigation.heading_noise_deg)\n";
 
+const char* kFeatureEnhanceHelp =
+    "  --feature-enhance off|auto|LIST  enhance the frames before their features are detected (seed 004;\n"
+    "                      LIST as seamap enhance --ops): auto tries a few chains on the first frames and keeps\n"
+    "                      the one that raises the inliers between frames, if any (default off)\n";
+
+FeatureEnhanceOptions ReadFeatureEnhance(Args& args) {
+  FeatureEnhanceOptions o;
+  if (auto v = args.Get("feature-enhance")) o.spec = *v;
+  o.Check();
+  return o;
+}
+
 RefineOptions ReadRefineOptions(Args& args, const NavigationSettings& settings, int threads) {
   RefineOptions o;
   o.nav_noise_m = args.GetDouble("nav-noise", settings.noise_m);

@@ -18,6 +18,10 @@
 namespace seamap::cli {
 
 extern const char* kNavigationNoiseHelp;
+extern const char* kFeatureEnhanceHelp;
+
+// --feature-enhance off|auto|LIST (default off).
+FeatureEnhanceOptions ReadFeatureEnhance(Args& args);
 
 // --nav-noise, --nav-drift, --heading-noise (and --threads) over the config's
 // navigation.noise_m, drift_m_per_min, heading_noise_deg.

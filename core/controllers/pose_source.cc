@@ -16,6 +16,7 @@
 namespace seamap {
 
 void PoseSourceOptions::Check() const {
+  feature_enhance.Check();
   if (mode == PoseMode::kFilter) filter.Check();
   if (mode == PoseMode::kRefine) refine.Check();
 }
@@ -52,9 +53,34 @@ std::string PoseSource::name() const {
 
 nlohmann::json PoseSource::PlaceSurvey(std::vector<FrameSpec>* frames, std::vector<std::string>* flags) {
   if (flags) flags->assign(frames->size(), "");
-  if (options_.mode == PoseMode::kRefine) return Refine(frames, flags);
-  if (options_.mode == PoseMode::kFilter) return Filter(frames, flags);
-  return nullptr;
+  if (options_.mode == PoseMode::kNavigation) return nullptr;
+  const nlohmann::json enhancement = ChooseEnhancement(*frames);
+  nlohmann::json report = options_.mode == PoseMode::kRefine ? Refine(frames, flags) : Filter(frames, flags);
+  if (!enhancement.is_null()) report["feature_enhance"] = enhancement;
+  return report;
+}
+
+nlohmann::json PoseSource::ChooseEnhancement(const std::vector<FrameSpec>& frames) {
+  const FeatureEnhanceOptions& o = options_.feature_enhance;
+  if (o.spec == "off") return nullptr;
+  // The probe: the first readable frames (also the flat field's seed).
+  std::vector<cv::Mat> probe;
+  for (size_t i = 0; i < frames.size() && static_cast<int>(probe.size()) < o.probe_frames; ++i) {
+    std::string problem;
+    cv::Mat image = ReadGuardedImage(frames[i].image_path, &problem);
+    if (!image.empty()) probe.push_back(image);
+  }
+  FeatureOptions& features =
+      options_.mode == PoseMode::kRefine ? options_.refine.features : options_.filter.vo.features;
+  const EnhancementChoice choice = ChooseFeatureEnhancement(o, probe, camera_, features);
+  features.enhance = choice.chain;
+  nlohmann::json trials = nlohmann::json::array();
+  for (const auto& t : choice.trials)
+    trials.push_back({{"chain", t.chain}, {"inliers_per_pair", t.inliers}, {"features_per_frame", t.features}});
+  std::fprintf(stderr, "feature enhancement (%s): %s\n", o.spec.c_str(), choice.chain.Names().c_str());
+  for (const auto& t : choice.trials)
+    std::fprintf(stderr, "  %-40s %7.1f inliers/pair %7.1f features/frame\n", t.chain.c_str(), t.inliers, t.features);
+  return {{"requested", o.spec}, {"chain", choice.chain.Names()}, {"trials", trials}};
 }
 
 cv::Mat PoseSource::Place(FrameSpec* frame) {

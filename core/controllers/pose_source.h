@@ -18,6 +18,7 @@
 
 #include "core/camera/camera_model.h"
 #include "core/nav/frame_list.h"
+#include "core/trajectory/feature_enhancement.h"
 #include "core/trajectory/survey_refiner.h"
 #include "core/trajectory/trajectory_estimator.h"
 
@@ -29,8 +30,11 @@ struct PoseSourceOptions {
   PoseMode mode = PoseMode::kNavigation;
   EstimatorOptions filter;  // kFilter
   RefineOptions refine;     // kRefine
-  int threads = 0;          // feature detection of a whole survey (0: one per core)
-  bool quiet = false;       // no progress bars
+  // Seed 004's chain in front of the features of kFilter and kRefine (a
+  // whole survey: PlaceSurvey); off by default.
+  FeatureEnhanceOptions feature_enhance;
+  int threads = 0;     // feature detection of a whole survey (0: one per core)
+  bool quiet = false;  // no progress bars
   void Check() const;
 };
 
@@ -61,6 +65,9 @@ class PoseSource {
   cv::Mat Place(FrameSpec* frame);
 
  private:
+  // Settles feature_enhance (auto: tried on the first frames) into the
+  // features' options; what it chose and measured, for the report.
+  nlohmann::json ChooseEnhancement(const std::vector<FrameSpec>& frames);
   nlohmann::json Refine(std::vector<FrameSpec>* frames, std::vector<std::string>* flags);
   nlohmann::json Filter(std::vector<FrameSpec>* frames, std::vector<std::string>* flags);
 

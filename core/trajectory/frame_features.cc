@@ -28,7 +28,7 @@ FrameFeatures DetectFeatures(const cv::Mat& image, const CameraModel& camera, co
                          static_cast<int>(std::lround(camera.height * scale)));
   const cv::Size detected =
       options.skip_upsampled_octave ? cv::Size((working.width + 1) / 2, (working.height + 1) / 2) : working;
-  cv::Mat gray = ToGray8(image);
+  cv::Mat gray = ToGray8(options.enhance.empty() ? image : options.enhance.Apply(image));
   if (gray.size() != detected) cv::resize(gray, gray, detected, 0, 0, cv::INTER_AREA);
   // Pixel centres at integers: full-resolution x = (x_d + 0.5) / s - 0.5 (and
   // likewise for a frame of another size that was scaled to the camera's).

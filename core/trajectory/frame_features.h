@@ -10,6 +10,7 @@
 #include <opencv2/core.hpp>
 
 #include "core/camera/camera_model.h"
+#include "core/enhance/enhance_chain.h"
 
 namespace seamap {
 
@@ -24,6 +25,8 @@ struct FeatureOptions {
   // (85 against 190 ms on a 696x520 frame), and the finest scale it drops is
   // below a working pixel, mostly noise (docs/TRAJECTORIES.md measures both).
   bool skip_upsampled_octave = true;
+  // Applied to the frame before anything else (feature_enhancement.h); empty: none.
+  EnhanceChain enhance;
   void Check() const;  // InputError naming the option
 };
 

@@ -130,6 +130,74 @@ bool Agrees(TwoViewMotion* m, const PairGeometry& g, const TwoViewOptions& o) {
   return true;
 }
 
+// The inliers triangulated with camera 1 at the origin and camera 2 at
+// [R | t] (|t| = 1: the unit baseline); points behind camera 1 dropped.
+std::vector<Eigen::Vector3d> Triangulate(const std::vector<cv::Point2d>& p1, const std::vector<cv::Point2d>& p2,
+                                         const std::vector<int>& use, const cv::Matx33d& k, const Eigen::Matrix3d& r,
+                                         const Eigen::Vector3d& t) {
+  cv::Matx34d proj1(1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0), proj2;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) proj2(i, j) = r(i, j);
+    proj2(i, 3) = t(i);
+  }
+  const cv::Matx33d k_inv = k.inv();
+  std::vector<cv::Point2d> n1, n2;
+  for (int i : use) {
+    const Eigen::Vector3d a = Ray(k_inv, p1[i]), b = Ray(k_inv, p2[i]);
+    n1.emplace_back(a.x() / a.z(), a.y() / a.z());
+    n2.emplace_back(b.x() / b.z(), b.y() / b.z());
+  }
+  std::vector<Eigen::Vector3d> points;
+  if (n1.empty()) return points;
+  cv::Mat homogeneous;
+  cv::triangulatePoints(proj1, proj2, n1, n2, homogeneous);
+  for (int i = 0; i < homogeneous.cols; ++i) {
+    const double w = homogeneous.at<double>(3, i);
+    if (std::fabs(w) < 1e-12) continue;
+    const Eigen::Vector3d x(homogeneous.at<double>(0, i) / w, homogeneous.at<double>(1, i) / w,
+                            homogeneous.at<double>(2, i) / w);
+    if (x.z() > 0) points.push_back(x);
+  }
+  return points;
+}
+
+// Metres per unit of baseline: the altitude the points would give the
+// altimeter (each beam cast onto the seabed they describe, the vertical
+// ranges averaged as a DVL does) set against the measured one. The
+// altimeter's position, in the points' unit, depends on the answer: a few
+// rounds settle it (its offset is centimetres against metres of range).
+std::optional<double> ScaleAtNadir(const std::vector<Eigen::Vector3d>& points, const PairGeometry& g,
+                                   const TwoViewOptions& o) {
+  const Eigen::Vector3d& n = g.seabed_normal_cam1;
+  const Eigen::Vector3d& a_m = g.altimeter_cam1_m;
+  const double altitude = g.height_m - n.dot(a_m);  // the altimeter's own range
+  const std::vector<Eigen::Vector3d> straight_down = {n};
+  const auto& beams = g.altimeter_beams_cam1.empty() ? straight_down : g.altimeter_beams_cam1;
+  double scale = 0;
+  for (int round = 0; round < (a_m.norm() > 0 ? 3 : 1); ++round) {
+    const Eigen::Vector3d a = round == 0 ? Eigen::Vector3d::Zero() : Eigen::Vector3d(a_m / scale);
+    double sum = 0;
+    int seen = 0;
+    for (const Eigen::Vector3d& beam : beams) {
+      if (!(n.dot(beam) > 0.1)) continue;
+      // Along the beam until it meets the seabed the points describe.
+      std::optional<double> below = SeabedDistanceAt(points, n, a, o.nadir_radius);
+      for (int step = 0; below && step < 4; ++step) {
+        const double along_beam = (*below - n.dot(a)) / n.dot(beam);
+        below = SeabedDistanceAt(points, n, a + along_beam * beam, o.nadir_radius);
+      }
+      if (!below) continue;
+      sum += *below - n.dot(a);  // the beam's vertical range
+      ++seen;
+    }
+    // A beam whose footprint no point is near is left out, as a DVL leaves
+    // out a beam that loses the bottom.
+    if (seen == 0 || !(sum > 0)) return std::nullopt;
+    scale = altitude / (sum / seen);
+  }
+  return scale;
+}
+
 TwoViewMotion Homography(const std::vector<cv::Point2d>& p1, const std::vector<cv::Point2d>& p2, const PairGeometry& g,
                          const TwoViewOptions& o) {
   TwoViewMotion m;
@@ -196,7 +264,16 @@ TwoViewMotion Homography(const std::vector<cv::Point2d>& p1, const std::vector<c
     m.failure = "no decomposition sees the seabed";
     return m;
   }
-  Agrees(&m, g, o);
+  if (!Agrees(&m, g, o) || !o.scale_at_nadir) return m;
+  // The plane's distance is the view's mean; the altitude is measured below
+  // the vehicle. Scale the direction by the points there instead.
+  const Eigen::Matrix3d& r = m.cam2_from_cam1;
+  const Eigen::Vector3d t = -(r * m.displacement_cam1_m);  // t / d times the height
+  if (t.norm() > 1e-12) {
+    const Eigen::Vector3d unit = t.normalized();
+    if (const auto scale = ScaleAtNadir(Triangulate(p1, p2, inliers, g.K, r, unit), g, o))
+      m.displacement_cam1_m = -*scale * (r.transpose() * unit);
+  }
   return m;
 }
 
@@ -222,38 +299,22 @@ TwoViewMotion Essential(const std::vector<cv::Point2d>& p1, const std::vector<cv
   RefineEssential(p1, p2, front, g.K, &r, &t);
   m.cam2_from_cam1 = r;
   if (!Agrees(&m, g, o)) return m;
-  // Scale: the seabed plane through the triangulated inliers, at the unit
-  // baseline's scale, against the camera's height above it.
-  cv::Matx34d proj1(1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0), proj2;
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) proj2(i, j) = r(i, j);
-    proj2(i, 3) = t(i);
-  }
-  const cv::Matx33d k_inv = g.K.inv();
-  std::vector<cv::Point2d> n1, n2;
-  for (int k = 0; k < front.rows; ++k) {
-    if (!front.at<uchar>(k)) continue;
-    const Eigen::Vector3d a = Ray(k_inv, p1[k]), b = Ray(k_inv, p2[k]);
-    n1.emplace_back(a.x() / a.z(), a.y() / a.z());
-    n2.emplace_back(b.x() / b.z(), b.y() / b.z());
-  }
-  cv::Mat homogeneous;
-  cv::triangulatePoints(proj1, proj2, n1, n2, homogeneous);
-  std::vector<Eigen::Vector3d> points;
-  std::vector<double> along;
-  for (int k = 0; k < homogeneous.cols; ++k) {
-    const double w = homogeneous.at<double>(3, k);
-    if (std::fabs(w) < 1e-12) continue;
-    const Eigen::Vector3d x(homogeneous.at<double>(0, k) / w, homogeneous.at<double>(1, k) / w,
-                            homogeneous.at<double>(2, k) / w);
-    if (x.z() <= 0) continue;
-    points.push_back(x);
-    along.push_back(x.dot(g.seabed_normal_cam1));
-  }
-  if (along.size() < 5) {
+  // Scale: the triangulated inliers (unit baseline) against the altitude,
+  // below the altimeter; the pre-relief way (or where too few points lie
+  // near the footprint), the plane through all of them.
+  const std::vector<Eigen::Vector3d> points = Triangulate(p1, p2, Indices(front), g.K, r, t);
+  if (points.size() < 5) {
     m.failure = "too few triangulated points";
     return m;
   }
+  if (o.scale_at_nadir) {
+    if (const auto scale = ScaleAtNadir(points, g, o)) {
+      m.displacement_cam1_m = -*scale * (r.transpose() * t);
+      return m;
+    }
+  }
+  std::vector<double> along;
+  for (const auto& x : points) along.push_back(x.dot(g.seabed_normal_cam1));
   const double median = Median(along);
   const auto plane = FitPlane(points, 0.01 * median);
   // A plane far from the seabed's expected tilt is relief, not the seabed
@@ -361,6 +422,73 @@ std::optional<Plane> FitPlane(const std::vector<Eigen::Vector3d>& points, double
       if (residuals[k] <= limit) use.push_back(static_cast<int>(k));
   }
   return plane;
+}
+
+}  // namespace seamap
+
+namespace seamap {
+
+std::optional<double> SeabedDistanceAt(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& normal,
+                                       const Eigen::Vector3d& footprint, double radius_share) {
+  constexpr size_t kMinPoints = 20;
+  if (points.size() < kMinPoints) return std::nullopt;
+  // Axes across the normal; each point as (across, across, along).
+  const Eigen::Vector3d u = normal.unitOrthogonal(), v = normal.cross(u);
+  std::vector<Eigen::Vector3d> local;
+  std::vector<double> along, reach;
+  for (const auto& x : points) {
+    const Eigen::Vector3d d = x - footprint;
+    local.emplace_back(u.dot(d), v.dot(d), normal.dot(x));
+    along.push_back(normal.dot(x));
+    reach.push_back(std::hypot(u.dot(d), v.dot(d)));
+  }
+  const double typical = Median(along);
+  if (!(typical > 0)) return std::nullopt;
+  double radius = radius_share * typical;
+  std::vector<int> near;
+  for (int grow = 0; grow < 6; ++grow, radius *= 1.5) {
+    near.clear();
+    for (size_t k = 0; k < local.size(); ++k)
+      if (reach[k] <= radius) near.push_back(static_cast<int>(k));
+    if (near.size() >= kMinPoints) break;
+  }
+  if (near.size() < kMinPoints) return std::nullopt;
+  // along = c0 + c1 u + c2 v (+ c3 u^2 + c4 uv + c5 v^2 where the points
+  // allow: a crest or a hollow under the vehicle is curved) by least squares,
+  // refitted without the points beyond three robust sigmas (fish,
+  // mismatches): c0 is the seabed below the footprint.
+  // The quadric only where the points surround the footprint: extrapolated
+  // past their edge it bends away.
+  Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+  for (int k : near) centroid += local[k].head<2>();
+  centroid /= static_cast<double>(near.size());
+  const int terms = near.size() >= 3 * kMinPoints && centroid.norm() < radius / 3 ? 6 : 3;
+  auto row = [&](const Eigen::Vector3d& p) {
+    Eigen::VectorXd r(terms);
+    r.head(3) << 1, p.x(), p.y();
+    if (terms == 6) r.tail(3) << p.x() * p.x(), p.x() * p.y(), p.y() * p.y();
+    return r;
+  };
+  Eigen::VectorXd c = Eigen::VectorXd::Zero(terms);
+  c(0) = typical;
+  std::vector<int> use = near;
+  for (int round = 0; round < 3; ++round) {
+    if (use.size() < kMinPoints / 2) break;
+    Eigen::MatrixXd a(use.size(), terms);
+    Eigen::VectorXd b(use.size());
+    for (size_t k = 0; k < use.size(); ++k) {
+      a.row(k) = row(local[use[k]]).transpose();
+      b(k) = local[use[k]].z();
+    }
+    c = a.colPivHouseholderQr().solve(b);
+    std::vector<double> residuals;
+    for (int k : near) residuals.push_back(std::fabs(local[k].z() - row(local[k]).dot(c)));
+    const double limit = std::max(3 * 1.4826 * Median(residuals), 1e-4 * typical);
+    use.clear();
+    for (size_t k = 0; k < near.size(); ++k)
+      if (residuals[k] <= limit) use.push_back(near[k]);
+  }
+  return c(0) > 0 ? std::optional<double>(c(0)) : std::nullopt;
 }
 
 }  // namespace seamap

@@ -7,9 +7,13 @@
 // inliers lie in front of both cameras (cheirality), there are enough of them
 // spread over a fifth of the image, and its rotation agrees with the AHRS
 // (which also rejects the wrong twin of the planar essential-matrix
-// ambiguity). Scale comes from the camera's height above the seabed: the
-// homography's plane distance directly; for the essential matrix a plane
-// fitted to the triangulated inliers.
+// ambiguity). Scale comes from the altitude, the range the altimeter (a DVL)
+// measures to the seabed below the vehicle: the inliers are triangulated at
+// the model's unit baseline and scaled so that the seabed they describe
+// right below the altimeter lies at the measured height (a local plane
+// through the points near that footprint). On relief the seabed below the
+// vehicle is not the mean plane of the view: a plane fitted to the whole
+// view puts a bump under the vehicle at the wrong range (docs/TERRAIN.md).
 //
 // OpenCV maps camera-1 points into camera 2: X2 = R X1 + t. The camera moved
 // by c = -R^T t, in camera-1 axes.
@@ -36,6 +40,12 @@ struct TwoViewOptions {
   double min_area = 0.2;              // inliers' hull over the image area
   double max_rotation_error_deg = 3;  // against the AHRS
   double homography_share = 0.45;     // start with H when n_H / (n_H + n_E) is above this
+  // The scale's neighbourhood: triangulated points within this share of the
+  // seabed's distance from the altimeter's footprint (grown when too few).
+  double nadir_radius = 0.2;
+  // false: the pre-relief scale, from the plane through the whole view (the
+  // homography's own plane distance; a plane fitted to E's points).
+  bool scale_at_nadir = true;
 };
 
 // What is known of a pair besides its matches.
@@ -45,6 +55,13 @@ struct PairGeometry {
   Eigen::Matrix3d cam2_from_cam1_ahrs;  // rotation between the views from the attitude sensor
   Eigen::Vector3d seabed_normal_cam1;   // unit, camera-1 axes, pointing from the camera to the seabed
   double height_m = 0;                  // camera 1 above the seabed, along the normal
+  // Where the altimeter is, seen from camera 1 (camera-1 axes, metres), and
+  // where it looks: a DVL's altitude is the mean vertical range of its
+  // beams (unit directions, camera-1 axes); none: straight down along the
+  // normal. height_m is then the camera's height over the seabed the beams
+  // see: the altitude less the camera's offset below the altimeter.
+  Eigen::Vector3d altimeter_cam1_m = Eigen::Vector3d::Zero();
+  std::vector<Eigen::Vector3d> altimeter_beams_cam1;
 };
 
 struct TwoViewMotion {
@@ -85,5 +102,14 @@ struct Plane {
   double distance;
 };
 std::optional<Plane> FitPlane(const std::vector<Eigen::Vector3d>& points, double tolerance);
+
+// The distance along `normal` (unit, towards the seabed) from the origin to
+// the seabed the points describe at lateral position `footprint` (its part
+// along the normal is ignored): a plane fitted robustly to the points within
+// `radius_share` of their median distance from that footprint, the
+// neighbourhood grown while it holds under 20 points; nullopt when it never
+// does. Points and footprint in the same (any) unit.
+std::optional<double> SeabedDistanceAt(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& normal,
+                                       const Eigen::Vector3d& footprint, double radius_share);
 
 }  // namespace seamap

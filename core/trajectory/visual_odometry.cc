@@ -24,6 +24,8 @@ void VoOptions::Check() const {
   if (!(ratio > 0 && ratio <= 1)) throw InputError("", 0, "ratio", "expected a number in (0, 1]");
   if (!(min_parallax >= 0)) throw InputError("", 0, "min_parallax", "expected a number >= 0");
   if (!(max_interval_s > 0)) throw InputError("", 0, "max_interval_s", "expected a number > 0");
+  if (!(altimeter_beam_deg >= 0 && altimeter_beam_deg < 60))
+    throw InputError("", 0, "altimeter_beam_deg", "expected degrees in [0, 60)");
   features.Check();
 }
 
@@ -124,6 +126,18 @@ std::optional<VoMeasurement> VisualOdometry::Add(const FrameFeatures& features, 
   // NED down, in camera-1 axes: where the seabed is.
   geometry.seabed_normal_cam1 = body_from_camera.transpose() * ned_from_ref.transpose() * Eigen::Vector3d::UnitZ();
   geometry.height_m = height;
+  // The camera sits at mount_offset_m from the navigation's reference point
+  // (where the altitude is measured), body axes.
+  geometry.altimeter_cam1_m = -(body_from_camera.transpose() * camera_.mount_offset_m);
+  if (options_.altimeter_beam_deg > 0) {
+    const double tilt = options_.altimeter_beam_deg * M_PI / 180;
+    for (int k = 0; k < 4; ++k) {
+      const double azimuth = (45 + 90 * k) * M_PI / 180;
+      const Eigen::Vector3d beam_body(std::sin(tilt) * std::cos(azimuth), std::sin(tilt) * std::sin(azimuth),
+                                      std::cos(tilt));
+      geometry.altimeter_beams_cam1.push_back(body_from_camera.transpose() * beam_body);
+    }
+  }
   const TwoViewMotion motion = models_.Next(p1, p2, geometry);
   TakeAsReference(features, time_s, nav);
   if (motion.model == MotionModel::kNone) {

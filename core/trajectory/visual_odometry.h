@@ -32,6 +32,10 @@ struct VoOptions {
   double hover_parallax_px = 1.0;  // below this for hover_s: zero velocity
   double hover_s = 1.0;
   int min_keypoints = 100;  // a frame with fewer never becomes a reference
+  // The altimeter: a DVL's four Janus beams this far off the body's z axis,
+  // at 45, 135, 225 and 315 degrees from the bow (its altitude is their mean
+  // vertical range); 0: one vertical beam (an echo sounder).
+  double altimeter_beam_deg = 30;
   TwoViewOptions two_view;
   void Check() const;
 };

@@ -13,6 +13,8 @@ namespace seamap {
 namespace {
 
 constexpr long kMaxCells = 200L * 1000 * 1000;  // 800 MB of heights: beyond, the cell is a typo
+// How far (in radii) the points' weighted centroid may lie from a cell centre.
+constexpr double kMaxCentroidOffset = 0.6;
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
 struct UsablePoint {
@@ -62,7 +64,7 @@ struct CellFit {
   double spread = 0;  // robust spread of the residuals, metres
 };
 
-// The robust local plane at (east, north) through the points given.
+// The robust local surface (plane or quadric) at (east, north) through the points given.
 CellFit FitCell(const std::vector<UsablePoint>& points, const std::vector<int>& near, double east, double north,
                 double radius_m, int min_points) {
   CellFit fit;
@@ -80,16 +82,27 @@ CellFit FitCell(const std::vector<UsablePoint>& points, const std::vector<int>& 
     sigma[k] = p.sigma;
     for_median.push_back({p.up, kernel[k] / (sigma[k] * sigma[k])});
   }
-  // A plane needs the points spread in two directions; else a weighted mean.
+  // A plane needs the points spread in two directions (else a weighted
+  // mean); with enough of them a quadric, so a curved seabed does not bias
+  // the centre.
   Eigen::Matrix2d spread_xy = Eigen::Matrix2d::Zero();
   for (int k = 0; k < n; ++k)
     spread_xy += Eigen::Vector2d(dx[k], dy[k]) * Eigen::Vector2d(dx[k], dy[k]).transpose() / n;
-  const bool plane = spread_xy.determinant() > 0.01 * 0.01 && n >= 4;
-  const int params = plane ? 3 : 1;
+  const bool spread_out = spread_xy.determinant() > 0.01 * 0.01;
+  using Vector6 = Eigen::Matrix<double, 6, 1>;
+  using Matrix6 = Eigen::Matrix<double, 6, 6>;
+  int params = 1;
+  auto basis = [&](int k) {
+    Vector6 a = Vector6::Zero();
+    a[0] = 1;
+    if (params >= 3) a.segment<2>(1) << dx[k], dy[k];
+    if (params >= 6) a.segment<3>(3) << dx[k] * dx[k], dx[k] * dy[k], dy[k] * dy[k];
+    return a;
+  };
   // Robust start: the weighted median and the spread of the points about it
   // (the slope included); points beyond three spreads do not vote. Then the
-  // plane by weighted least squares, twice, the second time over the points
-  // within three robust spreads (or three of their own sigmas) of the first.
+  // surface by weighted least squares, twice, the second time over the
+  // points within three robust spreads (or three of their own sigmas) of the first.
   const double start = WeightedMedian(for_median);
   auto robust_spread = [&](const std::vector<char>& keep) {
     std::vector<double> deviation;
@@ -104,45 +117,53 @@ CellFit FitCell(const std::vector<UsablePoint>& points, const std::vector<int>& 
   double spread = robust_spread(keep);
   int inliers = 0;
   for (int k = 0; k < n; ++k) inliers += keep[k] = std::fabs(residual[k]) <= 3 * std::max(spread, sigma[k]);
-  Eigen::Vector3d coef(start, 0, 0);
-  Eigen::Matrix3d normal = Eigen::Matrix3d::Identity();
+  Vector6 coef = Vector6::Zero();
+  Matrix6 normal = Matrix6::Identity();
   for (int pass = 0; pass < 2; ++pass) {
     if (inliers < min_points) return fit;
+    params = !spread_out || inliers < 4 ? 1 : inliers < 12 ? 3 : 6;
     normal.setZero();
-    Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+    Vector6 rhs = Vector6::Zero();
     for (int k = 0; k < n; ++k) {
       weight[k] = keep[k] ? kernel[k] / (sigma[k] * sigma[k]) : 0;
-      const Eigen::Vector3d a(1, plane ? dx[k] : 0, plane ? dy[k] : 0);
+      const Vector6 a = basis(k);
       normal += weight[k] * a * a.transpose();
       rhs += weight[k] * a * up[k];
     }
-    if (!plane) {
-      normal(1, 1) = normal(2, 2) = 1;
-      rhs[1] = rhs[2] = 0;
-    }
+    for (int d = params; d < 6; ++d) normal(d, d) = 1;  // unused terms: zero
     coef = normal.ldlt().solve(rhs);
     if (!coef.allFinite()) return fit;
-    for (int k = 0; k < n; ++k) residual[k] = up[k] - (coef[0] + coef[1] * dx[k] + coef[2] * dy[k]);
+    for (int k = 0; k < n; ++k) residual[k] = up[k] - basis(k).dot(coef);
     if (pass == 1) break;
     spread = robust_spread(keep);
     inliers = 0;
     for (int k = 0; k < n; ++k) inliers += keep[k] = std::fabs(residual[k]) <= 3 * std::max(spread, sigma[k]);
   }
+  // The points must surround the centre: a surface extrapolated off one side
+  // of them (the swath's edges) is a guess, left a hole.
+  Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+  double kernel_sum = 0;
+  for (int k = 0; k < n; ++k)
+    if (keep[k]) {
+      centroid += kernel[k] * Eigen::Vector2d(dx[k], dy[k]);
+      kernel_sum += kernel[k];
+    }
+  if (!(kernel_sum > 0) || (centroid / kernel_sum).norm() > kMaxCentroidOffset) return fit;
   // Sandwich covariance: each point's variance its sigma^2, inflated when the
   // residuals say the points scatter more than their sigmas.
   double chi2 = 0, weight_sum = 0;
   for (int k = 0; k < n; ++k) {
-    const double h = weight[k] * sigma[k] * sigma[k];  // kernel x huber
+    const double h = weight[k] * sigma[k] * sigma[k];  // the kernel, 0 for a dropped point
     chi2 += h * residual[k] * residual[k] / (sigma[k] * sigma[k]);
     weight_sum += h;
   }
   const double reduced = std::max(1.0, chi2 / weight_sum * inliers / std::max(1, inliers - params));
-  Eigen::Matrix3d meat = Eigen::Matrix3d::Zero();
+  Matrix6 meat = Matrix6::Zero();
   for (int k = 0; k < n; ++k) {
-    const Eigen::Vector3d a(1, plane ? dx[k] : 0, plane ? dy[k] : 0);
+    const Vector6 a = basis(k);
     meat += weight[k] * weight[k] * sigma[k] * sigma[k] * reduced * a * a.transpose();
   }
-  const Eigen::Matrix3d bread = normal.inverse();
+  const Matrix6 bread = normal.inverse();
   const double variance = (bread * meat * bread)(0, 0);
   std::vector<double> abs_residual;
   for (int k = 0; k < n; ++k)
@@ -182,7 +203,7 @@ void FitGrid(const std::vector<UsablePoint>& points, const std::vector<char>& re
           }
         }
       const CellFit fit = FitCell(points, near, centre.east, centre.north, radius_m, options.min_points);
-      if (!fit.ok) continue;
+      if (!fit.ok || fit.sigma > options.max_sigma_m) continue;
       grid->height_m(r, c) = static_cast<float>(fit.height);
       grid->sigma_m(r, c) = static_cast<float>(fit.sigma);
       (*spread)(r, c) = static_cast<float>(fit.spread);
@@ -274,6 +295,7 @@ void HeightFitOptions::Check() const {
   if (!(outlier_sigmas > 0) || !std::isfinite(outlier_sigmas))
     throw InputError("", 0, "outlier_sigmas", "expected sigmas > 0");
   if (!(max_fill_m >= 0) || !std::isfinite(max_fill_m)) throw InputError("", 0, "max_fill_m", "expected metres >= 0");
+  if (!(max_sigma_m > 0)) throw InputError("", 0, "--dem-max-sigma", "expected metres > 0");
 }
 
 HeightGrid FitHeightGrid(const SeabedPoints& points, const std::vector<std::array<LocalXY, 4>>& swath,
@@ -390,6 +412,22 @@ HeightGrid FitHeightGrid(const SeabedPoints& points, const std::vector<std::arra
   }
   if (rep.points_rejected > 0) FitGrid(usable, rejected, in_swath, options, &grid, &spread);
 
+  // Calibration: the points' residuals against the grid, in units of their
+  // own and the cell's sigmas, should spread as N(0, 1); when they spread
+  // more (point sigmas too small, a surface the local quadric does not
+  // follow), every cell sigma is scaled up by that robust spread.
+  std::vector<double> standardised;
+  for (size_t k = 0; k < usable.size(); ++k) {
+    double h = 0, s = 0;
+    if (rejected[k] || !grid.Sample({usable[k].east, usable[k].north}, &h, &s)) continue;
+    standardised.push_back(std::fabs(usable[k].up - h) / std::sqrt(usable[k].sigma * usable[k].sigma + s * s));
+  }
+  if (!standardised.empty()) {
+    std::nth_element(standardised.begin(), standardised.begin() + standardised.size() / 2, standardised.end());
+    rep.sigma_scale = std::max(1.0, 1.4826 * standardised[standardised.size() / 2]);
+    grid.sigma_m *= rep.sigma_scale;
+  }
+
   // Small holes, from their rims; the sigma grows by the grid's slope spread.
   std::vector<double> steps;
   for (int r = 0; r < grid.rows(); ++r)
@@ -414,6 +452,35 @@ HeightGrid FitHeightGrid(const SeabedPoints& points, const std::vector<std::arra
     }
   if (report) *report = rep;
   return grid;
+}
+
+void ClipHeightGrid(const std::vector<std::vector<LocalXY>>& swath, HeightGrid* grid, HeightFitReport* report) {
+  if (grid->empty()) return;
+  cv::Mat1b in_swath(grid->rows(), grid->cols(), uchar(0));
+  constexpr int kShift = 4;  // sub-cell corners
+  for (const auto& f : swath) {
+    std::vector<cv::Point> corners;
+    for (const LocalXY& p : f) {
+      double r = 0, c = 0;
+      grid->CellOf(p, &r, &c);
+      corners.emplace_back(static_cast<int>(std::lround(c * (1 << kShift))),
+                           static_cast<int>(std::lround(r * (1 << kShift))));
+    }
+    const std::vector<std::vector<cv::Point>> polygons = {corners};
+    cv::fillPoly(in_swath, polygons, cv::Scalar(255), cv::LINE_8, kShift);
+  }
+  HeightFitReport counted = report ? *report : HeightFitReport();
+  counted.cells_swath = counted.cells_holes = 0;
+  for (int r = 0; r < grid->rows(); ++r)
+    for (int c = 0; c < grid->cols(); ++c) {
+      if (!in_swath(r, c)) {
+        grid->height_m(r, c) = grid->sigma_m(r, c) = kNaN;
+        continue;
+      }
+      ++counted.cells_swath;
+      counted.cells_holes += std::isfinite(grid->height_m(r, c)) ? 0 : 1;
+    }
+  if (report) *report = counted;
 }
 
 }  // namespace seamap

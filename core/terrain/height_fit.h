@@ -10,10 +10,15 @@
 //    pulls nor votes; the height is the plane at the cell centre, its sigma
 //    the fit's covariance (sandwich form) scaled by the residuals when they
 //    exceed the points' sigmas;
+//  - calibration: the cells' sigmas are scaled up by the robust spread of
+//    the points' residuals against the grid in units of their combined
+//    sigma, when it exceeds 1;
 //  - outliers against the neighbourhood: after a first fit, a point further
 //    than `outlier_sigmas` from the surface (its sigma, the cell's and the
 //    local spread together) is dropped and the grid fitted again;
-//  - holes: a cell with fewer than `min_points` is a hole (NaN); holes no
+//  - holes: a cell with fewer than `min_points`, with its points off to one
+//    side (an extrapolation, at the swath's edges) or a sigma above
+//    `max_sigma_m` is a hole (NaN); holes no
 //    wider than `max_fill_m` inside the swath are filled from their rims,
 //    the sigma growing with the distance to data by the grid's slope spread;
 //    cells outside the surveyed swath (the union of `swath` footprints) NaN.
@@ -33,12 +38,14 @@ struct HeightFitOptions {
   int min_points = 4;           // fewer within the radius: a hole
   double outlier_sigmas = 4.0;  // a point further from the surface is dropped
   double max_fill_m = 0.5;      // holes up to about this wide inside the swath are interpolated
+  double max_sigma_m = 0.05;    // --dem-max-sigma: a cell less certain than this is a hole
   void Check() const;           // InputError naming the option
 };
 
 struct HeightFitReport {
   double cell_m = 0;
   long points = 0, points_rejected = 0;
+  double sigma_scale = 1;    // the calibration applied to the cells' sigmas (>= 1)
   long cells_swath = 0;      // cells inside the surveyed swath
   long cells_estimated = 0;  // with a height from points
   long cells_filled = 0;     // interpolated over a small hole
@@ -50,5 +57,10 @@ struct HeightFitReport {
 // usable points. has_depth_datum is copied to the grid.
 HeightGrid FitHeightGrid(const SeabedPoints& points, const std::vector<std::array<LocalXY, 4>>& swath,
                          bool has_depth_datum, const HeightFitOptions& options, HeightFitReport* report = nullptr);
+
+// Cells outside `swath` (footprints, corners in order, convex or not) made
+// holes; report's cells_swath and cells_holes counted anew. For a swath
+// known better once the heights are (footprints on the fitted surface).
+void ClipHeightGrid(const std::vector<std::vector<LocalXY>>& swath, HeightGrid* grid, HeightFitReport* report);
 
 }  // namespace seamap

@@ -164,7 +164,18 @@ CellFit FitCell(const std::vector<UsablePoint>& points, const std::vector<int>& 
     meat += weight[k] * weight[k] * sigma[k] * sigma[k] * reduced * a * a.transpose();
   }
   const Matrix6 bread = normal.inverse();
-  const double variance = (bread * meat * bread)(0, 0);
+  // Averaging shrinks the points' noise but not what the local surface cannot
+  // follow (relief finer than the cell): the residuals' variance beyond the
+  // points' own is added as a bias term, undiminished.
+  double excess = 0, kernel_weight = 0;
+  for (int k = 0; k < n; ++k)
+    if (weight[k] > 0) {
+      excess += kernel[k] * (residual[k] * residual[k] - sigma[k] * sigma[k]);
+      kernel_weight += kernel[k];
+    }
+  const double misfit =
+      kernel_weight > 0 ? std::max(0.0, excess / kernel_weight) * inliers / std::max(1, inliers - params) : 0.0;
+  const double variance = (bread * meat * bread)(0, 0) + misfit;
   std::vector<double> abs_residual;
   for (int k = 0; k < n; ++k)
     if (weight[k] > 0) abs_residual.push_back(std::fabs(residual[k]));
@@ -344,7 +355,7 @@ HeightGrid FitHeightGrid(const SeabedPoints& points, const std::vector<std::arra
       }
     }
     const double density = usable.size() / std::max(occupied * kCoarse * kCoarse, kCoarse * kCoarse);
-    const double radius = std::sqrt(4.0 * options.min_points / (M_PI * density));  // ~16 points within it
+    const double radius = std::sqrt(6.0 * options.min_points / (M_PI * density));  // ~24 points within it
     cell = std::clamp(radius / options.radius_cells, std::max(8 * options.gsd_m, 0.005), 2.0);
     cell = std::round(cell / 0.005) * 0.005;
   }
@@ -412,19 +423,35 @@ HeightGrid FitHeightGrid(const SeabedPoints& points, const std::vector<std::arra
   }
   if (rep.points_rejected > 0) FitGrid(usable, rejected, in_swath, options, &grid, &spread);
 
-  // Calibration: the points' residuals against the grid, in units of their
-  // own and the cell's sigmas, should spread as N(0, 1); when they spread
-  // more (point sigmas too small, a surface the local quadric does not
-  // follow), every cell sigma is scaled up by that robust spread.
-  std::vector<double> standardised;
-  for (size_t k = 0; k < usable.size(); ++k) {
-    double h = 0, s = 0;
-    if (rejected[k] || !grid.Sample({usable[k].east, usable[k].north}, &h, &s)) continue;
-    standardised.push_back(std::fabs(usable[k].up - h) / std::sqrt(usable[k].sigma * usable[k].sigma + s * s));
-  }
-  if (!standardised.empty()) {
-    std::nth_element(standardised.begin(), standardised.begin() + standardised.size() / 2, standardised.end());
-    rep.sigma_scale = std::max(1.0, 1.4826 * standardised[standardised.size() / 2]);
+  // Calibration by hold-out: a grid fitted to every other point predicts the
+  // rest; their squared residuals beyond their own variance, against that
+  // grid's variance, say how far the sigmas understate the error where no
+  // point was (relief finer than a cell, between cell centres). Every cell
+  // sigma is scaled up by it when it exceeds 1 (never down).
+  {
+    std::vector<char> held_out = rejected;
+    for (size_t k = 1; k < usable.size(); k += 2) held_out[k] = 1;
+    HeightGrid half = grid;
+    half.height_m = grid.height_m.clone();
+    half.sigma_m = grid.sigma_m.clone();
+    cv::Mat1f half_spread;
+    FitGrid(usable, held_out, in_swath, options, &half, &half_spread);
+    std::vector<std::pair<double, std::pair<double, double>>> terms;  // (standardised^2, (excess, grid variance))
+    for (size_t k = 1; k < usable.size(); k += 2) {
+      double h = 0, s = 0;
+      if (rejected[k] || !half.Sample({usable[k].east, usable[k].north}, &h, &s)) continue;
+      const double r2 = (usable[k].up - h) * (usable[k].up - h), p2 = usable[k].sigma * usable[k].sigma;
+      terms.push_back({r2 / (p2 + s * s), {r2 - p2, s * s}});
+    }
+    // The worst 1 % are outliers the fit dropped or should have: not calibration.
+    std::sort(terms.begin(), terms.end());
+    terms.resize(terms.size() - terms.size() / 100);
+    double excess = 0, variance = 0;
+    for (const auto& t : terms) {
+      excess += t.second.first;
+      variance += t.second.second;
+    }
+    if (variance > 0) rep.sigma_scale = std::sqrt(std::max(1.0, excess / variance));
     grid.sigma_m *= rep.sigma_scale;
   }
 

@@ -1,6 +1,6 @@
 #pragma once
 // A height model fitted to triangulated seabed points (seabed_point.h):
-//  - cell size: `cell_m`, or from the points' density (about 16 points
+//  - cell size: `cell_m`, or from the points' density (about 24 points
 //    within a cell's radius), never finer than 8 ground pixels (`gsd_m`);
 //  - per cell, a local plane through the points within `radius_cells`
 //    (weights: a smooth kernel over distance times 1/sigma^2), started at
@@ -10,9 +10,10 @@
 //    pulls nor votes; the height is the plane at the cell centre, its sigma
 //    the fit's covariance (sandwich form) scaled by the residuals when they
 //    exceed the points' sigmas;
-//  - calibration: the cells' sigmas are scaled up by the robust spread of
-//    the points' residuals against the grid in units of their combined
-//    sigma, when it exceeds 1;
+//  - calibration by hold-out: a grid fitted to every other point predicts
+//    the others; when their residuals exceed what their sigmas and that
+//    grid's sigmas allow (relief finer than a cell), every cell sigma is
+//    scaled up by the ratio (HeightFitReport::sigma_scale);
 //  - outliers against the neighbourhood: after a first fit, a point further
 //    than `outlier_sigmas` from the surface (its sigma, the cell's and the
 //    local spread together) is dropped and the grid fitted again;

@@ -302,6 +302,7 @@ void TrackOptions::Check() const {
   if (!(min_overlap >= 0 && min_overlap < 1)) throw InputError("", 0, "min_overlap", "expected a share in [0, 1)");
   if (max_partners_per_frame < 1 || max_partners_per_frame > 1000)
     throw InputError("", 0, "max_partners_per_frame", "expected 1..1000");
+  if (min_views < 2 || min_views > 1000) throw InputError("", 0, "min_views", "expected 2..1000");
   if (!positive(max_reprojection_px)) throw InputError("", 0, "max_reprojection_px", "expected pixels > 0");
   if (!(min_ray_angle_deg >= 0 && min_ray_angle_deg < 90))
     throw InputError("", 0, "min_ray_angle_deg", "expected degrees in [0, 90)");
@@ -333,8 +334,8 @@ bool TriangulateTrack(const CameraModel& camera, const std::vector<TrackCamera>&
   std::vector<TrackCamera> cams = views;
   while (true) {
     const int n = static_cast<int>(obs.size());
-    if (n < 2) {
-      *why = "reprojection";
+    if (n < std::max(2, options.min_views)) {
+      *why = n < static_cast<int>(views.size()) ? "reprojection" : "views";
       return false;
     }
     // Least squares on the rays: the point nearest all of them.
@@ -404,7 +405,7 @@ bool TriangulateTrack(const CameraModel& camera, const std::vector<TrackCamera>&
     }
     const int worst = static_cast<int>(std::max_element(residual.begin(), residual.end()) - residual.begin());
     if (residual[worst] > options.max_reprojection_px) {
-      if (n <= 2) {
+      if (n <= std::max(2, options.min_views)) {
         *why = "reprojection";
         return false;
       }
@@ -488,7 +489,9 @@ SeabedTracks BuildSeabedTracks(const std::vector<VehiclePose>& poses, const Came
       }
       std::string why;
       if (!TriangulateTrack(camera, track_views, options, &track, &why)) {
-        if (why == "ray angle")
+        if (why == "views")
+          ++r.rejected_views;
+        else if (why == "ray angle")
           ++r.rejected_ray_angle;
         else if (why == "seabed")
           ++r.rejected_seabed;

@@ -134,6 +134,10 @@ TEST(SeabedTracks, TriangulateTrackKeepsGoodRaysAndRejectsBadOnes) {
   };
   TrackOptions options;
   std::string why;
+  SeabedTrack two = track_of({0.1, 0.3, -11.8});
+  EXPECT_FALSE(TriangulateTrack(camera, views, options, &two, &why)) << "three views by default";
+  EXPECT_EQ(why, "views");
+  options.min_views = 2;
   SeabedTrack good = track_of({0.1, 0.3, -11.8});
   ASSERT_TRUE(TriangulateTrack(camera, views, options, &good, &why)) << why;
   EXPECT_NEAR(good.east_north_up_m.z(), -11.8, 1e-3);

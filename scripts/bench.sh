@@ -13,6 +13,8 @@
 #   SEAMAP_BENCH_GEOREF=0       skip the buoy-GPS georeferencing figures (scripts/bench_georef.sh)
 #   SEAMAP_BENCH_CONSOLE=0      skip the console's traffic during a 4x replay (Chromium)
 #   SEAMAP_BENCH_DETECT=0       skip the recogniser's figures (docs/DETECT.md)
+#   SEAMAP_BENCH_TERRAIN=0      skip the rugged-seabed figures (docs/TERRAIN.md: relief simulator, height model,
+#                               true orthophoto, 3-D refinement, VO on relief; each script also runs alone)
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${SEAMAP_BUILD_DIR:-$root/build}"
@@ -171,6 +173,15 @@ fi
 [[ "${SEAMAP_BENCH_HOSTILE:-1}" == 1 ]] && "$root/scripts/bench_hostile.sh" "$seamap" "$out/hostile"
 [[ "${SEAMAP_BENCH_GEOREF:-1}" == 1 ]] && "$root/scripts/bench_georef.sh" "$seamap" "$out/georef" "$([[ "$quick" == 1 ]] && echo 3 || echo 10)"
 [[ "${SEAMAP_BENCH_DETECT:-1}" == 1 ]] && "$root/scripts/bench_detect.sh" "$seamap" "$out/detect"
+if [[ "${SEAMAP_BENCH_TERRAIN:-1}" == 1 ]]; then
+  terrain_seeds=3; [[ "$quick" == 1 ]] && terrain_seeds=1
+  "$root/scripts/bench_relief.sh" "$seamap" "$out/relief"
+  SEEDS="$(seq -s ' ' 1 "$terrain_seeds")" SEAMAP_BUILD_DIR="$build" "$root/scripts/bench_dem.sh" "$build"
+  "$root/scripts/bench_ortho.sh" "$seamap" "$out/ortho" "$terrain_seeds"
+  SEAMAP_BUILD_DIR="$build" "$root/scripts/bench_terrainio.sh" "$terrain_seeds"
+  SEAMAP_BIN="$seamap" SEAMAP_BENCH_SEEDS="$(seq -s ' ' 1 "$terrain_seeds")" "$root/scripts/bench_refine3d.sh"
+  SEAMAP_BIN="$seamap" "$root/scripts/bench_vo.sh"
+fi
 if [[ "${SEAMAP_BENCH_SERVE:-1}" == 1 ]]; then
   "$root/scripts/bench_serve.sh" "$seamap" "$out/gray.mbtiles" "$out/gray" "$out/serve"
 fi

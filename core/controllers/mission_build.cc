@@ -94,7 +94,7 @@ bool MissionBuild::Open() {
   // before the map was opened).
   if (config.terrain.estimate) {
     if (observer_.on_note) observer_.on_note("estimating the seabed's shape from the photos");
-    surface_ = EstimateSeabedSurface(options_.frame, options_.camera, frames, config.threads);
+    surface_ = EstimateSeabedSurface(options_.frame, options_.camera, frames, config.threads, !options_.poses.quiet);
   }
   if (surface_.grid) {
     CheckAgainstNavigation(options_.camera, frames, config.terrain.file.empty() ? "--terrain" : "--terrain-file",

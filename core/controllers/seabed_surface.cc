@@ -5,7 +5,9 @@
 
 #include "core/camera/frame_projector.h"
 #include "core/terrain/height_grid_io.h"
+#include "core/trajectory/seabed_terrain.h"
 #include "core/util/error.h"
+#include "core/util/progress.h"
 #include "core/util/statistics.h"
 
 namespace seamap {
@@ -78,19 +80,26 @@ SeabedSurface ReadSeabedSurface(const std::string& path, const LocalFrame& frame
 }
 
 SeabedSurface EstimateSeabedSurface(const LocalFrame& frame, const CameraModel& camera,
-                                    const std::vector<FrameSpec>& frames, int threads) {
-  (void)frame, (void)camera, (void)frames, (void)threads;
-  // TODO(dem): the one call, once EstimateSeabedTerrain (core/trajectory/seabed_terrain.h,
-  // branch i29-dem) is on main; this function then becomes:
-  //   TerrainOptions options;  options.threads = threads;  TerrainReport report;
-  //   HeightGrid grid = EstimateSeabedTerrain(frames, camera, options, &report);
-  //   if (grid.empty()) throw InputError("", 0, "--terrain", "no seabed point could be triangulated ...");
-  //   SeabedSurface out;  out.grid = std::make_shared<HeightGrid>(std::move(grid));
-  //   out.source = "estimated from the photos";  return out;
-  // (and seamap_controllers gains nothing: seamap_trajectory is a dependency already).
-  throw InputError("", 0, "--terrain",
-                   "estimating the seabed from the photos is not in this build yet; give a height model with "
-                   "--terrain-file");
+                                    const std::vector<FrameSpec>& frames, int threads, bool show_progress) {
+  (void)frame;  // the frames' poses are in its local metres already
+  TerrainOptions options;
+  options.threads = threads;
+  TerrainReport report;
+  ProgressBar bar("frames triangulated", static_cast<long>(frames.size()), show_progress);
+  HeightGrid grid =
+      EstimateSeabedTerrain(frames, camera, options, &report, [&](const std::string& stage, int done, int) {
+        if (stage == "tracks") bar.Update(done);
+      });
+  bar.Finish();
+  if (grid.empty())
+    throw InputError("", 0, "--terrain",
+                     "no seabed point could be triangulated from the photos (" +
+                         std::to_string(report.frames_unreadable) + " of " + std::to_string(report.frames) +
+                         " frames unreadable): too little texture or overlap; give a height model with --terrain-file");
+  SeabedSurface out;
+  out.grid = std::make_shared<HeightGrid>(std::move(grid));
+  out.source = "estimated from the photos";
+  return out;
 }
 
 }  // namespace seamap

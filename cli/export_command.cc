@@ -9,9 +9,12 @@
 
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "core/export/dem_export.h"
 #include "core/export/geotiff_export.h"
 #include "core/export/pmtiles_export.h"
 #include "core/mission/mission_metadata.h"
+#include "core/mission/mission_terrain.h"
+#include "core/mission/relief_layer.h"
 #include "core/tiles/tile_store.h"
 #include "core/util/error.h"
 #include "core/util/progress.h"
@@ -24,6 +27,7 @@ const char* kHelp =
     "       seamap export FROM NAME.pmtiles [--layer NAME] [--overwrite] [--quiet]\n"
     "       seamap export FROM NAME.tif [--zoom Z] [--layer NAME] [--resampling AVERAGE]\n"
     "                                   [--threads N] [--overwrite] [--quiet]\n"
+    "       seamap export FROM NAME.tif --dem [--overwrite]\n"
     "\n"
     "Copies a map: NAME.mbtiles to a {z}/{x}/{y} folder any static web server can\n"
     "serve, or a folder to MBTiles. Layers, metadata, frames, track and detections\n"
@@ -32,7 +36,10 @@ const char* kHelp =
     "TO ending in .pmtiles: a PMTiles v3 archive of the map (or --layer), one file\n"
     "any static host or object store serves to the console's pmtiles.html.\n"
     "TO ending in .tif/.tiff: a Cloud-Optimised GeoTIFF (EPSG:3857, overviews) of\n"
-    "zoom --zoom (default: the deepest) for QGIS/GDAL; any zoom, also beyond 22.\n";
+    "zoom --zoom (default: the deepest) for QGIS/GDAL; any zoom, also beyond 22.\n"
+    "With --dem: the map's height model (build --terrain) as a float32 GeoTIFF DEM,\n"
+    "metres up from the sea surface (else from the survey's mean seabed), nodata\n"
+    "-32768, in the mission's local transverse Mercator, with overviews.\n";
 
 bool EndsWith(const std::string& s, const std::string& tail) {
   return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
@@ -73,10 +80,27 @@ int64_t CopyTiles(const TileStore& from, TileStore* to, ProgressBar* progress, i
   return n;
 }
 
+// The map's height model as a GeoTIFF DEM (--dem).
+int ExportDemOf(const std::string& from_path, const std::string& to_path, bool overwrite) {
+  std::unique_ptr<TileStore> from = OpenExistingMap(from_path, /*writable=*/false);
+  const std::optional<MissionTerrain> terrain = ReadMissionTerrain(*from, from_path);
+  if (!terrain) throw InputError(from_path, 0, "--dem", "the map has no height model; build it with --terrain");
+  std::error_code ec;
+  if (std::filesystem::exists(to_path, ec) && !overwrite)
+    throw InputError(to_path, 0, "TO", "already exists; use --overwrite to replace it");
+  const DemSummary s = ExportDem(*terrain, to_path);
+  std::printf(
+      "exported the height model (%dx%d cells of %.3g m, %d overviews, heights %.3f..%.3f m from the %s) "
+      "from %s to %s\n",
+      s.width_px, s.height_px, s.cell_m, s.overviews, s.min_m, s.max_m,
+      s.datum == "sea_surface" ? "sea surface" : "mean seabed", from_path.c_str(), to_path.c_str());
+  return 0;
+}
+
 }  // namespace
 
 int RunExport(int argc, char** argv, int first) {
-  Args args(argc, argv, first, {"overwrite", "quiet", "help"});
+  Args args(argc, argv, first, {"overwrite", "quiet", "help", "dem"});
   if (args.Flag("help")) {
     std::fputs(kHelp, stdout);
     return 0;
@@ -86,6 +110,11 @@ int RunExport(int argc, char** argv, int first) {
   const std::string from_path = args.positionals()[0], to_path = args.positionals()[1];
   const bool pmtiles = EndsWith(to_path, ".pmtiles");
   const bool geotiff = EndsWith(to_path, ".tif") || EndsWith(to_path, ".tiff");
+  if (args.Flag("dem")) {
+    if (!geotiff) throw InputError(to_path, 0, "--dem", "a DEM is written as a GeoTIFF: name it NAME.tif");
+    args.RejectUnknown();
+    return ExportDemOf(from_path, to_path, overwrite);
+  }
   GeotiffOptions tif;
   std::optional<std::string> layer;
   if (pmtiles || geotiff) layer = args.Get("layer");
@@ -122,7 +151,8 @@ int RunExport(int argc, char** argv, int first) {
   }
   auto to = OpenTileStore(to_path, ext, /*create=*/true);
 
-  const std::vector<std::string> layers = ReadMissionMetadata(metadata).ExtraLayers();
+  std::vector<std::string> layers = ReadMissionMetadata(metadata).ExtraLayers();
+  if (ReadMissionMetadata(metadata).relief) layers.push_back(kReliefLayer);  // the height model's layer
   int64_t total = from->TileCount(), done = 0;
   std::vector<std::unique_ptr<TileStore>> from_layers;
   for (const auto& l : layers) {
@@ -142,6 +172,7 @@ int RunExport(int argc, char** argv, int first) {
   for (const auto& f : from->Records().Frames()) to->Records().PutFrame(f);
   for (const auto& p : from->Records().Track()) to->Records().PutTrackPoint(p);
   for (const auto& d : from->Records().Detections()) to->Records().PutDetection(d);
+  if (auto terrain = from->Records().Terrain()) to->Records().PutTerrain(*terrain);
   to->Flush();
   progress.Finish();
   std::printf("exported %lld tiles (%zu layers) from %s to %s\n", static_cast<long long>(copied), layers.size() + 1,

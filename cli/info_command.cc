@@ -71,6 +71,10 @@ int RunInfo(int argc, char** argv, int first) {
   if (state.state == "interrupted") state_text += ": " + state.Explanation();
   std::printf("state:     %s\n", state_text.c_str());
   std::printf("layers:    %s\n", mission.layers ? LayerListText(*mission.layers).c_str() : "-");
+  if (mission.relief)  // a map built with --terrain
+    std::printf("terrain:   height model, relief layer %.2f..%.2f m (%s); export it with --dem\n",
+                mission.relief->value("low_m", 0.0), mission.relief->value("high_m", 0.0),
+                mission.relief->value("datum", "").c_str());
   std::printf("size:      %.1f MiB\n", SizeOnDisk(path) / 1048576.0);
   return 0;
 }

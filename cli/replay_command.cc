@@ -271,6 +271,7 @@ int ReplayFeed(MissionBuild& build, FrameFeed& feed, LiveMission& live, bool qui
     std::fprintf(stderr, "seamap replay: cannot mark the mission stopped: %s\n", e.what());
     exit_code = 1;
   }
+  live.mission.LoadTerrain(*build.store());  // a height model the build stored (--terrain): /api/terrain answers
   live.PublishProgress(build.stats(), complete ? "complete" : "stopped", true);
   if (!quiet) std::fprintf(stderr, "\n");
   const BuildStats& s = build.stats();

@@ -61,6 +61,12 @@ void AddMissionApi(httplib::Server& s, const std::string& prefix, int prefix_gro
           SendJson(res, j);
         }));
 
+  // The operator's "how deep is it there?" (server/terrain_query.h).
+  s.Get(P + "/api/terrain", Guard([resolve](const httplib::Request& req, httplib::Response& res) {
+          const MissionServices m = resolve(req);
+          const double lat = ParseCoordinate(req, "lat", -90, 90), lon = ParseCoordinate(req, "lon", -180, 180);
+          SendJson(res, m.mission->TerrainAt({lat, lon}));
+        }));
   s.Get(P + "/api/keyframes", Guard([resolve](const httplib::Request& req, httplib::Response& res) {
           const MissionServices m = resolve(req);
           SendJson(res, m.mission->KeyframesJson());

@@ -7,6 +7,8 @@
 #include <cstdio>
 
 #include "core/tiles/record_json.h"
+#include "core/util/error.h"
+#include "server/api_error.h"
 
 namespace seamap::server {
 namespace {
@@ -75,6 +77,7 @@ nlohmann::json FrameJson(const FrameRecord& f) {
 }
 
 void MissionState::Load(const TileStore& store) {
+  LoadTerrain(store);
   auto metadata = store.Metadata();
   const MissionMetadata mission = ReadMissionMetadata(metadata);
   std::vector<FrameRecord> frames = store.Records().Frames();
@@ -96,6 +99,39 @@ void MissionState::Load(const TileStore& store) {
   progress_.frames_done = progress_.frames_total = static_cast<int>(frames_.size());
   progress_.frames_rejected = static_cast<int>(
       std::count_if(frames_.begin(), frames_.end(), [](const FrameRecord& f) { return f.status != "used"; }));
+}
+
+void MissionState::LoadTerrain(const TileStore& store) {
+  std::shared_ptr<const TerrainQuery> query;
+  std::string error, header;
+  try {
+    const std::optional<TerrainBlob> blob = store.Records().Terrain();
+    if (blob) {
+      header = blob->header_json;
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (header == terrain_header_ && (terrain_ || !terrain_error_.empty())) return;  // unchanged
+      }
+      query = std::make_shared<const TerrainQuery>(DecodeMissionTerrain(*blob, "the mission"));
+    }
+  } catch (const std::exception& e) {
+    error = e.what();
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  terrain_ = std::move(query);
+  terrain_error_ = std::move(error);
+  terrain_header_ = std::move(header);
+}
+
+nlohmann::json MissionState::TerrainAt(LatLon point) const {
+  std::shared_ptr<const TerrainQuery> terrain;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!terrain_error_.empty()) throw ApiError(500, "the height model cannot be read: " + terrain_error_);
+    terrain = terrain_;
+  }
+  if (!terrain) throw ApiError(404, "this mission has no height model (build it with --terrain)");
+  return terrain->At(point);  // outside the lock: PROJ and sampling
 }
 
 void MissionState::SetName(const std::string& name) {

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -16,6 +17,7 @@
 #include "core/geo/web_mercator.h"
 
 #include "core/tiles/tile_store.h"
+#include "server/terrain_query.h"
 
 namespace seamap::server {
 
@@ -39,8 +41,14 @@ struct GeorefKeyframe {
 
 class MissionState {
  public:
-  // Frames, track and metadata of a stored mission.
+  // Frames, track, metadata and height model of a stored mission.
   void Load(const TileStore& store);
+  // The height model alone (a build stored one): decoded again only when
+  // the stored one changed; one that cannot be read is kept as its error.
+  void LoadTerrain(const TileStore& store);
+  // GET /api/terrain: the height at a point (TerrainQuery::At); ApiError 404
+  // when the mission has no height model, 500 when it cannot be read.
+  nlohmann::json TerrainAt(LatLon point) const;
 
   void SetName(const std::string& name);
   void SetReplay(bool replay);
@@ -100,6 +108,9 @@ class MissionState {
   nlohmann::json trajectory_;  // how the poses were estimated (MissionMetadata::trajectory), or null
   int corrected_points_ = 0;   // track points likewise
   std::optional<double> stored_t0_;
+  std::shared_ptr<const TerrainQuery> terrain_;  // null: none (or unreadable: terrain_error_)
+  std::string terrain_error_;
+  std::string terrain_header_;  // the stored header it was decoded from (has the cells' CRC)
 
   std::optional<double> T0Locked() const;
 };

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "core/mission/mission_metadata.h"
+#include "core/mission/relief_layer.h"
 #include "core/tiles/tile_version.h"
 
 namespace seamap::server {
@@ -200,7 +201,8 @@ bool TileSource::IsLayer(const std::string& name) {
   auto snapshot = Snapshot();
   for (size_t i = 1; i < snapshot->layers.size(); ++i)
     if (snapshot->layers[i] == name) return true;
-  return false;
+  // The height model's relief layer, an overlay rather than a photo layer (not in Layers()).
+  return name == kReliefLayer && snapshot->all.count(kReliefKey) > 0;
 }
 
 std::string TileSource::Format() {

@@ -49,6 +49,7 @@ class TileSource {
   // are served under /tiles/{name}/.
   std::vector<std::string> Layers();
   std::string Format();  // tile file extension: png, jpg, webp
+  // An extra layer of Layers(), or "relief" where the map has a height model's relief layer.
   bool IsLayer(const std::string& name);
   // The tile in another format than the stored one (PNG served as WebP), or
   // nullopt where the mission has no tile. Throws std::out_of_range for an

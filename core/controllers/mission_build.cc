@@ -7,6 +7,7 @@
 
 #include "core/enhance/enhance_chain.h"
 #include "core/mission/mission_metadata.h"
+#include "core/mission/relief_layer.h"
 #include "core/mosaic/frame_image.h"
 #include "core/tiles/tile_codec.h"
 #include "core/util/error.h"
@@ -101,10 +102,9 @@ bool MissionBuild::Open() {
     if (observer_.on_note) observer_.on_note(surface_.Summary());
   }
   plan_ = PlanMosaic(config.map, options_.camera, options_.frame, frames, options_.channels);
-  // TODO(terrainio): once StoreMissionTerrain (core/mission/relief_layer.h, branch
-  // i29-terrainio) is on main, keep the height model in the mission and draw its relief layer:
-  //   if (surface_.grid) StoreMissionTerrain(&store, {*surface_.grid, options_.frame.origin()}, false);
-  // (the map's zooms are known from here on; a live console sees the layer from the start).
+  // The height model is kept in the mission with its relief layer (the map's
+  // zooms are known from here on; a live console sees the layer from the start).
+  if (surface_.grid) StoreMissionTerrain(&store, {*surface_.grid, options_.frame.origin()}, !options_.poses.quiet);
 
   // The main layer is raw unless only the enhanced map was asked for; with
   // "both", the enhanced map is built alongside as layer "enhanced".

@@ -85,6 +85,11 @@ MissionMetadata ReadMissionMetadata(const std::map<std::string, std::string>& me
     if (j.is_discarded()) return std::nullopt;
     return j;
   });
+  read(kReliefKey, m.relief, [](const std::string& t) -> std::optional<nlohmann::json> {
+    nlohmann::json j = nlohmann::json::parse(t, nullptr, /*allow_exceptions=*/false);
+    if (!j.is_object()) return std::nullopt;
+    return j;
+  });
   read(kT0Key, m.t0, ParseDouble);
   read(kClassTableKey, m.classes, [](const std::string& t) -> std::optional<std::vector<std::string>> {
     const nlohmann::json j = nlohmann::json::parse(t, nullptr, /*allow_exceptions=*/false);
@@ -117,6 +122,7 @@ void WriteMissionMetadata(TileStore* store, const MissionMetadata& m) {
   if (m.layers) store->SetMetadata(kLayersKey, LayerListText(*m.layers));
   if (m.trajectory) store->SetMetadata(kTrajectoryKey, m.trajectory->dump());
   if (m.classes) store->SetMetadata(kClassTableKey, nlohmann::json(*m.classes).dump());
+  if (m.relief) store->SetMetadata(kReliefKey, m.relief->dump());
   if (m.t0) {
     char text[32];
     std::snprintf(text, sizeof text, "%.17g", *m.t0);

@@ -32,6 +32,9 @@ struct MissionMetadata {
   std::optional<double> gsd_m;                      // seamap_gsd_m: ground size of a base-zoom pixel
   std::optional<int> channels;                      // seamap_channels: 1 gray, 3 colour
   std::optional<int> frames_used, frames_rejected;  // seamap_frames_used / _rejected
+  // seamap_relief: the relief layer made from the height model (core/mission/relief_layer.h):
+  // {"layer", "low_m", "high_m" (the colour ramp's ends), "datum", "minzoom", "maxzoom"}.
+  std::optional<nlohmann::json> relief;
 
   // Keys present whose text could not be read (their field stays unset).
   std::set<std::string> unreadable;
@@ -56,6 +59,7 @@ constexpr const char* kGsdKey = "seamap_gsd_m";
 constexpr const char* kChannelsKey = "seamap_channels";
 constexpr const char* kFramesUsedKey = "seamap_frames_used";
 constexpr const char* kFramesRejectedKey = "seamap_frames_rejected";
+constexpr const char* kReliefKey = "seamap_relief";
 
 // Reads every seamap_* key of a store's metadata; missing ones stay unset.
 MissionMetadata ReadMissionMetadata(const std::map<std::string, std::string>& metadata);

@@ -135,7 +135,8 @@ nlohmann::json MosaicBuilder::Settings(const BuildConfig& c, const MosaicPlan& p
       {"sixteen_bit_white", c.frames.sixteen_bit_white},
       {"enhance", enhanced ? c.enhance.value_or(nlohmann::json("on")) : nlohmann::json(nullptr)}};
   // Only when set: checkpoints of flat builds stay as they were.
-  if (c.terrain.enabled()) settings["terrain"] = c.terrain.file.empty() ? nlohmann::json(true) : nlohmann::json(c.terrain.file);
+  if (c.terrain.enabled())
+    settings["terrain"] = c.terrain.file.empty() ? nlohmann::json(true) : nlohmann::json(c.terrain.file);
   return settings;
 }
 

@@ -20,8 +20,8 @@ struct HeightGrid {
   // decreases with the row), columns run east, as an image of the seabed.
   double east0_m = 0, north0_m = 0;
   double cell_m = 0.05;
-  cv::Mat1f height_m;  // metres up; NaN: a hole (no data)
-  cv::Mat1f sigma_m;   // 1-sigma of height_m, same size; NaN where height_m is
+  cv::Mat1f height_m;           // metres up; NaN: a hole (no data)
+  cv::Mat1f sigma_m;            // 1-sigma of height_m, same size; NaN where height_m is
   bool has_depth_datum = true;  // heights are relative to the sea surface
 
   int rows() const { return height_m.rows; }

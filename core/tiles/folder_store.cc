@@ -21,6 +21,8 @@ constexpr const char* kMetadataFile = "metadata.json";
 constexpr const char* kFramesFile = "frames.json";
 constexpr const char* kTrackFile = "track.json";
 constexpr const char* kDetectionsFile = "detections.json";
+constexpr const char* kTerrainHeaderFile = "terrain.json";
+constexpr const char* kTerrainCellsFile = "terrain.bin";
 
 // Writes through a temp file in the same folder and renames it over `path`,
 // so readers see either the old or the new file, never a partial one.
@@ -289,6 +291,27 @@ std::vector<Detection> FolderStore::Detections() const {
   std::lock_guard<std::mutex> lock(mutex_);
   std::vector<Detection> out;
   for (const auto& [id, d] : detections_) out.push_back(d);
+  return out;
+}
+
+void FolderStore::PutTerrain(const TerrainBlob& terrain) {
+  CheckWritable();
+  std::lock_guard<std::mutex> lock(mutex_);
+  WriteFileAtomically(root_ / kTerrainCellsFile, reinterpret_cast<const char*>(terrain.cells.data()),
+                      terrain.cells.size());
+  WriteFileAtomically(root_ / kTerrainHeaderFile, terrain.header_json.data(), terrain.header_json.size());
+}
+
+std::optional<TerrainBlob> FolderStore::Terrain() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const fs::path header = root_ / kTerrainHeaderFile, cells = root_ / kTerrainCellsFile;
+  if (!fs::exists(header)) return std::nullopt;
+  if (!fs::exists(cells))
+    throw InputError(cells.string(), 0, "", "missing (terrain.json names the height model's cells)");
+  TerrainBlob out;
+  out.header_json = ReadFile(header);
+  const std::string bytes = ReadFile(cells);
+  out.cells.assign(bytes.begin(), bytes.end());
   return out;
 }
 

@@ -1,7 +1,8 @@
 #pragma once
 // A folder pyramid {root}/{z}/{x}/{y}.{ext} (XYZ rows) as any static web
 // server can serve it, with TileJSON 3.0.0 `metadata.json`, and the mission
-// records in `frames.json`, `track.json` and `detections.json`. Every file is written atomically
+// records in `frames.json`, `track.json` and `detections.json`, the height
+// model in `terrain.json` + `terrain.bin`. Every file is written atomically
 // (temp file in the same folder, then rename), so a reader never sees half a
 // tile. Tiles are written at once; the JSON files on Flush().
 #include <atomic>
@@ -49,6 +50,10 @@ class FolderStore : public TileStore, public MissionRecords {
   void PutDetection(const Detection& detection) override;
   void DeleteDetection(int64_t id) override;
   std::vector<Detection> Detections() const override;
+  // terrain.bin (the cells) then terrain.json (the header), each written atomically
+  // at once; the header's size and checksum tell a reader a pair that does not match.
+  void PutTerrain(const TerrainBlob& terrain) override;
+  std::optional<TerrainBlob> Terrain() const override;
 
   void Flush() override;
   // Layers live in root/layers/<name>/ as folder pyramids of their own.

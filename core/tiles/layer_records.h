@@ -1,7 +1,7 @@
 #pragma once
 // A tile layer's view of its mission's records (TileStore::Records of a layer
-// from OpenLayer): it reads the mission's frames, track and detections and
-// stores detections in them; frames and track points written through a layer
+// from OpenLayer): it reads the mission's frames, track, detections and
+// height model and stores detections and the height model in them; frames and track points written through a layer
 // are dropped, because the main map's builder records them (a layer built
 // beside it would record every frame twice).
 #include "core/tiles/mission_records.h"
@@ -20,6 +20,8 @@ class LayerRecords final : public MissionRecords {
   void PutDetection(const Detection& d) override { mission_->PutDetection(d); }
   void DeleteDetection(int64_t id) override { mission_->DeleteDetection(id); }
   std::vector<Detection> Detections() const override { return mission_->Detections(); }
+  void PutTerrain(const TerrainBlob& t) override { mission_->PutTerrain(t); }
+  std::optional<TerrainBlob> Terrain() const override { return mission_->Terrain(); }
 
  private:
   MissionRecords* mission_;

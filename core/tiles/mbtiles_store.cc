@@ -519,6 +519,37 @@ void MBTilesStore::PutDetection(const Detection& d) {
   EndWrite();
 }
 
+void MBTilesStore::PutTerrain(const TerrainBlob& terrain) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  BeginWrite();
+  // Made here, not with the schema: a map without a height model stays as it was.
+  Exec("CREATE TABLE IF NOT EXISTS terrain (id integer primary key, header text, cells blob)");
+  OneShot q{Prepare("INSERT OR REPLACE INTO terrain (id, header, cells) VALUES (0, ?, ?)")};
+  sqlite3_bind_text(q.s, 1, terrain.header_json.c_str(), -1, SQLITE_STATIC);
+  sqlite3_bind_blob64(q.s, 2, terrain.cells.data(), terrain.cells.size(), SQLITE_STATIC);
+  if (sqlite3_step(q.s) != SQLITE_DONE) Fail("write terrain");
+  EndWrite();
+}
+
+std::optional<TerrainBlob> MBTilesStore::Terrain() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  {
+    OneShot exists{Prepare("SELECT 1 FROM sqlite_master WHERE type='table' AND name='terrain'")};
+    const int rc = sqlite3_step(exists.s);
+    if (rc == SQLITE_DONE) return std::nullopt;
+    if (rc != SQLITE_ROW) Fail("read terrain");
+  }
+  OneShot q{Prepare("SELECT header, cells FROM terrain WHERE id = 0")};
+  const int rc = sqlite3_step(q.s);
+  if (rc == SQLITE_DONE) return std::nullopt;
+  if (rc != SQLITE_ROW) Fail("read terrain");
+  TerrainBlob out;
+  out.header_json = ColumnText(q.s, 0);
+  const auto* cells = static_cast<const uint8_t*>(sqlite3_column_blob(q.s, 1));
+  out.cells.assign(cells, cells + sqlite3_column_bytes(q.s, 1));
+  return out;
+}
+
 void MBTilesStore::DeleteDetection(int64_t id) {
   std::lock_guard<std::mutex> lock(mutex_);
   BeginWrite();

@@ -48,6 +48,9 @@ class MBTilesStore : public TileStore, public MissionRecords, public CheckpointS
   void PutDetection(const Detection& detection) override;
   void DeleteDetection(int64_t id) override;
   std::vector<Detection> Detections() const override;
+  // Table `terrain` (one row: header text, cells blob), made by the first PutTerrain.
+  void PutTerrain(const TerrainBlob& terrain) override;
+  std::optional<TerrainBlob> Terrain() const override;
 
   void Flush() override;
   std::unique_ptr<TileStore> OpenLayer(const std::string& name) override;

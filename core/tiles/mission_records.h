@@ -72,6 +72,15 @@ struct Detection {
   int64_t seq = 0;                    // change number: grows with every change
 };
 
+// The mission's height model as stored (core/mission/mission_terrain.h
+// encodes, checks and decodes it): a JSON header (geometry, datum, encoding,
+// size and checksum of the cells) and the compressed cells. The stores keep
+// it as they get it, one per mission.
+struct TerrainBlob {
+  std::string header_json;
+  std::vector<uint8_t> cells;
+};
+
 // Detections stored before `model` and `status` existed kept a recogniser's
 // name in `source`: moves it to `model` and sets the source kind. A missing
 // status becomes "confirmed" for an operator's mark (it is their own call),
@@ -97,6 +106,10 @@ class MissionRecords {
   virtual void PutDetection(const Detection& detection) = 0;
   virtual void DeleteDetection(int64_t id) = 0;
   virtual std::vector<Detection> Detections() const = 0;  // in id order
+
+  // The height model (replaces an earlier one); none: the mission has none.
+  virtual void PutTerrain(const TerrainBlob& terrain) = 0;
+  virtual std::optional<TerrainBlob> Terrain() const = 0;
 };
 
 }  // namespace seamap

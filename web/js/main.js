@@ -11,6 +11,7 @@ import {localFrame} from './geo.js';
 import {Detections} from './detections.js';
 import {Measure} from './measure.js';
 import {Photos} from './photos.js';
+import {Relief} from './relief.js';
 import {link} from './link.js';
 import {Vehicle, showStatus} from './live.js';
 import {Swipe} from './swipe.js';
@@ -95,6 +96,10 @@ async function start() {
   swipe.bindCheckbox();
 
 
+  // The height model's relief over the photos, with its legend (a mission built with --terrain).
+  const relief = new Relief(map, photoLayers ? photoLayers.tilejson : null);
+  relief.bindCheckbox($('#relief'), $('#relief-row'));
+
   const origin = status && Array.isArray(status.origin) ? status.origin : null;
   cursorReadout(map, $('#cursor'), origin);
   const frame = origin ? localFrame(origin) : null;
@@ -166,7 +171,10 @@ async function start() {
     const mode = document.body.dataset.mode;
     if (mode === 'measure') measure.click(event.latlng);
     else if (mode === 'mark' && canEdit()) detections.addAt(event.latlng);
-    else photos.at(event.latlng);
+    else {
+      photos.at(event.latlng);
+      if (relief.on) relief.at(event.latlng);
+    }
   });
 
   for (const radio of document.querySelectorAll('input[name="mode"]')) {
@@ -281,7 +289,7 @@ async function start() {
   });
 
   // For debugging from the browser console and for the end-to-end test.
-  window.seamap = {map, live, link, track: tracks.estimated, tracks, detections, photos, measure, footprints, vehicle, swipe, fitMission, toVehicle, setFollow,
+  window.seamap = {map, live, link, track: tracks.estimated, tracks, detections, photos, measure, footprints, vehicle, swipe, relief, fitMission, toVehicle, setFollow,
     get layers() { return photoLayers; }, get status() { return status; }};
   // A mission of a catalogue (`seamap serve FOLDER`): a way back to the others.
   document.getElementById('catalogue-link').hidden = !missionBase;

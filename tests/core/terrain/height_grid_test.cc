@@ -27,8 +27,8 @@ TEST(HeightGrid, SamplesBilinearlyInLocalMetres) {
   EXPECT_NEAR(s, 0.01, 1e-7);
   ASSERT_TRUE(g.Sample(g.CellCentre(3, 4), &h));  // the last cell exactly
   EXPECT_NEAR(h, -30 + 0.4 + 0.6, 1e-6);
-  EXPECT_FALSE(g.Sample({9.9, 20}, &h));    // west of the grid
-  EXPECT_FALSE(g.Sample({10, 20.1}, &h));   // north of it
+  EXPECT_FALSE(g.Sample({9.9, 20}, &h));   // west of the grid
+  EXPECT_FALSE(g.Sample({10, 20.1}, &h));  // north of it
 }
 
 TEST(HeightGrid, AHoleIsNotInterpolatedAcross) {

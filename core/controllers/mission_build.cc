@@ -62,7 +62,7 @@ bool MissionBuild::Open() {
                       options_.config_source == "build config" ? "" : options_.config_source);
   // A height model's file is read before the map is created: a bad file leaves no map behind.
   if (!config.terrain.file.empty()) {
-    surface_ = ReadSeabedSurface(config.terrain.file, options_.frame);
+    surface_ = ReadSeabedSurface(config.terrain.file, options_.frame, options_.camera, frames);
     CheckAgainstNavigation(options_.camera, frames, "--terrain-file", &surface_);
   }
   output_ = OpenOutput(options_.out, config, {options_.append, options_.overwrite, options_.resume});

@@ -1,5 +1,6 @@
 #include "core/controllers/seabed_surface.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -69,9 +70,22 @@ void CheckAgainstNavigation(const CameraModel& camera, const std::vector<FrameSp
   }
 }
 
-SeabedSurface ReadSeabedSurface(const std::string& path, const LocalFrame& frame) {
+SeabedSurface ReadSeabedSurface(const std::string& path, const LocalFrame& frame, const CameraModel& camera,
+                                const std::vector<FrameSpec>& frames) {
+  // The frames' flat footprints, and as far again as the highest altitude
+  // around them (relief, and rays past the plane, reach beyond them).
+  double e0 = 1e300, e1 = -1e300, n0 = 1e300, n1 = -1e300, reach = 1;
+  for (const FrameSpec& f : frames) {
+    reach = std::max(reach, f.pose.altitude_m);
+    const auto corners = Footprint(camera, f.pose);
+    if (!corners) continue;
+    for (const LocalXY& c : *corners)
+      e0 = std::min(e0, c.east), e1 = std::max(e1, c.east), n0 = std::min(n0, c.north), n1 = std::max(n1, c.north);
+  }
+  const cv::Rect2d extent =
+      e0 <= e1 ? cv::Rect2d(e0 - reach, n0 - reach, e1 - e0 + 2 * reach, n1 - n0 + 2 * reach) : cv::Rect2d();
   SeabedSurface out;
-  auto grid = std::make_shared<HeightGrid>(ReadHeightGridGeotiff(path, frame.origin()));
+  auto grid = std::make_shared<HeightGrid>(ReadHeightGridGeotiff(path, frame.origin(), extent));
   if (grid->empty()) throw InputError(path, 0, "--terrain-file", "holds no heights");
   out.grid = std::move(grid);
   out.source = "file " + path;

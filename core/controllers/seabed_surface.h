@@ -29,8 +29,11 @@ struct SeabedSurface {
 };
 
 // A height model's file (--terrain-file; GeoTIFF or any GDAL raster, any
-// CRS) in the mission's local frame. InputError naming the file.
-SeabedSurface ReadSeabedSurface(const std::string& path, const LocalFrame& frame);
+// CRS) in the mission's local frame: only the part around the frames'
+// footprints (a large DEM around a small survey stays small in memory).
+// InputError naming the file.
+SeabedSurface ReadSeabedSurface(const std::string& path, const LocalFrame& frame, const CameraModel& camera,
+                                const std::vector<FrameSpec>& frames);
 
 // The seabed estimated from the photos of `frames` (poses placed: refined
 // first with --refine-nav). InputError naming --terrain.

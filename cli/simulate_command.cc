@@ -37,6 +37,11 @@ camera and images:
   --bit-depth 8|16        (default 8; 16 needs png)
   --texture FILE          seabed image instead of the procedural one
   --texture-res M         metres per texture pixel (default 0.55 x the GSD at --altitude-min)
+  --relief M              rugged seabed: smooth random relief of M metres rms, wavelengths 0.5-4 m (default 0,
+                          flat); frames ray-cast onto it, nav altitude_m as a 4-beam DVL measures it,
+                          truth/terrain.tif the true heights (float32 GeoTIFF, metres up from the sea surface)
+  --relief-texture FILE   the relief from a gray image of heights (8/16-bit PNG or float TIFF) stretched
+                          over the seabed and scaled to --relief M rms
   --objects N             paint N objects (tyre, crate, pipe, anchor, rock) on the seabed, >= 1 m apart;
                           truth in truth/objects.csv and truth/objects.json (default 0)
 degradations (off by default):
@@ -86,6 +91,8 @@ SimulationOptions ParseOptions(Args& args) {
     throw InputError("", 0, "--line-spacing", "expected a positive spacing in metres");
   o.path_file = args.GetOr("path", "");
   o.objects = args.GetInt("objects", 0);
+  o.relief.rms_m = args.GetDouble("relief", 0);
+  o.relief.texture_file = args.GetOr("relief-texture", "");
   if (o.objects < 0) throw InputError("", 0, "--objects", "expected a number of objects >= 0");
 
   const int width = args.GetInt("width", 696), height = args.GetInt("height", 520);

@@ -37,6 +37,31 @@ struct RayCaster {
   }
 };
 
+// Camera rays (normalised x, y, 1) cast onto a height model.
+struct TerrainRays {
+  Eigen::Matrix3d enu_from_camera;
+  Eigen::Vector3d centre_enu;  // camera centre: local east, north, up
+
+  TerrainRays(const CameraModel& camera, const VehiclePose& pose) {
+    const Eigen::Matrix3d ned_from_body = NedFromBody(pose);
+    Eigen::Matrix3d enu_from_ned;
+    enu_from_ned << 0, 1, 0, 1, 0, 0, 0, 0, -1;
+    enu_from_camera = enu_from_ned * ned_from_body * camera.BodyFromCamera();
+    const Eigen::Vector3d offset = enu_from_ned * ned_from_body * camera.mount_offset_m;
+    centre_enu = Eigen::Vector3d(pose.east_m, pose.north_m, -pose.depth_m) + offset;
+  }
+
+  bool Hit(const HeightGridRayCaster& terrain, double x, double y, double* east, double* north, double* range) const {
+    const Eigen::Vector3d d = enu_from_camera.col(0) * x + enu_from_camera.col(1) * y + enu_from_camera.col(2);
+    double t = 0;
+    if (!terrain.Cast(centre_enu, d, &t)) return false;
+    *east = centre_enu.x() + t * d.x();
+    *north = centre_enu.y() + t * d.y();
+    *range = t * d.norm();
+    return true;
+  }
+};
+
 constexpr float kMiss = -1e6f;  // remap coordinate far outside any texture
 
 }  // namespace
@@ -79,13 +104,20 @@ FrameRenderer::FrameRenderer(const CameraModel& camera, const Degradations& degr
     }
 }
 
+void FrameRenderer::SetTerrain(const HeightGrid& terrain) {
+  terrain_ = std::make_shared<const HeightGridRayCaster>(terrain);
+}
+
 bool FrameRenderer::GroundBounds(const VehiclePose& pose, cv::Rect2d* bounds) const {
   const RayCaster caster(camera_, pose);
+  const TerrainRays terrain_rays(camera_, pose);
   double e_min = INFINITY, e_max = -INFINITY, n_min = INFINITY, n_max = -INFINITY;
   const auto visit = [&](int u, int v) {
     const cv::Vec2f r = rays_(v, u);
     double east, north, range;
-    if (!caster.Hit(r[0], r[1], &east, &north, &range)) return false;
+    if (terrain_ ? !terrain_rays.Hit(*terrain_, r[0], r[1], &east, &north, &range)
+                 : !caster.Hit(r[0], r[1], &east, &north, &range))
+      return false;
     e_min = std::min(e_min, east), e_max = std::max(e_max, east);
     n_min = std::min(n_min, north), n_max = std::max(n_max, north);
     return true;
@@ -99,6 +131,28 @@ bool FrameRenderer::GroundBounds(const VehiclePose& pose, cv::Rect2d* bounds) co
   return true;
 }
 
+void FrameRenderer::TerrainMaps(const SeabedTexture& texture, const VehiclePose& pose, cv::Mat1f* map_x,
+                                cv::Mat1f* map_y, cv::Mat1f* range) const {
+  const TerrainRays caster(camera_, pose);
+  map_x->create(rays_.size());
+  map_y->create(rays_.size());
+  if (degradations_.haze > 0) range->create(rays_.size());
+  cv::parallel_for_(cv::Range(0, rays_.rows), [&](const cv::Range& rows) {
+    for (int v = rows.start; v < rows.end; ++v) {
+      const cv::Vec2f* ray = rays_[v];
+      float* mx = (*map_x)[v];
+      float* my = (*map_y)[v];
+      for (int u = 0; u < rays_.cols; ++u) {
+        double east = 0, north = 0, hit_range = 0;
+        const bool hit = caster.Hit(*terrain_, ray[u][0], ray[u][1], &east, &north, &hit_range);
+        mx[u] = hit ? static_cast<float>(texture.Column(east)) : kMiss;
+        my[u] = hit ? static_cast<float>(texture.Row(north)) : kMiss;
+        if (!range->empty()) (*range)(v, u) = hit ? static_cast<float>(hit_range) : 1e3f;
+      }
+    }
+  });
+}
+
 cv::Mat FrameRenderer::Render(const SeabedTexture& texture, const VehiclePose& pose, uint64_t noise_seed) const {
   const RayCaster caster(camera_, pose);
   const Degradations& deg = degradations_;
@@ -110,25 +164,32 @@ cv::Mat FrameRenderer::Render(const SeabedTexture& texture, const VehiclePose& p
   const Eigen::RowVector3d num_x = col0 * r.row(2) + scale * r.row(1);
   const Eigen::RowVector3d num_y = row0 * r.row(2) - scale * r.row(0);
   const Eigen::RowVector3d den = r.row(2);
-  cv::Mat1f map_x(rays_.size()), map_y(rays_.size()), range;
-  if (deg.haze > 0) range.create(rays_.size());
-  cv::parallel_for_(cv::Range(0, rays_.rows), [&](const cv::Range& rows) {
-    for (int v = rows.start; v < rows.end; ++v) {
-      const cv::Vec2f* ray = rays_[v];
-      float* mx = map_x[v];
-      float* my = map_y[v];
-      for (int u = 0; u < rays_.cols; ++u) {
-        const double x = ray[u][0], y = ray[u][1];
-        const double w = den[0] * x + den[1] * y + den[2];  // d_down
-        const bool hit = caster.height > 0 && w > 1e-6;
-        const double inv_w = hit ? 1 / w : 0;
-        mx[u] = hit ? static_cast<float>((num_x[0] * x + num_x[1] * y + num_x[2]) * inv_w) : kMiss;
-        my[u] = hit ? static_cast<float>((num_y[0] * x + num_y[1] * y + num_y[2]) * inv_w) : kMiss;
-        // |d| = |(x, y, 1)|; a ray that misses sees only water.
-        if (!range.empty()) range(v, u) = hit ? static_cast<float>(caster.height * ray_norm_(v, u) * inv_w) : 1e3f;
+  cv::Mat1f map_x, map_y, range;
+  if (terrain_) {
+    TerrainMaps(texture, pose, &map_x, &map_y, &range);
+  } else {
+    map_x.create(rays_.size());
+    map_y.create(rays_.size());
+    if (deg.haze > 0) range.create(rays_.size());
+  }
+  if (!terrain_)
+    cv::parallel_for_(cv::Range(0, rays_.rows), [&](const cv::Range& rows) {
+      for (int v = rows.start; v < rows.end; ++v) {
+        const cv::Vec2f* ray = rays_[v];
+        float* mx = map_x[v];
+        float* my = map_y[v];
+        for (int u = 0; u < rays_.cols; ++u) {
+          const double x = ray[u][0], y = ray[u][1];
+          const double w = den[0] * x + den[1] * y + den[2];  // d_down
+          const bool hit = caster.height > 0 && w > 1e-6;
+          const double inv_w = hit ? 1 / w : 0;
+          mx[u] = hit ? static_cast<float>((num_x[0] * x + num_x[1] * y + num_x[2]) * inv_w) : kMiss;
+          my[u] = hit ? static_cast<float>((num_y[0] * x + num_y[1] * y + num_y[2]) * inv_w) : kMiss;
+          // |d| = |(x, y, 1)|; a ray that misses sees only water.
+          if (!range.empty()) range(v, u) = hit ? static_cast<float>(caster.height * ray_norm_(v, u) * inv_w) : 1e3f;
+        }
       }
-    }
-  });
+    });
   cv::Mat frame;
   cv::remap(texture.image, frame, map_x, map_y, cv::INTER_LINEAR, cv::BORDER_CONSTANT, cv::Scalar::all(0));
   if (!deg.Any()) return frame;

@@ -3,13 +3,18 @@
 // the ray of every raw (distorted) pixel onto the seabed plane: exact for
 // any attitude, distortion and mounting, and independent of the homography
 // code the mosaic uses (so tests comparing the two are not circular).
+// With a terrain (SetTerrain) the rays are cast onto the rugged seabed
+// instead, the texture draped over it (its pixel at the hit's east/north).
 #include <cstdint>
+#include <memory>
 
 #include <opencv2/core.hpp>
 
 #include "core/camera/camera_model.h"
 #include "core/camera/vehicle_pose.h"
 #include "core/sim/seabed_texture.h"
+#include "core/terrain/height_grid.h"
+#include "core/terrain/height_grid_ray.h"
 
 namespace seamap {
 
@@ -29,6 +34,14 @@ class FrameRenderer {
  public:
   FrameRenderer(const CameraModel& camera, const Degradations& degradations);
 
+  // From now on, cast every ray onto this height model (first hit, so
+  // relief hides what lies behind it) instead of the plane: the camera sits
+  // at height -depth_m (plus its mounting offset), pose.altitude_m is not
+  // used, and the haze sees the true range. Without it (the default) the
+  // plane path is unchanged, byte for byte.
+  void SetTerrain(const HeightGrid& terrain);
+  const HeightGridRayCaster* terrain() const { return terrain_.get(); }
+
   // Axis-aligned local bounds (x = east, y = north) of the footprint, from
   // the rays of every border pixel. False when some border ray misses the seabed.
   bool GroundBounds(const VehiclePose& pose, cv::Rect2d* bounds) const;
@@ -40,8 +53,13 @@ class FrameRenderer {
   const CameraModel& camera() const { return camera_; }
 
  private:
+  // Texture coordinates (remap maps) and ranges of every pixel on the terrain.
+  void TerrainMaps(const SeabedTexture& texture, const VehiclePose& pose, cv::Mat1f* map_x, cv::Mat1f* map_y,
+                   cv::Mat1f* range) const;
+
   CameraModel camera_;
   Degradations degradations_;
+  std::shared_ptr<const HeightGridRayCaster> terrain_;
   cv::Mat2f rays_;      // undistorted normalised (x, y) of each raw pixel; z = 1
   cv::Mat1f ray_norm_;  // |(x, y, 1)|, for the range to the seabed
   // Vignetting (lamp falloff) times the colour cast, per pixel.

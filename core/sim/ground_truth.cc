@@ -1,11 +1,13 @@
 #include "core/sim/ground_truth.h"
 
 #include <cmath>
+#include <filesystem>
 
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "core/terrain/height_grid_io.h"
 #include "core/util/error.h"
 #include "core/util/json_file.h"
 
@@ -52,6 +54,8 @@ GroundTruth GroundTruth::Load(const std::string& survey_dir) {
   if (t.image.empty()) throw InputError(png, 0, "", "cannot read the ground-truth texture");
   if (t.image.cols != Number(j, "width", json_path) || t.image.rows != Number(j, "height", json_path))
     throw InputError(json_path, 0, "width", "does not match the size of texture.png");
+  const std::string terrain = survey_dir + "/truth/terrain.tif";
+  if (std::filesystem::exists(terrain)) t.terrain = ReadHeightGridGeotiff(terrain, t.origin);
   return t;
 }
 

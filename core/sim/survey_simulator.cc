@@ -10,11 +10,15 @@
 #include <mutex>
 #include <thread>
 
+#include <Eigen/Dense>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "core/camera/frame_projector.h"
 #include "core/sim/seabed_objects.h"
 #include "core/sim/seabed_texture.h"
+#include "core/terrain/dvl_altitude.h"
+#include "core/terrain/height_grid_io.h"
 #include "core/util/error.h"
 
 namespace seamap {
@@ -57,6 +61,46 @@ void Validate(const SimulationOptions& o) {
   Require(n.heading_sigma_deg >= 0, "--heading-noise", "expected a non-negative sigma in degrees");
   Require(n.drift_m_per_min >= 0, "--nav-drift", "expected a non-negative drift in metres per minute");
   o.camera.Validate("camera");
+  o.relief.Check();
+}
+
+// Over relief: nav altitude_m (truth and reported) becomes what a DVL
+// measures, and the vehicle must stay clear of the seabed.
+void MeasureOverRelief(const SimulationOptions& o, const HeightGridRayCaster& terrain, std::vector<TimedPose>* truth,
+                       std::vector<TimedPose>* nav, SimulationSummary* summary) {
+  constexpr double kMinClearance_m = 0.3, kNeighbourhood_m = 0.5, kStep_m = 0.1;
+  double least = INFINITY;
+  for (size_t i = 0; i < truth->size(); ++i) {
+    VehiclePose& p = (*truth)[i].pose;
+    const double vehicle_up = -p.depth_m;
+    const Eigen::Vector3d offset = NedFromBody(p) * o.camera.mount_offset_m;
+    const double camera_up = vehicle_up - offset.z();
+    double highest = -INFINITY;
+    for (double de = -kNeighbourhood_m; de <= kNeighbourhood_m + 1e-9; de += kStep_m)
+      for (double dn = -kNeighbourhood_m; dn <= kNeighbourhood_m + 1e-9; dn += kStep_m) {
+        double h = 0;
+        if (terrain.Height(p.east_m + de, p.north_m + dn, &h)) highest = std::max(highest, h);
+      }
+    const double clearance = std::min(vehicle_up, camera_up) - highest;
+    least = std::min(least, clearance);
+    if (clearance < kMinClearance_m) {
+      char msg[256];
+      std::snprintf(msg, sizeof msg,
+                    "the seabed rises to %.2f m of the vehicle at frame %zu (%.1f s); keep it %.1f m clear: lower "
+                    "--relief or raise --altitude-min",
+                    clearance, i, (*truth)[i].time_s, kMinClearance_m);
+      throw InputError("", 0, "--relief", msg);
+    }
+    double altitude = DvlAltitude(terrain, {p.east_m, p.north_m}, vehicle_up, p.heading_deg, p.pitch_deg, p.roll_deg);
+    double below = 0;
+    if (!std::isfinite(altitude) && terrain.Height(p.east_m, p.north_m, &below)) altitude = vehicle_up - below;
+    if (!std::isfinite(altitude))
+      throw InputError("", 0, "--relief", "the simulated relief does not reach below frame " + std::to_string(i));
+    p.altitude_m = altitude;
+    (*nav)[i].pose.altitude_m = altitude;
+  }
+  summary->min_clearance_m = least;
+  summary->relief_rms_m = o.relief.rms_m;
 }
 
 // Refuses a non-empty folder unless forced.
@@ -110,7 +154,7 @@ nlohmann::json SurveyJson(const SimulationOptions& o, const SimulationSummary& s
   const TrajectoryOptions& t = o.trajectory;
   const Degradations& d = o.degradations;
   const NavErrorOptions& n = o.nav_errors;
-  return {
+  nlohmann::json j = {
       {"origin", {o.origin.lat, o.origin.lon}},
       {"seed", o.seed},
       {"objects", o.objects},
@@ -151,7 +195,20 @@ nlohmann::json SurveyJson(const SimulationOptions& o, const SimulationSummary& s
        {{"position_sigma_m", n.position_sigma_m},
         {"heading_sigma_deg", n.heading_sigma_deg},
         {"drift_m_per_min", n.drift_m_per_min}}},
+      {"relief_m", o.relief.rms_m},
       {"area_m2", s.area_m2}};
+  if (!o.relief.Flat())
+    j["relief"] = {{"rms_m", o.relief.rms_m},
+                   {"source", o.relief.Flat()                 ? "flat"
+                              : o.relief.texture_file.empty() ? "random"
+                                                              : o.relief.texture_file},
+                   {"cell_m", o.relief.cell_m},
+                   {"min_wavelength_m", o.relief.min_wavelength_m},
+                   {"max_wavelength_m", o.relief.max_wavelength_m},
+                   {"min_clearance_m", s.min_clearance_m},
+                   {"altitude", "DVL: mean vertical range of 4 beams at 30 deg"},
+                   {"terrain", "truth/terrain.tif"}};
+  return j;
 }
 
 }  // namespace
@@ -180,53 +237,87 @@ SimulationSummary SimulateSurvey(const SimulationOptions& o, const std::function
     path = SurveyPath::LoadCsv(o.path_file);
   }
   summary.path_length_m = path.Length();
-  const std::vector<TimedPose> truth = MakeTrajectory(path, traj, o.seed);
-  const std::vector<TimedPose> nav = AddNavigationErrors(truth, o.nav_errors, o.seed);
+  std::vector<TimedPose> truth = MakeTrajectory(path, traj, o.seed);
+  std::vector<TimedPose> nav = AddNavigationErrors(truth, o.nav_errors, o.seed);
   summary.frames = static_cast<int>(truth.size());
 
-  // Texture covering every footprint.
-  const FrameRenderer renderer(cam, o.degradations);
+  // Texture (and relief) covering every footprint. Over relief the
+  // footprints are taken on a plane below the deepest seabed, which contains
+  // every ray's first hit; the plane is lowered again should the relief turn
+  // out deeper.
+  FrameRenderer renderer(cam, o.degradations);
+  const bool relief = !o.relief.Flat();
+  const double mean_seabed_up_m = -traj.sea_depth_m;
+  double below_mean_m = relief ? 3.5 * o.relief.rms_m : 0;
   cv::Rect2d area;
   std::vector<cv::Rect2d> frame_bounds;
-  bool first_bounds = true;
-  for (const TimedPose& tp : truth) {
-    cv::Rect2d b;
-    if (!renderer.GroundBounds(tp.pose, &b))
-      throw InputError("", 0, "--pitch-amp",
-                       "a frame's view does not reach the seabed; reduce "
-                       "--pitch-amp/--roll-amp");
-    area = first_bounds ? b : (area | b);
-    frame_bounds.push_back(b);
-    first_bounds = false;
-  }
-  summary.area_m2 = area.area();
   SeabedTexture texture;
   texture.res_m = o.texture_res_m > 0 ? o.texture_res_m : 0.55 * traj.altitude_min_m / cam.fx;
-  const double need_w = area.width + 2 * kTextureMargin_m, need_h = area.height + 2 * kTextureMargin_m;
-  if (o.texture_file.empty()) {
-    const cv::Size size(static_cast<int>(std::ceil(need_w / texture.res_m)),
-                        static_cast<int>(std::ceil(need_h / texture.res_m)));
-    if (static_cast<double>(size.width) * size.height > kMaxTexturePixels)
-      throw InputError("", 0, "--texture-res",
-                       "the seabed texture would need " + std::to_string(size.width) + "x" +
-                           std::to_string(size.height) + " pixels; use a coarser --texture-res or a shorter survey");
-    texture.image = MakeProceduralTexture(size, texture.res_m, o.color, o.bit_depth, o.seed);
-  } else {
-    texture.image = LoadTextureImage(o.texture_file, o.color, o.bit_depth);
-    const double w = texture.image.cols * texture.res_m, h = texture.image.rows * texture.res_m;
-    if (w < need_w || h < need_h) {
-      char msg[256];
-      std::snprintf(msg, sizeof msg,
-                    "covers %.2f x %.2f m at %.5f m/px but the survey needs %.2f x %.2f m; use a "
-                    "larger --texture-res or a shorter path",
-                    w, h, texture.res_m, need_w, need_h);
-      throw InputError(o.texture_file, 0, "--texture", msg);
+  if (!o.texture_file.empty()) texture.image = LoadTextureImage(o.texture_file, o.color, o.bit_depth);
+  cv::Size texture_size;
+  HeightGrid terrain;
+  for (int attempt = 0;; ++attempt) {
+    frame_bounds.clear();
+    bool first_bounds = true;
+    for (const TimedPose& tp : truth) {
+      VehiclePose lowest = tp.pose;
+      lowest.altitude_m += below_mean_m;
+      cv::Rect2d b;
+      if (!renderer.GroundBounds(lowest, &b))
+        throw InputError("", 0, "--pitch-amp",
+                         "a frame's view does not reach the seabed; reduce "
+                         "--pitch-amp/--roll-amp");
+      area = first_bounds ? b : (area | b);
+      frame_bounds.push_back(b);
+      first_bounds = false;
+    }
+    const double need_w = area.width + 2 * kTextureMargin_m, need_h = area.height + 2 * kTextureMargin_m;
+    if (o.texture_file.empty()) {
+      texture_size = cv::Size(static_cast<int>(std::ceil(need_w / texture.res_m)),
+                              static_cast<int>(std::ceil(need_h / texture.res_m)));
+      if (static_cast<double>(texture_size.width) * texture_size.height > kMaxTexturePixels)
+        throw InputError("", 0, "--texture-res",
+                         "the seabed texture would need " + std::to_string(texture_size.width) + "x" +
+                             std::to_string(texture_size.height) +
+                             " pixels; use a coarser --texture-res or a shorter survey");
+    } else {
+      texture_size = texture.image.size();
+      const double w = texture.image.cols * texture.res_m, h = texture.image.rows * texture.res_m;
+      if (w < need_w || h < need_h) {
+        char msg[256];
+        std::snprintf(msg, sizeof msg,
+                      "covers %.2f x %.2f m at %.5f m/px but the survey needs %.2f x %.2f m; use a "
+                      "larger --texture-res or a shorter path",
+                      w, h, texture.res_m, need_w, need_h);
+        throw InputError(o.texture_file, 0, "--texture", msg);
+      }
+    }
+    // Centre the texture on the surveyed area.
+    const double centre_e = area.x + area.width / 2, centre_n = area.y + area.height / 2;
+    texture.east_min = centre_e - texture_size.width * texture.res_m / 2;
+    texture.north_max = centre_n + texture_size.height * texture.res_m / 2;
+    if (!relief) break;
+    const double extent_w = texture_size.width * texture.res_m, extent_h = texture_size.height * texture.res_m;
+    terrain = MakeSeabedRelief(o.relief, {texture.east_min, texture.north_max - extent_h, extent_w, extent_h},
+                               mean_seabed_up_m, o.seed);
+    double lowest_m = 0;
+    cv::minMaxLoc(terrain.height_m, &lowest_m);
+    if (mean_seabed_up_m - lowest_m <= below_mean_m || attempt >= 3) break;
+    below_mean_m = mean_seabed_up_m - lowest_m + 0.05;
+  }
+  summary.area_m2 = area.area();
+  if (o.texture_file.empty())
+    texture.image = MakeProceduralTexture(texture_size, texture.res_m, o.color, o.bit_depth, o.seed);
+  if (relief) {
+    renderer.SetTerrain(terrain);
+    MeasureOverRelief(o, *renderer.terrain(), &truth, &nav, &summary);
+    for (const TimedPose& tp : truth) {
+      cv::Rect2d b;
+      if (!renderer.GroundBounds(tp.pose, &b))
+        throw InputError("", 0, "--relief",
+                         "a frame's view leaves the simulated relief; reduce --pitch-amp/--roll-amp");
     }
   }
-  // Centre the texture on the surveyed area.
-  const double centre_e = area.x + area.width / 2, centre_n = area.y + area.height / 2;
-  texture.east_min = centre_e - texture.image.cols * texture.res_m / 2;
-  texture.north_max = centre_n + texture.image.rows * texture.res_m / 2;
   // Objects go into the texture before anything is rendered from it.
   const std::vector<SeabedObject> objects = PlaceSeabedObjects(o.objects, frame_bounds, o.seed);
   PaintSeabedObjects(objects, &texture);
@@ -246,6 +337,7 @@ SimulationSummary SimulateSurvey(const SimulationOptions& o, const std::function
   std::thread truth_writer([&] {
     try {
       SaveTruth(texture, o.origin, (out / "truth").string());
+      if (relief) WriteHeightGridGeotiff(terrain, o.origin, (out / "truth" / "terrain.tif").string());
     } catch (...) {
       truth_error = std::current_exception();
     }

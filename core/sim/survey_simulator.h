@@ -8,6 +8,8 @@
 //   camera.json                  SaveCameraJson
 //   truth/texture.png, truth/texture.json   the seabed and its georeference
 //   truth/objects.csv, truth/objects.json   objects on the seabed (with `objects` > 0)
+//   truth/terrain.tif            the seabed's heights (with relief > 0): float32
+//                                GeoTIFF, metres up from the sea surface, local tmerc
 //   survey.json                  origin, every parameter used, frame count, seed
 #include <cstdint>
 #include <functional>
@@ -16,6 +18,7 @@
 #include "core/camera/camera_model.h"
 #include "core/geo/lat_lon.h"
 #include "core/sim/frame_renderer.h"
+#include "core/sim/seabed_relief.h"
 #include "core/sim/survey_path.h"
 
 namespace seamap {
@@ -43,6 +46,11 @@ struct SimulationOptions {
   TrajectoryOptions trajectory;
   NavErrorOptions nav_errors;
   Degradations degradations;
+  // Relief (rms > 0): frames are ray-cast onto it; the vehicle keeps its
+  // depth (sea_depth - altitude setpoint, following the mean seabed) and
+  // nav altitude_m is what a DVL measures over the relief
+  // (core/terrain/dvl_altitude.h).
+  SeabedReliefOptions relief;
 };
 
 struct SimulationSummary {
@@ -52,6 +60,8 @@ struct SimulationSummary {
   double area_m2 = 0;         // bounding box of all footprints
   cv::Size texture_size;
   double texture_res_m = 0;
+  double relief_rms_m = 0;
+  double min_clearance_m = 0;  // relief: least height of the vehicle or camera above the seabed near it
   double seconds = 0;
 };
 

@@ -1,6 +1,7 @@
 #include "core/trajectory/match_tracks.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <numeric>
 #include <unordered_map>
@@ -30,7 +31,7 @@ class UnionFind {
 
 }  // namespace
 
-std::vector<MatchTrack> BuildTracks(const std::vector<PairMatches>& pairs, int max_tracks_per_frame) {
+std::vector<MatchTrack> BuildTracks(const std::vector<PairMatches>& pairs, int max_tracks_per_frame, int max_views) {
   UnionFind sets;
   std::unordered_map<uint64_t, int> node_of;  // (frame, keypoint) -> node
   std::vector<std::pair<int, int>> view_of;   // node -> (frame, keypoint)
@@ -62,7 +63,15 @@ std::vector<MatchTrack> BuildTracks(const std::vector<PairMatches>& pairs, int m
     std::sort(t.views.begin(), t.views.end());
     bool twice = false;
     for (size_t k = 1; k < t.views.size(); ++k) twice |= t.views[k].first == t.views[k - 1].first;
-    if (!twice && t.views.size() >= 2) consistent.push_back(std::move(t));
+    if (twice || t.views.size() < 2) continue;
+    const int n = static_cast<int>(t.views.size()), keep = std::max(2, max_views);
+    if (n > keep) {
+      std::vector<std::pair<int, int>> spread;
+      for (int m = 0; m < keep; ++m)
+        spread.push_back(t.views[static_cast<size_t>(std::lround(m * (n - 1.0) / (keep - 1)))]);
+      t.views = std::move(spread);
+    }
+    consistent.push_back(std::move(t));
   }
   // Longest first (ties: by first view, for a deterministic result).
   std::vector<int> order(consistent.size());

@@ -146,8 +146,10 @@ std::vector<double> NadirWeights(const std::vector<Eigen::Vector2d>& offsets) {
     Eigen::MatrixXd a(offsets.size(), 3);
     for (size_t m = 0; m < offsets.size(); ++m) a.row(m) << 1, offsets[m].x(), offsets[m].y();
     const Eigen::Matrix3d ata = a.transpose() * a;
-    Eigen::JacobiSVD<Eigen::Matrix3d> svd(ata);
-    if (svd.singularValues()(2) > 1e-4 * offsets.size()) {
+    // The offsets must span an area (their 2x2 covariance not near singular).
+    const double n = static_cast<double>(offsets.size());
+    const Eigen::Matrix2d spread = ata.block<2, 2>(1, 1) / n - ata.block<2, 1>(1, 0) * ata.block<1, 2>(0, 1) / (n * n);
+    if (spread.determinant() > 1e-8) {
       const Eigen::VectorXd row = (ata.inverse() * a.transpose()).row(0);
       // A far extrapolation amplifies noise: only an interpolation-like plane is kept.
       if (row.cwiseAbs().sum() < 3) {

@@ -100,6 +100,7 @@ void RefineOptions::Check() const {
   if (!(relief_share >= 0 && relief_share < 1))
     throw InputError("", 0, "--relief-share", "expected a number in [0, 1)");
   if (max_points_per_frame < 1) throw InputError("", 0, "max_points_per_frame", "expected at least 1");
+  if (max_views_per_point < 2) throw InputError("", 0, "max_views_per_point", "expected at least 2");
   if (!(attitude_noise_deg > 0) || !std::isfinite(attitude_noise_deg))
     throw InputError("", 0, "--attitude-noise", "expected degrees > 0");
   if (!(depth_noise_m > 0) || !std::isfinite(depth_noise_m))
@@ -290,7 +291,8 @@ std::vector<RefinedFrame> RefineSurvey(const std::vector<FrameSpec>& frames, con
     }
     registered.clear();
     registered.shrink_to_fit();
-    const std::vector<MatchTrack> tracks = BuildTracks(matches, options.max_points_per_frame);
+    const std::vector<MatchTrack> tracks =
+        BuildTracks(matches, options.max_points_per_frame, options.max_views_per_point);
     matches.clear();
     std::vector<SurveyBundleFrame> bundle_frames(n);
     for (int i = 0; i < n; ++i) bundle_frames[i] = {frames[i].pose, out[i].pose, times[i]};

@@ -45,10 +45,11 @@ struct RefineOptions {
   // kBundle only:
   double relief_share = 0.15;       // heights off the mean plane up to this share of the altitude (parallax_share)
   int max_points_per_frame = 80;    // tracks a frame, in the bundle
+  int max_views_per_point = 8;      // views a track keeps, spread over its frames
   double attitude_noise_deg = 0.5;  // AHRS pitch/roll noise
   double depth_noise_m = 0.02, altitude_noise_m = 0.01;  // depth sensor, DVL altitude (metres, 1 sigma)
-  double pixel_sigma = 0.7;  // feature noise, pixels
-  void Check() const;        // InputError naming the option as the command line spells it
+  double pixel_sigma = 0.7;                              // feature noise, pixels
+  void Check() const;                                    // InputError naming the option as the command line spells it
 };
 
 struct RefineReport {

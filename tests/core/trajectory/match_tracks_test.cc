@@ -35,5 +35,13 @@ TEST(MatchTracks, AtMostABudgetOfTracksAFrameLongestFirst) {
   EXPECT_TRUE(long_one);
 }
 
+TEST(MatchTracks, ALongTrackKeepsViewsSpreadOverItsFrames) {
+  std::vector<PairMatches> pairs;
+  for (int f = 0; f < 20; ++f) pairs.push_back({f, f + 1, {{0, 0}}});  // one point seen by frames 0..20
+  const std::vector<MatchTrack> tracks = BuildTracks(pairs, 10, 5);
+  ASSERT_EQ(tracks.size(), 1u);
+  EXPECT_EQ(tracks[0].views, (std::vector<std::pair<int, int>>{{0, 0}, {5, 0}, {10, 0}, {15, 0}, {20, 0}}));
+}
+
 }  // namespace
 }  // namespace seamap

@@ -371,7 +371,8 @@ SurveyBundleResult SolveSurveyBundle(const std::vector<SurveyBundleFrame>& frame
         weights.push_back(weight);
       }
       // The planes stand in for the seabed under the beams up to their curvature over the points' spread.
-      const double sigma = std::hypot(options.altitude_sigma_m, 0.1 * spread);
+      const double slope = options.altitude_points >= 4 ? 0.1 : 0.3;  // a plane follows the slope, one point does not
+      const double sigma = std::hypot(options.altitude_sigma_m, slope * spread);
       auto* cost = new ceres::DynamicAutoDiffCostFunction<AltitudeResidual, 4>(
           new AltitudeResidual{nav.altitude_m, 1 / sigma, weights});
       cost->AddParameterBlock(6);

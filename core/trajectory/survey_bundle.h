@@ -41,9 +41,12 @@ struct SurveyBundleOptions {
   double depth_sigma_m = 0.05;          // depth sensor
   double altitude_sigma_m = 0.05;       // DVL / altimeter
   double dvl_beam_angle_deg =
-      30;                    // the altimeter: a 4-beam DVL (Janus beams this far off vertical); 0: one vertical beam
-  int altitude_points = 6;   // tracked points nearest a beam's footprint that place the seabed there
-  double pixel_sigma = 0.7;  // feature position noise, ideal pixels
+      30;  // the altimeter: a 4-beam DVL (Janus beams this far off vertical); 0: one vertical beam
+  // Tracked points that place the seabed under a beam: the plane through them
+  // (4 or more), else the nearest. Each point tied into an altitude residual
+  // stays out of the Schur elimination: 1 is faster, 6 more accurate.
+  int altitude_points = 6;
+  double pixel_sigma = 0.7;            // feature position noise, ideal pixels
   double reprojection_loss_scale = 2;  // CauchyLoss on whitened reprojection residuals
   double prior_loss_scale = 3;         // HuberLoss on absolute priors
   double reject_px = 4;                // observations reprojecting further are dropped before the second solve

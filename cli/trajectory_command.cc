@@ -29,6 +29,8 @@ const char* kHelp =
     "  --out FILE          trajectory.csv (image,time_s,lat,lon,x_m,y_m,depth_m,altitude_m,heading_deg,\n"
     "                      pitch_deg,roll_deg[,flags]), read as is by seamap build --nav\n"
     "  --report FILE       the run's figures as JSON (pairs, inliers, residuals, seconds per stage)\n"
+    "  --points FILE       refine's triangulated seabed points as CSV (x_m,y_m,up_m,sigma_up_m,views: local\n"
+    "                      metres, heights up with the sea surface 0)\n"
     "  --config FILE       a build config: its \"navigation\" object (columns, origin, noise)\n"
     "  --threads N         worker threads (default: one per core)\n"
     "  --quiet             no progress bars\n";
@@ -52,6 +54,7 @@ int RunTrajectory(int argc, char** argv, int first) {
   }
   const std::string out = args.Require("out");
   const std::optional<std::string> report_path = args.Get("report");
+  const std::optional<std::string> points_path = args.Get("points");
   const bool quiet = args.Flag("quiet");
   const int threads = args.GetInt("threads", config.threads);
   const CameraModel camera = LoadCamera(args.Require("camera"));
@@ -77,7 +80,19 @@ int RunTrajectory(int argc, char** argv, int first) {
   poses.threads = threads;
   poses.quiet = quiet;
   std::vector<std::string> flags;
-  nlohmann::json report = PoseSource(camera, poses).PlaceSurvey(&frames.frames, &flags);
+  PoseSource source(camera, poses);
+  nlohmann::json report = source.PlaceSurvey(&frames.frames, &flags);
+  if (points_path) {
+    std::ofstream file(*points_path);
+    if (!file) throw InputError(*points_path, 0, "--points", "cannot write the points file");
+    file << "x_m,y_m,up_m,sigma_up_m,views\n";
+    char line[160];
+    for (const SeabedPoint& p : source.seabed_points()) {
+      std::snprintf(line, sizeof(line), "%.4f,%.4f,%.4f,%.4f,%d\n", p.east_north_up_m.x(), p.east_north_up_m.y(),
+                    p.east_north_up_m.z(), p.sigma_up_m, p.views);
+      file << line;
+    }
+  }
   const LocalFrame frame(nav.origin);
   std::vector<TrajectoryRow> rows;
   for (size_t i = 0; i < frames.frames.size(); ++i) {

@@ -1,11 +1,16 @@
 #include "cli/trajectory_setup.h"
 
+#include "core/util/error.h"
+
 namespace seamap::cli {
 
 const char* kNavigationNoiseHelp =
     "  --nav-noise M       the navigation's white position noise, 1 sigma (default 0.05; config navigation.noise_m)\n"
     "  --nav-drift M_MIN   its drift rate, metres per minute (default 1; navigation.drift_m_per_min)\n"
-    "  --heading-noise DEG its heading noise (default 1; navigation.heading_noise_deg)\n";
+    "  --heading-noise DEG its heading noise (default 1; navigation.heading_noise_deg)\n"
+    "  --refine-method M   refine's solve: planar (default; the 2-D pose graph) or bundle (3-D poses and\n"
+    "                      seabed points, for relief; slower, docs/TERRAIN.md)\n"
+    "  --attitude-noise DEG  the pitch/roll sensor's noise for the bundle (default 0.5)\n";
 
 const char* kFeatureEnhanceHelp =
     "  --feature-enhance off|auto|LIST  enhance the frames before their features are detected (seed 004;\n"
@@ -25,6 +30,15 @@ RefineOptions ReadRefineOptions(Args& args, const NavigationSettings& settings, 
   o.nav_drift_m_per_min = args.GetDouble("nav-drift", settings.drift_m_per_min);
   o.heading_noise_deg = args.GetDouble("heading-noise", settings.heading_noise_deg);
   o.threads = threads;
+  if (const auto method = args.Get("refine-method")) {
+    if (*method == "bundle")
+      o.method = RefineMethod::kBundle;
+    else if (*method == "planar")
+      o.method = RefineMethod::kPlanar;
+    else
+      throw InputError("", 0, "--refine-method", "expected bundle or planar, got '" + *method + "'");
+  }
+  o.attitude_noise_deg = args.GetDouble("attitude-noise", o.attitude_noise_deg);
   o.Check();
   return o;
 }

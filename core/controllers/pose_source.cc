@@ -102,8 +102,9 @@ nlohmann::json PoseSource::Refine(std::vector<FrameSpec>* frames, std::vector<st
   ProgressBar features("frames", static_cast<long>(frames->size()), !options_.quiet);
   std::unique_ptr<ProgressBar> pairs;
   RefineReport report;
-  const std::vector<RefinedFrame> refined =
-      RefineSurvey(*frames, camera_, options_.refine, &report, [&](const std::string& now, int done, int total) {
+  const std::vector<RefinedFrame> refined = RefineSurvey(
+      *frames, camera_, options_.refine, &report,
+      [&](const std::string& now, int done, int total) {
         if (now == "features") {
           features.Update(done);
         } else if (now == "pairs") {
@@ -113,7 +114,8 @@ nlohmann::json PoseSource::Refine(std::vector<FrameSpec>* frames, std::vector<st
           }
           pairs->Update(done);
         }
-      });
+      },
+      &seabed_points_);
   if (pairs) pairs->Finish();
   for (size_t i = 0; i < frames->size(); ++i) {
     FrameSpec& f = (*frames)[i];
@@ -129,6 +131,12 @@ nlohmann::json PoseSource::Refine(std::vector<FrameSpec>* frames, std::vector<st
                report.registered_along, report.pairs_along, report.registered_cross, report.pairs_cross,
                report.median_inliers, report.rejected_by_graph, report.residual_before_mm, report.residual_after_mm,
                report.nav_only, report.seconds_features, report.seconds_pairs, report.seconds_solve);
+  if (report.bundle)
+    std::fprintf(stderr,
+                 "refine: bundle adjustment of %d seabed points (%d observations, %d dropped), reprojection RMS "
+                 "%.2f px -> %.2f px; %.1f s\n",
+                 report.points, report.observations, report.observations_rejected, report.reprojection_before_px,
+                 report.reprojection_after_px, report.seconds_bundle);
   nlohmann::json nav_only = nlohmann::json::array();
   std::set<std::string> nav_only_images;  // flagged by name, as the report lists them
   for (size_t i = 0; i < refined.size(); ++i)
@@ -152,8 +160,21 @@ nlohmann::json PoseSource::Refine(std::vector<FrameSpec>* frames, std::vector<st
           {"nav_only_frames", report.nav_only},
           {"nav_only", nav_only},
           {"registration_failures", failures},
+          {"method", report.bundle ? "bundle" : "planar"},
+          {"bundle",
+           {{"points", report.points},
+            {"observations", report.observations},
+            {"observations_rejected", report.observations_rejected},
+            {"reprojection_before_px", report.reprojection_before_px},
+            {"reprojection_after_px", report.reprojection_after_px},
+            {"linear_solver", report.bundle_solver},
+            {"iterations", report.bundle_iterations}}},
+          {"peak_feature_mb", report.peak_feature_bytes / 1e6},
           {"seconds",
-           {{"features", report.seconds_features}, {"pairs", report.seconds_pairs}, {"solve", report.seconds_solve}}}};
+           {{"features", report.seconds_features},
+            {"pairs", report.seconds_pairs},
+            {"solve", report.seconds_solve},
+            {"bundle", report.seconds_bundle}}}};
 }
 
 // Features on the pool, a bounded stretch ahead; the filter in order.

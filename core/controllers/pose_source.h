@@ -18,6 +18,7 @@
 
 #include "core/camera/camera_model.h"
 #include "core/nav/frame_list.h"
+#include "core/terrain/seabed_point.h"
 #include "core/trajectory/feature_enhancement.h"
 #include "core/trajectory/survey_refiner.h"
 #include "core/trajectory/trajectory_estimator.h"
@@ -64,6 +65,9 @@ class PoseSource {
   // InputError naming the frame's time_s when it has none.
   cv::Mat Place(FrameSpec* frame);
 
+  // The seabed points the last refine triangulated (refine's bundle method; empty otherwise).
+  const SeabedPoints& seabed_points() const { return seabed_points_; }
+
  private:
   // Settles feature_enhance (auto: tried on the first frames) into the
   // features' options; what it chose and measured, for the report.
@@ -74,6 +78,7 @@ class PoseSource {
   CameraModel camera_;
   PoseSourceOptions options_;
   std::unique_ptr<TrajectoryEstimator> live_;  // Place's filter
+  SeabedPoints seabed_points_;
 };
 
 }  // namespace seamap

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <unordered_map>
 
 #include <opencv2/imgproc.hpp>
 
@@ -56,27 +58,64 @@ std::vector<CandidatePair> FindCandidatePairs(const std::vector<CandidateFrame>&
       if (overlap > 0) pairs.push_back({i, j, true, overlap});
     }
   }
-  // Across lines and loops: every pair that may overlap enough, by predicted overlap.
+  // Across lines and loops: the nearest frames in reach, by predicted overlap.
   std::vector<double> radius(n);
   std::vector<cv::Point2d> centre(n);
+  double max_radius = 0;
   for (int i = 0; i < n; ++i) {
     radius[i] = Radius(frames[i].footprint);
     centre[i] = Centre(frames[i].footprint);
+    if (frames[i].usable) max_radius = std::max(max_radius, radius[i]);
   }
-  std::vector<CandidatePair> cross;
+  const double cell_m = std::max(1e-3, 2 * max_radius + options.max_slide_m);
+  auto cell_of = [&](double v) { return static_cast<int64_t>(std::floor(v / cell_m)); };
+  auto key = [](int64_t x, int64_t y) { return (x << 32) ^ (y & 0xffffffff); };
+  std::unordered_map<int64_t, std::vector<int>> grid;
+  for (int i = 0; i < n; ++i)
+    if (frames[i].usable && std::isfinite(centre[i].x) && std::isfinite(centre[i].y))
+      grid[key(cell_of(centre[i].x), cell_of(centre[i].y))].push_back(i);
+  struct Cross {
+    CandidatePair pair;
+    double distance_m;
+  };
+  std::vector<Cross> cross;
+  std::vector<std::pair<double, int>> near;  // (distance, j)
   for (int i = 0; i < n; ++i) {
-    if (!frames[i].usable) continue;
-    for (int j = i + 1; j < n; ++j) {
+    if (!frames[i].usable || !std::isfinite(centre[i].x) || !std::isfinite(centre[i].y)) continue;
+    near.clear();
+    const int64_t cx = cell_of(centre[i].x), cy = cell_of(centre[i].y);
+    for (int64_t y = cy - 1; y <= cy + 1; ++y)
+      for (int64_t x = cx - 1; x <= cx + 1; ++x) {
+        const auto it = grid.find(key(x, y));
+        if (it == grid.end()) continue;
+        for (int j : it->second) {
+          if (j <= i || std::fabs(frames[j].time_s - frames[i].time_s) <= options.min_gap_s) continue;
+          const double gap = std::fabs(frames[j].time_s - frames[i].time_s);
+          const double slide =
+              std::min(options.max_slide_m, 3 * RelativeSigma(options.nav_noise_m, options.drift_m_per_s, gap));
+          const cv::Point2d d = centre[j] - centre[i];
+          const double distance = std::hypot(d.x, d.y);
+          if (distance <= radius[i] + radius[j] + slide) near.emplace_back(distance, j);  // may touch
+        }
+      }
+    const size_t tested = std::min(near.size(), static_cast<size_t>(std::max(0, options.max_tested_per_frame)));
+    std::partial_sort(near.begin(), near.begin() + tested, near.end());
+    for (size_t k = 0; k < tested; ++k) {
+      const int j = near[k].second;
       const double gap = std::fabs(frames[j].time_s - frames[i].time_s);
-      if (!frames[j].usable || gap <= options.min_gap_s) continue;
-      const double slide = 3 * RelativeSigma(options.nav_noise_m, options.drift_m_per_s, gap);
-      const cv::Point2d d = centre[j] - centre[i];
-      if (std::hypot(d.x, d.y) > radius[i] + radius[j] + slide) continue;  // cannot touch
+      const double slide =
+          std::min(options.max_slide_m, 3 * RelativeSigma(options.nav_noise_m, options.drift_m_per_s, gap));
       const double overlap = Overlap(frames[i].footprint, frames[j].footprint, slide);
-      if (overlap >= options.min_overlap) cross.push_back({i, j, false, overlap});
+      if (overlap >= options.min_overlap) cross.push_back({{i, j, false, overlap}, near[k].first});
     }
   }
-  std::stable_sort(cross.begin(), cross.end(), [](const auto& a, const auto& b) { return a.overlap > b.overlap; });
+  // Largest predicted overlap first; among equals (a large slide makes many
+  // overlaps whole) the nearest as navigated.
+  std::sort(cross.begin(), cross.end(), [](const Cross& a, const Cross& b) {
+    if (a.pair.overlap != b.pair.overlap) return a.pair.overlap > b.pair.overlap;
+    if (a.distance_m != b.distance_m) return a.distance_m < b.distance_m;
+    return std::make_pair(a.pair.i, a.pair.j) < std::make_pair(b.pair.i, b.pair.j);
+  });
   // At most max_cross_per_frame partners a frame, spread over passes (a
   // partner within min_gap_s of one taken is on the same pass): first the
   // best pair of each pass, then the best of the rest.
@@ -89,7 +128,7 @@ std::vector<CandidatePair> FindCandidatePairs(const std::vector<CandidateFrame>&
   std::vector<bool> taken(cross.size(), false);
   for (const bool any_pass : {false, true})
     for (size_t k = 0; k < cross.size(); ++k) {
-      const int i = cross[k].i, j = cross[k].j;
+      const int i = cross[k].pair.i, j = cross[k].pair.j;
       if (taken[k] || static_cast<int>(partners[i].size()) >= options.max_cross_per_frame ||
           static_cast<int>(partners[j].size()) >= options.max_cross_per_frame)
         continue;
@@ -97,7 +136,7 @@ std::vector<CandidatePair> FindCandidatePairs(const std::vector<CandidateFrame>&
       taken[k] = true;
       partners[i].push_back(j);
       partners[j].push_back(i);
-      pairs.push_back(cross[k]);
+      pairs.push_back(cross[k].pair);
     }
   return pairs;
 }

@@ -5,7 +5,10 @@
 // each other by three sigmas of the navigation's relative uncertainty,
 // overlap by at least `min_overlap` of a footprint. At most
 // `max_cross_per_frame` such partners a frame, largest overlap first, spread
-// over different passes.
+// over different passes. The slide is capped at `max_slide_m` and each frame
+// tests only its `max_tested_per_frame` nearest partners in reach (a grid of
+// footprint centres finds them): the search grows linearly with the survey,
+// where testing every pair of a long drifting survey grew quadratically.
 #include <array>
 #include <vector>
 
@@ -25,6 +28,8 @@ struct CandidateOptions {
   double min_gap_s = 10;
   double min_overlap = 0.3;
   int max_cross_per_frame = 4;
+  double max_slide_m = 5;         // cap on the 3-sigma slide: beyond it the navigation predicts no overlap
+  int max_tested_per_frame = 48;  // nearest partners in reach whose overlap is computed
 };
 
 struct CandidatePair {

@@ -6,6 +6,7 @@
 #include <unordered_map>
 
 #include <Eigen/Dense>
+#include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "core/trajectory/ground_offsets.h"
@@ -115,6 +116,9 @@ void RegistrationOptions::Check() const {
   if (!(inlier_ground_px > 0)) throw InputError("", 0, "inlier_ground_px", "expected a number > 0");
   if (min_inliers < 3) throw InputError("", 0, "min_inliers", "expected at least 3");
   if (!(gate > 0)) throw InputError("", 0, "gate", "expected a number > 0");
+  if (!(parallax_share >= 0 && parallax_share < 1))
+    throw InputError("", 0, "parallax_share", "expected a number in [0, 1)");
+  if (!(epipolar_px > 0)) throw InputError("", 0, "epipolar_px", "expected a number > 0");
 }
 
 Rigid2D FitRigid(const std::vector<cv::Point2d>& p, const std::vector<cv::Point2d>& q) {
@@ -138,9 +142,9 @@ Rigid2D FitRigid(const std::vector<cv::Point2d>& p, const std::vector<cv::Point2
   return r;
 }
 
-Registration RegisterPair(const RegistrationFrame& fi, const RegistrationFrame& fj, const RelativeNavNoise& noise,
-                          const RegistrationOptions& options, uint64_t seed) {
-  Registration out;
+PairRegistration RegisterPair(const RegistrationFrame& fi, const RegistrationFrame& fj, const RelativeNavNoise& noise,
+                              const RegistrationOptions& options, uint64_t seed) {
+  PairRegistration out;
   const FrameFeatures& a = *fi.features;
   const FrameFeatures& b = *fj.features;
   if (a.ideal_px.size() < 10 || b.ideal_px.size() < 10) {
@@ -156,6 +160,9 @@ Registration RegisterPair(const RegistrationFrame& fi, const RegistrationFrame& 
   double reach = 0;  // how far a keypoint of j may be from its predicted place in i (3 sigma)
   for (const auto& o : fj.offsets) reach = std::max(reach, std::hypot(o.x, o.y));
   const double search_m = 3 * (noise.position_m + (reach + std::hypot(baseline.x, baseline.y)) * noise.heading_rad);
+  // How far relief may move a point between the two views (0 on a flat seabed).
+  const bool relief = options.parallax_share > 0;
+  const double parallax_m = options.parallax_share * (std::hypot(baseline.x, baseline.y) + 3 * noise.position_m);
 
   // 1. A rough motion: the navigation's when it is good to a few tens of
   // ground pixels, else from the strongest keypoints of j matched unguided.
@@ -172,7 +179,7 @@ Registration RegisterPair(const RegistrationFrame& fi, const RegistrationFrame& 
       p.push_back(fi.offsets[best]);
       q.push_back(fj.offsets[k]);
     }
-    const std::vector<int> inliers = RansacRigid(p, q, 2 * threshold, options.ransac_iterations, rng);
+    const std::vector<int> inliers = RansacRigid(p, q, 2 * threshold + parallax_m / 2, options.ransac_iterations, rng);
     if (static_cast<int>(inliers.size()) < std::max(6, options.min_inliers / 3)) {
       out.reason = "no consistent matches among the strongest keypoints";
       out.matches = static_cast<int>(p.size());
@@ -181,10 +188,12 @@ Registration RegisterPair(const RegistrationFrame& fi, const RegistrationFrame& 
     rough = FitRigid(Pick(p, inliers), Pick(q, inliers));
     rough_radius = 8 * ground_px;
   }
+  rough_radius += parallax_m;
 
   // 2. Every keypoint of j near where the rough motion puts it in i.
   const OffsetGrid grid(fi.offsets, rough_radius);
   std::vector<cv::Point2d> p, q;
+  std::vector<std::pair<int, int>> matched;  // keypoint indices
   for (int k = 0; k < static_cast<int>(fj.offsets.size()); ++k) {
     const cv::Point2d at = rough.dt + RotateClockwise(fj.offsets[k], rough.dpsi);
     const int best = BestByRatio(b.descriptors.ptr<uint8_t>(k), a.descriptors, options.ratio,
@@ -192,17 +201,35 @@ Registration RegisterPair(const RegistrationFrame& fi, const RegistrationFrame& 
     if (best < 0) continue;
     p.push_back(fi.offsets[best]);
     q.push_back(fj.offsets[k]);
+    matched.emplace_back(best, k);
   }
   out.matches = static_cast<int>(p.size());
-  std::vector<int> inliers = RansacRigid(p, q, threshold, options.ransac_iterations, rng);
+  std::vector<int> inliers;
+  if (!relief) {
+    inliers = RansacRigid(p, q, threshold, options.ransac_iterations, rng);
+  } else if (p.size() >= 8) {
+    // One relative camera motion, whatever the height of each point.
+    std::vector<cv::Point2f> pi, pj;
+    for (const auto& m : matched) {
+      pi.push_back(a.ideal_px[m.first]);
+      pj.push_back(b.ideal_px[m.second]);
+    }
+    cv::setRNGSeed(static_cast<int>(seed & 0x7fffffff));
+    cv::Mat mask;
+    const cv::Mat e = cv::findEssentialMat(pi, pj, cv::Mat(fi.k), cv::RANSAC, 0.999, options.epipolar_px, mask);
+    if (!e.empty() && !mask.empty())
+      for (int k = 0; k < mask.rows * mask.cols; ++k)
+        if (mask.at<uint8_t>(k)) inliers.push_back(k);
+  }
   if (static_cast<int>(inliers.size()) < options.min_inliers) {
     out.reason = "too few inliers";
     out.inliers = static_cast<int>(inliers.size());
     return out;
   }
-  // 3. Refit on the inliers, and once more on those of the refit.
+  // 3. Refit on the inliers, and once more on those of the refit (planar only:
+  // on relief the rigid motion is an approximation and keeps every inlier).
   Rigid2D fit = FitRigid(Pick(p, inliers), Pick(q, inliers));
-  for (int round = 0; round < 2; ++round) {
+  for (int round = 0; round < (relief ? 0 : 2); ++round) {
     std::vector<int> again;
     for (int k = 0; k < static_cast<int>(p.size()); ++k) {
       const cv::Point2d r = p[k] - fit.dt - RotateClockwise(q[k], fit.dpsi);
@@ -251,10 +278,12 @@ Registration RegisterPair(const RegistrationFrame& fi, const RegistrationFrame& 
     cov(1, 1) += noise.position_m * noise.position_m + lever * lever;
     cov(2, 2) += noise.heading_rad * noise.heading_rad;
     const double mahalanobis = d.dot(cov.inverse() * d);
-    if (mahalanobis > options.gate)
+    if (mahalanobis > options.gate) {
       out.reason = "disagrees with the navigation (Mahalanobis^2 " + std::to_string(mahalanobis) + ")";
-    else
+    } else {
       out.accepted = true;
+      out.inlier_matches = Pick(matched, inliers);
+    }
   }
   return out;
 }

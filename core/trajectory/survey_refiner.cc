@@ -10,8 +10,10 @@
 #include "core/camera/frame_projector.h"
 #include "core/image/image_read.h"
 #include "core/trajectory/ground_offsets.h"
+#include "core/trajectory/match_tracks.h"
 #include "core/trajectory/pair_candidates.h"
 #include "core/trajectory/pose_graph.h"
+#include "core/trajectory/survey_bundle.h"
 #include "core/util/error.h"
 #include "core/util/statistics.h"
 #include "core/util/thread_pool.h"
@@ -29,20 +31,29 @@ double Since(Clock::time_point t) {
 struct Prepared {
   FrameFeatures features;
   RegistrationFrame registration;
-  CandidateFrame candidate;
   std::string problem;
+  bool ready = false;  // features detected and usable
+  size_t Bytes() const { return features.Bytes() + registration.offsets.size() * sizeof(cv::Point2d); }
 };
 
-Prepared Prepare(const FrameSpec& f, double time_s, const CameraModel& camera, const FeatureOptions& options) {
-  Prepared p;
-  p.candidate.time_s = time_s;
-  p.candidate.usable = false;
+// A frame's footprint as navigated, before its image is read.
+CandidateFrame Candidate(const FrameSpec& f, double time_s, const CameraModel& camera) {
+  CandidateFrame c;
+  c.time_s = time_s;
   const auto corners = Footprint(camera, f.pose);
-  if (!corners) {
+  c.usable = corners.has_value();
+  if (corners)
+    for (int k = 0; k < 4; ++k) c.footprint[k] = {(*corners)[k].east, (*corners)[k].north};
+  return c;
+}
+
+Prepared Prepare(const FrameSpec& f, const CandidateFrame& candidate, const CameraModel& camera,
+                 const FeatureOptions& options) {
+  Prepared p;
+  if (!candidate.usable) {
     p.problem = "the camera does not see the seabed in this attitude";
     return p;
   }
-  for (int k = 0; k < 4; ++k) p.candidate.footprint[k] = {(*corners)[k].east, (*corners)[k].north};
   const cv::Mat image = ReadGuardedImage(f.image_path, &p.problem);
   if (image.empty()) return p;
   if (std::abs(image.cols * camera.height - image.rows * camera.width) > std::max(image.cols, camera.width)) {
@@ -61,11 +72,12 @@ Prepared Prepare(const FrameSpec& f, double time_s, const CameraModel& camera, c
   r.position_m = {f.pose.east_m, f.pose.north_m};
   r.heading_rad = f.pose.heading_deg * kDegToRad;
   r.ground_px_m = GroundSampleDistance(camera, f.pose.altitude_m);
-  const auto& c = p.candidate.footprint;
+  r.k = camera.K();
+  const auto& c = candidate.footprint;
   double area = 0;
   for (int k = 0; k < 4; ++k) area += c[k].x * c[(k + 1) % 4].y - c[(k + 1) % 4].x * c[k].y;
   r.footprint_m2 = std::fabs(area) / 2;
-  p.candidate.usable = true;
+  p.ready = true;
   return p;
 }
 
@@ -85,20 +97,36 @@ void RefineOptions::Check() const {
   if (!(heading_noise_deg >= 0) || !std::isfinite(heading_noise_deg))
     throw InputError("", 0, "--heading-noise", "expected degrees >= 0");
   if (max_cross_per_frame < 0) throw InputError("", 0, "max_cross_per_frame", "expected >= 0");
+  if (!(relief_share >= 0 && relief_share < 1))
+    throw InputError("", 0, "--relief-share", "expected a number in [0, 1)");
+  if (max_points_per_frame < 1) throw InputError("", 0, "max_points_per_frame", "expected at least 1");
+  if (max_views_per_point < 2) throw InputError("", 0, "max_views_per_point", "expected at least 2");
+  if (!(attitude_noise_deg > 0) || !std::isfinite(attitude_noise_deg))
+    throw InputError("", 0, "--attitude-noise", "expected degrees > 0");
+  if (!(depth_noise_m > 0) || !std::isfinite(depth_noise_m))
+    throw InputError("", 0, "--depth-noise", "expected metres > 0");
+  if (!(altitude_noise_m > 0) || !std::isfinite(altitude_noise_m))
+    throw InputError("", 0, "--altitude-noise", "expected metres > 0");
+  if (!(pixel_sigma > 0)) throw InputError("", 0, "pixel_sigma", "expected pixels > 0");
   features.Check();
   registration.Check();
 }
 
 std::vector<RefinedFrame> RefineSurvey(const std::vector<FrameSpec>& frames, const CameraModel& camera,
                                        const RefineOptions& options, RefineReport* report,
-                                       const std::function<void(const std::string&, int, int)>& progress) {
+                                       const std::function<void(const std::string&, int, int)>& progress,
+                                       SeabedPoints* seabed_points) {
   options.Check();
   RefineReport r;
-  r.frames = static_cast<int>(frames.size());
+  const int n = static_cast<int>(frames.size());
+  r.frames = n;
+  const bool bundle = options.method == RefineMethod::kBundle;
   // Floors keep exact navigation from dividing by zero.
   const double nav_noise = std::max(options.nav_noise_m, 1e-3);
   const double drift = std::max(options.nav_drift_m_per_min, 0.0) / 60;
   const double heading_noise = std::max(options.heading_noise_deg, 0.01) * kDegToRad;
+  RegistrationOptions registration = options.registration;
+  if (bundle) registration.parallax_share = options.relief_share;
   std::vector<double> times(frames.size());
   for (size_t i = 0; i < frames.size(); ++i)
     times[i] = frames[i].time_s ? *frames[i].time_s : static_cast<double>(i) / 5;  // no times: 5 frames/s
@@ -107,50 +135,90 @@ std::vector<RefinedFrame> RefineSurvey(const std::vector<FrameSpec>& frames, con
     if (progress) progress(stage, done, total);
   };
 
-  // 1. Features, on the pool.
+  // 1. Candidate pairs, from the navigation's footprints.
   auto start = Clock::now();
-  std::vector<Prepared> prepared(frames.size());
-  {
-    std::vector<std::future<Prepared>> jobs;
-    for (size_t i = 0; i < frames.size(); ++i)
-      jobs.push_back(pool.Submit([&, i] { return Prepare(frames[i], times[i], camera, options.features); }));
-    for (size_t i = 0; i < jobs.size(); ++i) {
-      prepared[i] = jobs[i].get();
-      prepared[i].registration.features = &prepared[i].features;
-      if (!prepared[i].candidate.usable) ++r.frames_without_features;
-      tick("features", static_cast<int>(i + 1), static_cast<int>(frames.size()));
-    }
-  }
-  r.seconds_features = Since(start);
-
-  // 2. Candidate pairs, registered on the pool.
-  start = Clock::now();
   CandidateOptions candidate_options;
   candidate_options.nav_noise_m = nav_noise;
   candidate_options.drift_m_per_s = drift;
   candidate_options.min_gap_s = options.min_gap_s;
   candidate_options.min_overlap = options.min_overlap;
   candidate_options.max_cross_per_frame = options.max_cross_per_frame;
-  std::vector<CandidateFrame> candidate_frames;
-  for (const Prepared& p : prepared) candidate_frames.push_back(p.candidate);
+  std::vector<CandidateFrame> candidate_frames(frames.size());
+  for (int i = 0; i < n; ++i) candidate_frames[i] = Candidate(frames[i], times[i], camera);
   const std::vector<CandidatePair> candidates = FindCandidatePairs(candidate_frames, candidate_options);
-  std::vector<std::future<Registration>> jobs;
-  for (const CandidatePair& c : candidates) {
-    (c.along_track ? r.pairs_along : r.pairs_cross)++;
-    RelativeNavNoise noise;
-    noise.position_m = RelativeSigma(nav_noise, drift, std::fabs(times[c.j] - times[c.i]));
-    noise.heading_rad = std::sqrt(2.0) * heading_noise;
-    jobs.push_back(pool.Submit([&, c, noise] {
-      return RegisterPair(prepared[c.i].registration, prepared[c.j].registration, noise, options.registration,
-                          static_cast<uint64_t>(c.i) * 7919 + c.j);
-    }));
+
+  // 2. Features frame by frame, and each pair registered as soon as its later
+  // frame has them; a frame's features are freed after its last pair.
+  std::vector<int> last_use(n);
+  for (int i = 0; i < n; ++i) last_use[i] = i;
+  std::vector<std::vector<int>> pairs_ending_at(n);  // candidates by their later frame
+  for (size_t k = 0; k < candidates.size(); ++k) {
+    const CandidatePair& c = candidates[k];
+    last_use[c.i] = std::max(last_use[c.i], c.j);
+    pairs_ending_at[c.j].push_back(static_cast<int>(k));
   }
+  std::vector<Prepared> prepared(frames.size());
+  std::vector<PairRegistration> registered(candidates.size());
+  std::vector<bool> tried(candidates.size(), false);
+  std::vector<std::vector<cv::Point2f>> keypoints_px(bundle ? n : 0);  // kept for the bundle's observations
+  const int chunk = std::max(8, 8 * pool.size());
+  size_t held_bytes = 0;
+  double seconds_features = 0;
+  for (int begin = 0; begin < n; begin += chunk) {
+    const int end = std::min(n, begin + chunk);
+    const auto features_start = Clock::now();
+    {
+      std::vector<std::future<Prepared>> jobs;
+      for (int i = begin; i < end; ++i)
+        jobs.push_back(
+            pool.Submit([&, i] { return Prepare(frames[i], candidate_frames[i], camera, options.features); }));
+      for (int i = begin; i < end; ++i) {
+        prepared[i] = jobs[i - begin].get();
+        prepared[i].registration.features = &prepared[i].features;
+        if (!prepared[i].ready) ++r.frames_without_features;
+        if (bundle) keypoints_px[i] = prepared[i].features.ideal_px;
+        held_bytes += prepared[i].Bytes();
+      }
+    }
+    seconds_features += Since(features_start);
+    r.peak_feature_bytes = std::max(r.peak_feature_bytes, held_bytes);
+    std::vector<std::pair<int, std::future<PairRegistration>>> jobs;
+    for (int j = begin; j < end; ++j)
+      for (int k : pairs_ending_at[j]) {
+        const CandidatePair& c = candidates[k];
+        if (!prepared[c.i].ready || !prepared[c.j].ready) continue;
+        tried[k] = true;
+        RelativeNavNoise noise;
+        noise.position_m = RelativeSigma(nav_noise, drift, std::fabs(times[c.j] - times[c.i]));
+        noise.heading_rad = std::sqrt(2.0) * heading_noise;
+        jobs.emplace_back(k, pool.Submit([&, c, noise] {
+          return RegisterPair(prepared[c.i].registration, prepared[c.j].registration, noise, registration,
+                              static_cast<uint64_t>(c.i) * 7919 + c.j);
+        }));
+      }
+    for (auto& [k, job] : jobs) {
+      registered[k] = job.get();
+      if (!bundle) registered[k].inlier_matches.clear();
+    }
+    for (int i = 0; i < end; ++i)
+      if (last_use[i] < end && prepared[i].registration.features) {
+        held_bytes -= prepared[i].Bytes();
+        prepared[i].features = FrameFeatures();
+        prepared[i].registration.offsets = std::vector<cv::Point2d>();
+        prepared[i].registration.features = nullptr;
+      }
+    tick("features", end, n);
+  }
+  r.seconds_features = seconds_features;
+
   std::vector<PairConstraint> constraints;
+  std::vector<int> constraint_candidate;
   std::vector<double> inliers;
   std::map<std::string, int> failures;
-  for (size_t k = 0; k < jobs.size(); ++k) {
-    const Registration g = jobs[k].get();
-    tick("pairs", static_cast<int>(k + 1), static_cast<int>(jobs.size()));
+  for (size_t k = 0; k < candidates.size(); ++k) {
+    if (!tried[k]) continue;
+    (candidates[k].along_track ? r.pairs_along : r.pairs_cross)++;
+    const PairRegistration& g = registered[k];
     if (!g.accepted) {
       ++failures[g.reason.substr(0, g.reason.find(" ("))];
       continue;
@@ -165,13 +233,14 @@ std::vector<RefinedFrame> RefineSurvey(const std::vector<FrameSpec>& frames, con
     c.covariance = g.covariance;
     c.along_track = candidates[k].along_track;
     constraints.push_back(c);
+    constraint_candidate.push_back(static_cast<int>(k));
     inliers.push_back(g.inliers);
   }
   for (const auto& f : failures) r.failures.push_back(f);
   r.median_inliers = Median(inliers);
-  r.seconds_pairs = Since(start);
+  r.seconds_pairs = Since(start) - seconds_features;
 
-  // 3. The pose graph.
+  // 3. The planar pose graph: the answer on a flat seabed, the bundle's start on relief.
   start = Clock::now();
   std::vector<PlanarPose> nav(frames.size());
   for (size_t i = 0; i < frames.size(); ++i)
@@ -209,8 +278,79 @@ std::vector<RefinedFrame> RefineSurvey(const std::vector<FrameSpec>& frames, con
     out[i].pose.heading_deg = solved.poses[i].heading_rad / kDegToRad;
     out[i].nav_only = solved.nav_only[i];
     out[i].problem = prepared[i].problem;
-    r.nav_only += out[i].nav_only;
   }
+
+  // 4. The bundle adjustment, from the planar graph's poses.
+  if (bundle) {
+    start = Clock::now();
+    std::vector<PairMatches> matches;
+    for (size_t k = 0; k < constraints.size(); ++k) {
+      if (solved.pair_rejected[k]) continue;
+      PairRegistration& g = registered[constraint_candidate[k]];
+      matches.push_back({constraints[k].i, constraints[k].j, std::move(g.inlier_matches)});
+    }
+    registered.clear();
+    registered.shrink_to_fit();
+    const std::vector<MatchTrack> tracks =
+        BuildTracks(matches, options.max_points_per_frame, options.max_views_per_point);
+    matches.clear();
+    std::vector<SurveyBundleFrame> bundle_frames(n);
+    for (int i = 0; i < n; ++i) bundle_frames[i] = {frames[i].pose, out[i].pose, times[i]};
+    std::vector<Eigen::Vector3d> points_start;
+    std::vector<SurveyBundleObservation> observations;
+    for (const MatchTrack& t : tracks) {
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+      int hits = 0;
+      for (const auto& [frame, keypoint] : t.views)
+        if (const auto g = FlatSeabedPoint(camera, out[frame].pose, keypoints_px[frame][keypoint])) {
+          sum += *g;
+          ++hits;
+        }
+      if (!hits) continue;
+      const int point = static_cast<int>(points_start.size());
+      points_start.push_back(sum / hits);
+      for (const auto& [frame, keypoint] : t.views)
+        observations.push_back({frame, point, keypoints_px[frame][keypoint]});
+    }
+    keypoints_px.clear();
+    keypoints_px.shrink_to_fit();
+    SurveyBundleOptions b;
+    b.nav_sigma_m = nav_noise;
+    b.nav_drift_m_per_s = drift;
+    b.heading_sigma_rad = heading_noise;
+    b.attitude_sigma_rad = options.attitude_noise_deg * kDegToRad;
+    b.depth_sigma_m = options.depth_noise_m;
+    b.altitude_sigma_m = options.altitude_noise_m;
+    b.pixel_sigma = options.pixel_sigma;
+    b.threads = pool.size();
+    const SurveyBundleResult adjusted = SolveSurveyBundle(bundle_frames, camera, points_start, observations, b);
+    r.bundle = true;
+    r.points = static_cast<int>(points_start.size());
+    r.observations = static_cast<int>(observations.size());
+    for (bool rejected : adjusted.observation_rejected) r.observations_rejected += rejected;
+    r.reprojection_before_px = adjusted.rms_px_before;
+    r.reprojection_after_px = adjusted.rms_px_after;
+    r.bundle_solver = adjusted.linear_solver;
+    r.bundle_iterations = adjusted.iterations;
+    // Every frame: one without points of its own follows its neighbours by the navigation's relative motion.
+    for (int i = 0; i < n; ++i) {
+      const VehiclePose& p = adjusted.poses[i];
+      out[i].pose.east_m = p.east_m;
+      out[i].pose.north_m = p.north_m;
+      out[i].pose.depth_m = p.depth_m;
+      out[i].pose.heading_deg = p.heading_deg;
+      out[i].pose.pitch_deg = p.pitch_deg;
+      out[i].pose.roll_deg = p.roll_deg;
+    }
+    if (seabed_points) {
+      seabed_points->clear();
+      for (const SeabedPoint& p : adjusted.points)
+        if (p.views >= 2) seabed_points->push_back(p);
+    }
+    r.seconds_bundle = Since(start);
+    tick("bundle", 1, 1);
+  }
+  for (const RefinedFrame& f : out) r.nav_only += f.nav_only;
   if (report) *report = r;
   return out;
 }

@@ -5,18 +5,33 @@
 // frames with the navigation as priors (pose_graph.h). Frames whose
 // registrations all fail keep what the navigation says of them, tied to
 // their refined neighbours by its relative motion, and are flagged nav_only.
+//
+// Method kBundle (the default) then refines in 3-D: the planar graph's poses
+// start a bundle adjustment (survey_bundle.h) over every frame's full
+// pose and the seabed points tracked through the registered pairs
+// (match_tracks.h); registration looks for matches off the mean plane
+// (RegistrationOptions::parallax_share). kPlanar stops at the planar graph:
+// the fast path for a seabed known to be flat.
+//
+// Features are detected frame by frame in acquisition order and freed once
+// the last pair that needs them is registered: memory follows the survey's
+// width (frames between a frame and its last partner), not its length.
 #include <functional>
 #include <string>
 #include <vector>
 
 #include "core/camera/camera_model.h"
 #include "core/nav/frame_list.h"
+#include "core/terrain/seabed_point.h"
 #include "core/trajectory/frame_features.h"
 #include "core/trajectory/pair_registration.h"
 
 namespace seamap {
 
+enum class RefineMethod { kPlanar, kBundle };
+
 struct RefineOptions {
+  RefineMethod method = RefineMethod::kPlanar;
   // The navigation's stated noise: white position noise, drift rate, heading noise.
   double nav_noise_m = 0.05;
   double nav_drift_m_per_min = 1.0;
@@ -27,7 +42,14 @@ struct RefineOptions {
   int threads = 0;  // 0: one per core
   FeatureOptions features;
   RegistrationOptions registration;
-  void Check() const;  // InputError naming the option as the command line spells it
+  // kBundle only:
+  double relief_share = 0.15;       // heights off the mean plane up to this share of the altitude (parallax_share)
+  int max_points_per_frame = 80;    // tracks a frame, in the bundle
+  int max_views_per_point = 8;      // views a track keeps, spread over its frames
+  double attitude_noise_deg = 0.5;  // AHRS pitch/roll noise
+  double depth_noise_m = 0.02, altitude_noise_m = 0.01;  // depth sensor, DVL altitude (metres, 1 sigma)
+  double pixel_sigma = 0.7;                              // feature noise, pixels
+  void Check() const;                                    // InputError naming the option as the command line spells it
 };
 
 struct RefineReport {
@@ -38,19 +60,29 @@ struct RefineReport {
   double median_inliers = 0;
   double residual_before_mm = 0, residual_after_mm = 0;  // RMS disagreement of the registered pairs
   double seconds_features = 0, seconds_pairs = 0, seconds_solve = 0;
+  // kBundle:
+  bool bundle = false;
+  int points = 0, observations = 0, observations_rejected = 0;
+  double reprojection_before_px = 0, reprojection_after_px = 0;  // RMS, kept observations
+  double seconds_bundle = 0;
+  std::string bundle_solver;
+  int bundle_iterations = 0;
+  size_t peak_feature_bytes = 0;                      // features held at once
   std::vector<std::pair<std::string, int>> failures;  // registration failures by reason
 };
 
 struct RefinedFrame {
-  VehiclePose pose;       // refined east, north, heading; the rest as navigated
+  VehiclePose pose;       // refined east, north, heading (kBundle also depth, pitch, roll); the rest as navigated
   bool nav_only = false;  // no registered pair placed it
   std::string problem;    // why it has no features, when it has none
 };
 
 // frames: in acquisition order, with their navigation poses and times.
 // progress(stage, done, total) is called from the caller's thread.
+// seabed_points: when given, the bundle's triangulated seabed points (kBundle), for the height model.
 std::vector<RefinedFrame> RefineSurvey(const std::vector<FrameSpec>& frames, const CameraModel& camera,
                                        const RefineOptions& options, RefineReport* report,
-                                       const std::function<void(const std::string&, int, int)>& progress = nullptr);
+                                       const std::function<void(const std::string&, int, int)>& progress = nullptr,
+                                       SeabedPoints* seabed_points = nullptr);
 
 }  // namespace seamap

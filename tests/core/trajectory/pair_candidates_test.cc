@@ -59,5 +59,28 @@ TEST(PairCandidates, AtMostAFewPartnersAFrameSpreadOverPasses) {
   EXPECT_GE(second_pass, 1);
 }
 
+TEST(PairCandidates, ALongDriftingSurveyIsSearchedNearEachFrame) {
+  // 50 lanes of 100 frames 0.1 m apart, lanes 0.9 m apart: after minutes of
+  // 1 m/min drift every footprint may slide over most others, and testing
+  // every pair (12.5 million) is what made long surveys quadratic. The grid
+  // tests a bounded number per frame and still pairs each lane with the next.
+  std::vector<CandidateFrame> frames;
+  for (int lane = 0; lane < 50; ++lane)
+    for (int k = 0; k < 100; ++k)
+      frames.push_back(At(0.9 * lane, lane % 2 == 0 ? 0.1 * k : 9.9 - 0.1 * k, 25.0 * lane + 0.2 * k));
+  CandidateOptions options;
+  options.nav_noise_m = 0.005;
+  options.drift_m_per_s = 1.0 / 60;
+  const auto pairs = FindCandidatePairs(frames, options);
+  int cross = 0, next_lane = 0;
+  for (const auto& p : pairs) {
+    if (p.along_track) continue;
+    ++cross;
+    next_lane += p.j / 100 == p.i / 100 + 1;
+  }
+  EXPECT_LE(cross, 2 * static_cast<int>(frames.size()));  // at most max_cross_per_frame = 4 partners a frame
+  EXPECT_GT(next_lane, 1000);
+}
+
 }  // namespace
 }  // namespace seamap

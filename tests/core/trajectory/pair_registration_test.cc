@@ -78,7 +78,7 @@ TEST(RegisterPair, RecoversTheMotionBetweenTwoFramesWhateverTheNavigationsDrift)
     RelativeNavNoise noise;
     noise.position_m = drift > 0 ? 0.5 : 0.005;
     noise.heading_rad = 0.01;
-    const Registration g = RegisterPair(ri, rj_nav, noise, RegistrationOptions{}, 7);
+    const PairRegistration g = RegisterPair(ri, rj_nav, noise, RegistrationOptions{}, 7);
     ASSERT_TRUE(g.accepted) << g.reason << " (drift " << drift << ")";
     EXPECT_NEAR(g.dt_east_m, dt.x, 0.0005) << drift;
     EXPECT_NEAR(g.dt_north_m, dt.y, 0.0005) << drift;
@@ -109,7 +109,7 @@ TEST(RegisterPair, RefusesFramesThatDoNotOverlapOrDisagreeWithTheNavigation) {
   tight.position_m = 0.005;
   loose.position_m = 0.5;
   EXPECT_TRUE(RegisterPair(ri, rj, loose, RegistrationOptions{}, 2).accepted);
-  const Registration g = RegisterPair(ri, rj, tight, RegistrationOptions{}, 2);
+  const PairRegistration g = RegisterPair(ri, rj, tight, RegistrationOptions{}, 2);
   EXPECT_FALSE(g.accepted);
 }
 

@@ -1,0 +1,489 @@
+#include "core/trajectory/survey_bundle.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <optional>
+#include <unordered_map>
+
+#include <ceres/ceres.h>
+#include <ceres/dynamic_autodiff_cost_function.h>
+#include <Eigen/Dense>
+
+#include "core/camera/frame_projector.h"
+#include "core/geo/rotation.h"
+#include "core/util/error.h"
+
+namespace seamap {
+namespace {
+
+constexpr double kDegToRad = M_PI / 180;
+constexpr double kNavSigmaFloorM = 1e-3;
+constexpr double kHeadingSigmaFloorRad = 0.01 * kDegToRad;
+
+// [east_m, north_m, up_m, heading_rad, pitch_rad, roll_rad]: one Ceres block per frame.
+using PoseBlock = std::array<double, 6>;
+using PointBlock = std::array<double, 3>;  // east, north, up
+
+template <typename T>
+T Wrap(const T& angle_rad) {
+  using std::atan2;
+  using std::cos;
+  using std::sin;
+  return atan2(sin(angle_rad), cos(angle_rad));
+}
+
+// NedFromBody = Rz(heading) Ry(pitch) Rx(roll) (core/geo/rotation.h), row-major 3x3.
+template <typename T>
+void NedFromBodyRad(const T& heading, const T& pitch, const T& roll, T m[9]) {
+  using std::cos;
+  using std::sin;
+  const T ch = cos(heading), sh = sin(heading), cp = cos(pitch), sp = sin(pitch), cr = cos(roll), sr = sin(roll);
+  m[0] = ch * cp;
+  m[1] = ch * sp * sr - sh * cr;
+  m[2] = ch * sp * cr + sh * sr;
+  m[3] = sh * cp;
+  m[4] = sh * sp * sr + ch * cr;
+  m[5] = sh * sp * cr - ch * sr;
+  m[6] = -sp;
+  m[7] = cp * sr;
+  m[8] = cp * cr;
+}
+
+// The point in the camera, normalised, against the observation; whitened.
+struct ReprojectionResidual {
+  Eigen::Matrix3d body_from_camera;
+  Eigen::Vector3d mount_offset_m;  // body frame
+  double x, y;                     // observed, normalised
+  double inv_sigma_x, inv_sigma_y;
+
+  template <typename T>
+  bool operator()(const T* pose, const T* point, T* residual) const {
+    T r_nb[9];
+    NedFromBodyRad(pose[3], pose[4], pose[5], r_nb);
+    // Camera centre in NED (north, east, down) and the point relative to it.
+    T centre[3], d_ned[3];
+    centre[0] = pose[1];
+    centre[1] = pose[0];
+    centre[2] = -pose[2];
+    for (int r = 0; r < 3; ++r)
+      centre[r] +=
+          r_nb[3 * r] * mount_offset_m(0) + r_nb[3 * r + 1] * mount_offset_m(1) + r_nb[3 * r + 2] * mount_offset_m(2);
+    d_ned[0] = point[1] - centre[0];
+    d_ned[1] = point[0] - centre[1];
+    d_ned[2] = -point[2] - centre[2];
+    // Body, then camera: X_c = B^T R_nb^T d.
+    T d_body[3];
+    for (int c = 0; c < 3; ++c) d_body[c] = r_nb[c] * d_ned[0] + r_nb[3 + c] * d_ned[1] + r_nb[6 + c] * d_ned[2];
+    T d_cam[3];
+    for (int c = 0; c < 3; ++c)
+      d_cam[c] =
+          body_from_camera(0, c) * d_body[0] + body_from_camera(1, c) * d_body[1] + body_from_camera(2, c) * d_body[2];
+    if (!(d_cam[2] > T(1e-6))) return false;  // behind the camera: Ceres shortens the step
+    residual[0] = (d_cam[0] / d_cam[2] - x) * inv_sigma_x;
+    residual[1] = (d_cam[1] / d_cam[2] - y) * inv_sigma_y;
+    return true;
+  }
+};
+
+// Consecutive frames move as the navigation says, up to its noise and drift.
+struct NavRelativeResidual {
+  double d_east_m, d_north_m, d_heading_rad, inv_sigma_m, inv_sigma_heading_rad;
+  template <typename T>
+  bool operator()(const T* a, const T* b, T* residual) const {
+    residual[0] = ((b[0] - a[0]) - d_east_m) * inv_sigma_m;
+    residual[1] = ((b[1] - a[1]) - d_north_m) * inv_sigma_m;
+    residual[2] = Wrap((b[3] - a[3]) - d_heading_rad) * inv_sigma_heading_rad;
+    return true;
+  }
+};
+
+// One component of the pose against an absolute measurement (angles wrapped).
+struct AbsoluteResidual {
+  int index;
+  double value, inv_sigma;
+  bool angle;
+  template <typename T>
+  bool operator()(const T* pose, T* residual) const {
+    const T d = pose[index] - value;
+    residual[0] = (angle ? Wrap(d) : d) * inv_sigma;
+    return true;
+  }
+};
+
+struct PositionResidual {
+  double east_m, north_m, inv_sigma_m;
+  template <typename T>
+  bool operator()(const T* pose, T* residual) const {
+    residual[0] = (pose[0] - east_m) * inv_sigma_m;
+    residual[1] = (pose[1] - north_m) * inv_sigma_m;
+    return true;
+  }
+};
+
+// The altimeter: the vehicle this high above the seabed below it, the seabed
+// there being the plane through nearby points evaluated at the nadir: a fixed
+// weighted sum of their heights (weights from their horizontal layout).
+struct AltitudeResidual {
+  double altitude_m, inv_sigma_m;
+  std::vector<double> weights;  // per point block, after the pose block
+  template <typename T>
+  bool operator()(T const* const* blocks, T* residual) const {
+    T seabed_up = T(0);
+    for (size_t m = 0; m < weights.size(); ++m) seabed_up += weights[m] * blocks[m + 1][2];
+    residual[0] = ((blocks[0][2] - seabed_up) - altitude_m) * inv_sigma_m;
+    return true;
+  }
+};
+
+// Weights w with sum_m w_m z_m = the least-squares plane through (offset_m, z_m)
+// at offset 0; one point (weight 1) when they do not span a plane.
+std::vector<double> NadirWeights(const std::vector<Eigen::Vector2d>& offsets) {
+  std::vector<double> w(offsets.size(), 0.0);
+  if (offsets.size() >= 4) {
+    Eigen::MatrixXd a(offsets.size(), 3);
+    for (size_t m = 0; m < offsets.size(); ++m) a.row(m) << 1, offsets[m].x(), offsets[m].y();
+    const Eigen::Matrix3d ata = a.transpose() * a;
+    // The offsets must span an area (their 2x2 covariance not near singular).
+    const double n = static_cast<double>(offsets.size());
+    const Eigen::Matrix2d spread = ata.block<2, 2>(1, 1) / n - ata.block<2, 1>(1, 0) * ata.block<1, 2>(0, 1) / (n * n);
+    if (spread.determinant() > 1e-8) {
+      const Eigen::VectorXd row = (ata.inverse() * a.transpose()).row(0);
+      // A far extrapolation amplifies noise: only an interpolation-like plane is kept.
+      if (row.cwiseAbs().sum() < 3) {
+        for (size_t m = 0; m < offsets.size(); ++m) w[m] = row(m);
+        return w;
+      }
+    }
+  }
+  w[0] = 1;
+  return w;
+}
+
+void Require(bool ok, const char* option, const char* expected) {
+  if (!ok) throw InputError("", 0, option, expected);
+}
+
+void ChooseLinearSolver(ceres::Solver::Options* solver, std::string* name) {
+  for (ceres::SparseLinearAlgebraLibraryType library : {ceres::SUITE_SPARSE, ceres::EIGEN_SPARSE, ceres::CX_SPARSE}) {
+    if (ceres::IsSparseLinearAlgebraLibraryTypeAvailable(library)) {
+      solver->linear_solver_type = ceres::SPARSE_SCHUR;
+      solver->sparse_linear_algebra_library_type = library;
+      *name = std::string("SPARSE_SCHUR/") + ceres::SparseLinearAlgebraLibraryTypeToString(library);
+      return;
+    }
+  }
+  solver->linear_solver_type = ceres::ITERATIVE_SCHUR;
+  solver->preconditioner_type = ceres::SCHUR_JACOBI;
+  *name = "ITERATIVE_SCHUR/SCHUR_JACOBI";
+}
+
+PoseBlock BlockFrom(const VehiclePose& p) {
+  return {p.east_m, p.north_m, -p.depth_m, p.heading_deg * kDegToRad, p.pitch_deg * kDegToRad, p.roll_deg * kDegToRad};
+}
+
+struct Solved {
+  double initial_cost = 0, final_cost = 0;
+  int iterations = 0;
+  bool converged = false;
+};
+
+// Reprojection error of one observation in pixels (x and y scaled by fx, fy), or +inf behind the camera.
+double ErrorPx(const ReprojectionResidual& r, const PoseBlock& pose, const PointBlock& point, double pixel_sigma) {
+  double residual[2];
+  if (!r(pose.data(), point.data(), residual)) return HUGE_VAL;
+  return pixel_sigma * std::hypot(residual[0], residual[1]);
+}
+
+}  // namespace
+
+void SurveyBundleOptions::Check() const {
+  auto finite_non_negative = [](double v) { return v >= 0 && std::isfinite(v); };
+  auto positive = [](double v) { return v > 0 && std::isfinite(v); };
+  Require(finite_non_negative(nav_sigma_m), "--nav-noise", "expected metres >= 0");
+  Require(finite_non_negative(nav_drift_m_per_s), "--nav-drift", "expected metres per minute >= 0");
+  Require(finite_non_negative(heading_sigma_rad), "--heading-noise", "expected degrees >= 0");
+  Require(positive(attitude_sigma_rad), "--attitude-noise", "expected degrees > 0");
+  Require(positive(depth_sigma_m), "--depth-noise", "expected metres > 0");
+  Require(positive(altitude_sigma_m), "--altitude-noise", "expected metres > 0");
+  Require(positive(pixel_sigma), "pixel_sigma", "expected pixels > 0");
+  Require(positive(reprojection_loss_scale), "reprojection_loss_scale", "expected a number > 0");
+  Require(positive(prior_loss_scale), "prior_loss_scale", "expected a number > 0");
+  Require(positive(reject_px), "reject_px", "expected pixels > 0");
+  Require(max_iterations >= 1, "max_iterations", "expected at least 1");
+  Require(altitude_points >= 1, "altitude_points", "expected at least 1");
+  Require(dvl_beam_angle_deg >= 0 && dvl_beam_angle_deg < 60, "dvl_beam_angle_deg", "expected degrees in [0, 60)");
+  Require(threads >= 1, "threads", "expected at least 1");
+}
+
+std::optional<Eigen::Vector3d> FlatSeabedPoint(const CameraModel& camera, const VehiclePose& pose,
+                                               const cv::Point2f& ideal_px) {
+  const Eigen::Matrix3d r_nb = NedFromBody(pose);
+  const Eigen::Vector3d ray =
+      r_nb * camera.BodyFromCamera() *
+      Eigen::Vector3d((ideal_px.x - camera.cx) / camera.fx, (ideal_px.y - camera.cy) / camera.fy, 1);
+  const Eigen::Vector3d centre =
+      Eigen::Vector3d(pose.north_m, pose.east_m, pose.depth_m) + r_nb * camera.mount_offset_m;
+  const double seabed_down = pose.depth_m + pose.altitude_m;
+  if (!(ray.z() > 1e-3 * ray.norm()) || !(seabed_down > centre.z())) return std::nullopt;
+  const Eigen::Vector3d hit = centre + ray * ((seabed_down - centre.z()) / ray.z());
+  return Eigen::Vector3d(hit.y(), hit.x(), -hit.z());
+}
+
+SurveyBundleResult SolveSurveyBundle(const std::vector<SurveyBundleFrame>& frames, const CameraModel& camera,
+                                     const std::vector<Eigen::Vector3d>& points_start,
+                                     const std::vector<SurveyBundleObservation>& observations,
+                                     const SurveyBundleOptions& options) {
+  options.Check();
+  const int n_frames = static_cast<int>(frames.size()), n_points = static_cast<int>(points_start.size());
+  for (size_t k = 0; k < observations.size(); ++k) {
+    const auto& o = observations[k];
+    if (o.frame < 0 || o.frame >= n_frames || o.point < 0 || o.point >= n_points)
+      throw InputError("", 0, "observations[" + std::to_string(k) + "]", "frame or point index out of range");
+  }
+  for (int i = 1; i < n_frames; ++i)
+    if (!(frames[i].time_s >= frames[i - 1].time_s))
+      throw InputError("", 0, "time_s[" + std::to_string(i) + "]", "expected finite, non-decreasing times");
+
+  const double sigma_n = std::max(options.nav_sigma_m, kNavSigmaFloorM);
+  const double sigma_psi = std::max(options.heading_sigma_rad, kHeadingSigmaFloorRad);
+  const double rho = options.nav_drift_m_per_s;
+
+  std::vector<PoseBlock> poses(n_frames);
+  for (int i = 0; i < n_frames; ++i) poses[i] = BlockFrom(frames[i].start);
+  std::vector<PointBlock> points(n_points);
+  for (int p = 0; p < n_points; ++p) points[p] = {points_start[p].x(), points_start[p].y(), points_start[p].z()};
+
+  std::vector<ReprojectionResidual> reprojection;
+  reprojection.reserve(observations.size());
+  const Eigen::Matrix3d body_from_camera = camera.BodyFromCamera();
+  for (const auto& o : observations)
+    reprojection.push_back({body_from_camera, camera.mount_offset_m, (o.ideal_px.x - camera.cx) / camera.fx,
+                            (o.ideal_px.y - camera.cy) / camera.fy, camera.fx / options.pixel_sigma,
+                            camera.fy / options.pixel_sigma});
+
+  SurveyBundleResult result;
+  result.observation_rejected.assign(observations.size(), false);
+  auto rms_px = [&]() {
+    double sum = 0;
+    int count = 0;
+    for (size_t k = 0; k < observations.size(); ++k) {
+      if (result.observation_rejected[k]) continue;
+      const double e =
+          ErrorPx(reprojection[k], poses[observations[k].frame], points[observations[k].point], options.pixel_sigma);
+      if (!std::isfinite(e)) continue;
+      sum += e * e;
+      ++count;
+    }
+    return count ? std::sqrt(sum / count) : 0.0;
+  };
+  result.rms_px_before = rms_px();
+
+  auto solve_once = [&]() {
+    ceres::Problem::Options problem_options;
+    problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    problem_options.cost_function_ownership = ceres::TAKE_OWNERSHIP;
+    ceres::Problem problem(problem_options);
+    ceres::CauchyLoss reprojection_loss(options.reprojection_loss_scale);
+    ceres::HuberLoss prior_loss(options.prior_loss_scale);
+    std::vector<int> point_views(n_points, 0), frame_views(n_frames, 0);
+    for (size_t k = 0; k < observations.size(); ++k) {
+      if (result.observation_rejected[k]) continue;
+      ++point_views[observations[k].point];
+      ++frame_views[observations[k].frame];
+    }
+    for (int i = 0; i < n_frames; ++i) {
+      problem.AddParameterBlock(poses[i].data(), 6);
+    }
+    for (int p = 0; p < n_points; ++p) {
+      if (point_views[p] < 2) continue;  // one ray places nothing
+      problem.AddParameterBlock(points[p].data(), 3);
+    }
+    for (size_t k = 0; k < observations.size(); ++k) {
+      const auto& o = observations[k];
+      if (result.observation_rejected[k] || point_views[o.point] < 2) continue;
+      problem.AddResidualBlock(
+          new ceres::AutoDiffCostFunction<ReprojectionResidual, 2, 6, 3>(new ReprojectionResidual(reprojection[k])),
+          &reprojection_loss, poses[o.frame].data(), points[o.point].data());
+    }
+    // The altimeter's seabed: kept points by where they are, for searches near its beams.
+    const double cell_m = 0.25;
+    auto cell_key = [&](double east, double north) {
+      return (static_cast<int64_t>(std::floor(east / cell_m)) << 32) ^
+             (static_cast<int64_t>(std::floor(north / cell_m)) & 0xffffffff);
+    };
+    std::unordered_map<int64_t, std::vector<int>> grid;
+    for (int p = 0; p < n_points; ++p)
+      if (point_views[p] >= 2) grid[cell_key(points[p][0], points[p][1])].push_back(p);
+    // Up to `count` kept points nearest (east, north) within `radius`: (offset east, offset north, point).
+    auto nearest = [&](double east, double north, double radius, size_t count) {
+      std::vector<std::pair<double, int>> found;
+      const int reach = static_cast<int>(std::ceil(radius / cell_m));
+      for (int dy = -reach; dy <= reach; ++dy)
+        for (int dx = -reach; dx <= reach; ++dx) {
+          const auto it = grid.find(cell_key(east + dx * cell_m, north + dy * cell_m));
+          if (it == grid.end()) continue;
+          for (int p : it->second) {
+            const double d = std::hypot(points[p][0] - east, points[p][1] - north);
+            if (d <= radius) found.emplace_back(d, p);
+          }
+        }
+      const size_t k = std::min(found.size(), count);
+      std::partial_sort(found.begin(), found.begin() + k, found.end());
+      found.resize(k);
+      return found;
+    };
+    // The altimeter's reading: the vehicle's height above the mean seabed height
+    // where its beams land (each the plane through the points nearest it), or
+    // with one vertical beam above the seabed at the nadir.
+    auto AddAltitude = [&](int i, const VehiclePose& nav, const auto& near_points, ceres::Problem* to,
+                           ceres::LossFunction* loss) {
+      const Eigen::Matrix3d r_nb =
+          NedFromBodyDeg(poses[i][3] / kDegToRad, poses[i][4] / kDegToRad, poses[i][5] / kDegToRad);
+      const double tilt = options.dvl_beam_angle_deg * kDegToRad;
+      const int beams = options.dvl_beam_angle_deg > 0 ? 4 : 1;
+      const double radius = std::max(0.1, 0.15 * nav.altitude_m);
+      std::map<int, double> weight_of;  // point -> weight in the mean seabed height
+      double spread = 0;
+      for (int b = 0; b < beams; ++b) {
+        const double azimuth = (45 + 90 * b) * kDegToRad;
+        const Eigen::Vector3d ray = r_nb * Eigen::Vector3d(std::cos(azimuth) * std::sin(tilt),
+                                                           std::sin(azimuth) * std::sin(tilt), std::cos(tilt));
+        if (!(ray.z() > 0.1)) return;
+        const double east = poses[i][0] + ray.y() * nav.altitude_m / ray.z();
+        const double north = poses[i][1] + ray.x() * nav.altitude_m / ray.z();
+        const auto found = near_points(east, north, radius, static_cast<size_t>(options.altitude_points));
+        if (found.empty()) return;  // a beam on unknown ground: no reading to compare
+        std::vector<Eigen::Vector2d> offsets;
+        for (const auto& f : found) {
+          offsets.emplace_back(points[f.second][0] - east, points[f.second][1] - north);
+          spread = std::max(spread, f.first);
+        }
+        const std::vector<double> w = NadirWeights(offsets);
+        for (size_t m = 0; m < found.size(); ++m) weight_of[found[m].second] += w[m] / beams;
+      }
+      std::vector<double*> blocks = {poses[i].data()};
+      std::vector<double> weights;
+      for (const auto& [point, weight] : weight_of) {
+        blocks.push_back(points[point].data());
+        weights.push_back(weight);
+      }
+      // The planes stand in for the seabed under the beams up to their curvature over the points' spread.
+      const double slope = options.altitude_points >= 4 ? 0.1 : 0.3;  // a plane follows the slope, one point does not
+      const double sigma = std::hypot(options.altitude_sigma_m, slope * spread);
+      auto* cost = new ceres::DynamicAutoDiffCostFunction<AltitudeResidual, 4>(
+          new AltitudeResidual{nav.altitude_m, 1 / sigma, weights});
+      cost->AddParameterBlock(6);
+      for (size_t m = 0; m < weights.size(); ++m) cost->AddParameterBlock(3);
+      cost->SetNumResiduals(1);
+      to->AddResidualBlock(cost, loss, blocks);
+    };
+    for (int i = 0; i < n_frames; ++i) {
+      const VehiclePose& nav = frames[i].nav;
+      const double tau_s = frames[i].time_s - frames[0].time_s;
+      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<PositionResidual, 1 * 2, 6>(
+                                   new PositionResidual{nav.east_m, nav.north_m, 1 / std::hypot(sigma_n, rho * tau_s)}),
+                               &prior_loss, poses[i].data());
+      auto absolute = [&](int index, double value, double sigma, bool angle) {
+        problem.AddResidualBlock(new ceres::AutoDiffCostFunction<AbsoluteResidual, 1, 6>(
+                                     new AbsoluteResidual{index, value, 1 / sigma, angle}),
+                                 &prior_loss, poses[i].data());
+      };
+      absolute(2, -nav.depth_m, options.depth_sigma_m, false);
+      absolute(3, nav.heading_deg * kDegToRad, sigma_psi, true);
+      absolute(4, nav.pitch_deg * kDegToRad, options.attitude_sigma_rad, true);
+      absolute(5, nav.roll_deg * kDegToRad, options.attitude_sigma_rad, true);
+      if (nav.altitude_m > 0) AddAltitude(i, nav, nearest, &problem, &prior_loss);
+      if (i + 1 == n_frames) continue;
+      const VehiclePose& next = frames[i + 1].nav;
+      const double dt_s = frames[i + 1].time_s - frames[i].time_s;
+      problem.AddResidualBlock(
+          new ceres::AutoDiffCostFunction<NavRelativeResidual, 3, 6, 6>(new NavRelativeResidual{
+              next.east_m - nav.east_m, next.north_m - nav.north_m, (next.heading_deg - nav.heading_deg) * kDegToRad,
+              1 / std::sqrt(2 * sigma_n * sigma_n + std::pow(rho * dt_s, 2)), 1 / (std::sqrt(2.0) * sigma_psi)}),
+          nullptr, poses[i].data(), poses[i + 1].data());
+    }
+    ceres::Solver::Options solver;
+    ChooseLinearSolver(&solver, &result.linear_solver);
+    // No ordering given: Ceres eliminates a maximal independent set of blocks,
+    // the points but those an altitude residual ties together.
+    solver.num_threads = options.threads;
+    solver.max_num_iterations = options.max_iterations;
+    solver.logging_type = ceres::SILENT;
+    solver.minimizer_progress_to_stdout = false;
+    solver.function_tolerance = 1e-10;
+    solver.parameter_tolerance = 1e-10;
+    ceres::Solver::Summary summary;
+    ceres::Solve(solver, &problem, &summary);
+    Solved s;
+    s.initial_cost = summary.initial_cost;
+    s.final_cost = summary.final_cost;
+    s.iterations = summary.num_successful_steps + summary.num_unsuccessful_steps;
+    s.converged = summary.termination_type == ceres::CONVERGENCE;
+    return s;
+  };
+
+  if (!observations.empty()) {
+    const Solved first = solve_once();
+    result.cost_before = first.initial_cost;
+    bool any_rejected = false;
+    for (size_t k = 0; k < observations.size(); ++k) {
+      const double e =
+          ErrorPx(reprojection[k], poses[observations[k].frame], points[observations[k].point], options.pixel_sigma);
+      if (!(e <= options.reject_px)) result.observation_rejected[k] = any_rejected = true;
+    }
+    Solved last = first;
+    if (any_rejected) {
+      last = solve_once();
+      last.iterations += first.iterations;
+    }
+    result.cost_after = last.final_cost;
+    result.iterations = last.iterations;
+    result.converged = last.converged;
+  } else {
+    result.converged = true;
+  }
+  result.rms_px_after = rms_px();
+
+  result.poses.resize(n_frames);
+  for (int i = 0; i < n_frames; ++i) {
+    VehiclePose p = frames[i].nav;
+    p.east_m = poses[i][0];
+    p.north_m = poses[i][1];
+    p.depth_m = -poses[i][2];
+    p.heading_deg = Wrap(poses[i][3]) / kDegToRad;
+    p.pitch_deg = poses[i][4] / kDegToRad;
+    p.roll_deg = poses[i][5] / kDegToRad;
+    result.poses[i] = p;
+  }
+  // Points: kept views, and the height's sigma from the widest baseline among them:
+  // sigma_z ~ z^2 sigma_px / (f b).
+  std::vector<std::vector<int>> seen_by(n_points);
+  for (size_t k = 0; k < observations.size(); ++k)
+    if (!result.observation_rejected[k]) seen_by[observations[k].point].push_back(observations[k].frame);
+  result.nav_only.assign(n_frames, true);
+  result.points.resize(n_points);
+  for (int p = 0; p < n_points; ++p) {
+    SeabedPoint& out = result.points[p];
+    out.east_north_up_m = Eigen::Vector3d(points[p][0], points[p][1], points[p][2]);
+    const auto& views = seen_by[p];
+    out.views = views.size() >= 2 ? static_cast<int>(views.size()) : 0;
+    if (!out.views) continue;
+    double baseline = 0, range = 0;
+    for (size_t a = 0; a < views.size(); ++a) {
+      result.nav_only[views[a]] = false;
+      const PoseBlock& pa = poses[views[a]];
+      range = std::max(range, pa[2] - points[p][2]);
+      for (size_t b = a + 1; b < views.size(); ++b) {
+        const PoseBlock& pb = poses[views[b]];
+        baseline = std::max(baseline, std::hypot(std::hypot(pa[0] - pb[0], pa[1] - pb[1]), pa[2] - pb[2]));
+      }
+    }
+    out.sigma_up_m = range * range * options.pixel_sigma / (camera.fx * std::max(baseline, 1e-3));
+  }
+  return result;
+}
+
+}  // namespace seamap

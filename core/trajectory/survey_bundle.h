@@ -1,0 +1,94 @@
+#pragma once
+// The whole survey's refinement in 3-D (refine on relief): one robust bundle
+// adjustment over every frame's pose and the seabed points tracked across
+// frames, with the navigation as priors. Unknowns per frame: east, north and
+// height (up = -depth) of the navigation reference point, heading, pitch and
+// roll; per point: east, north, up. Residuals:
+//  - reprojection: the point in the camera (core/camera/frame_projector.h's
+//    NedFromCamera, mount offset included) against the observed ideal pixel,
+//    in normalised coordinates over the pixel sigma, under CauchyLoss;
+//  - navigation, as the planar pose graph has them (pose_graph.h): relative
+//    east/north of consecutive frames over sqrt(2 sigma_n^2 + (rho dt)^2),
+//    absolute east/north over sqrt(sigma_n^2 + (rho tau)^2) and heading under
+//    HuberLoss, heading change over sqrt(2) sigma_psi;
+//  - AHRS pitch and roll (absolute), depth (absolute), all under HuberLoss;
+//  - altitude, as a 4-beam DVL measures it (core/terrain/dvl_altitude.h):
+//    the vehicle's height above the mean seabed height at its four beams'
+//    footprints, each the plane through the tracked points nearest it
+//    (with dvl_beam_angle_deg 0, one vertical beam: the seabed at the nadir).
+// Points are eliminated by the Schur complement (SPARSE_SCHUR, or
+// ITERATIVE_SCHUR without a sparse library). After a first solve,
+// observations reprojecting further than reject_px are dropped and the
+// problem solved again.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include "core/camera/camera_model.h"
+#include "core/camera/vehicle_pose.h"
+#include "core/terrain/seabed_point.h"
+
+namespace seamap {
+
+struct SurveyBundleOptions {
+  double nav_sigma_m = 0.05;            // stated position noise sigma_n (floor 1 mm)
+  double nav_drift_m_per_s = 1.0 / 60;  // stated drift rate rho
+  double heading_sigma_rad = 0.0175;    // stated heading noise (floor 0.01 deg)
+  double attitude_sigma_rad = 0.0087;   // AHRS pitch and roll noise (0.5 deg)
+  double depth_sigma_m = 0.05;          // depth sensor
+  double altitude_sigma_m = 0.05;       // DVL / altimeter
+  double dvl_beam_angle_deg =
+      30;  // the altimeter: a 4-beam DVL (Janus beams this far off vertical); 0: one vertical beam
+  // Tracked points that place the seabed under a beam: the plane through them
+  // (4 or more), else the nearest. Each point tied into an altitude residual
+  // stays out of the Schur elimination: 1 is faster, 6 more accurate.
+  int altitude_points = 6;
+  double pixel_sigma = 0.7;            // feature position noise, ideal pixels
+  double reprojection_loss_scale = 2;  // CauchyLoss on whitened reprojection residuals
+  double prior_loss_scale = 3;         // HuberLoss on absolute priors
+  double reject_px = 4;                // observations reprojecting further are dropped before the second solve
+  int max_iterations = 50, threads = 2;
+  void Check() const;  // InputError naming the option
+};
+
+struct SurveyBundleFrame {
+  VehiclePose nav;    // as navigated: the priors
+  VehiclePose start;  // where the solve starts (e.g. the planar refinement)
+  double time_s = 0;
+};
+
+struct SurveyBundleObservation {
+  int frame = 0, point = 0;
+  cv::Point2f ideal_px;  // undistorted pixel of the camera model
+};
+
+struct SurveyBundleResult {
+  std::vector<VehiclePose> poses;   // refined: east, north, depth (= -up), heading, pitch, roll; altitude as navigated
+  std::vector<SeabedPoint> points;  // refined; views = observations kept (0: dropped)
+  std::vector<bool> observation_rejected;      // per observation
+  std::vector<bool> nav_only;                  // frames without a kept observation
+  double rms_px_before = 0, rms_px_after = 0;  // kept observations, at the start and at the end
+  double cost_before = 0, cost_after = 0;
+  int iterations = 0;
+  bool converged = false;
+  std::string linear_solver;
+};
+
+// points_start: one starting position per point (east, north, up); every
+// observation's frame and point index in range. Throws InputError for bad
+// options or indices.
+SurveyBundleResult SolveSurveyBundle(const std::vector<SurveyBundleFrame>& frames, const CameraModel& camera,
+                                     const std::vector<Eigen::Vector3d>& points_start,
+                                     const std::vector<SurveyBundleObservation>& observations,
+                                     const SurveyBundleOptions& options);
+
+// Where the ray of an ideal pixel of a frame at `pose` meets the level seabed
+// `pose.altitude_m` below the vehicle: a starting point (east, north, up with
+// up = -depth - altitude). Empty when the ray does not point down.
+std::optional<Eigen::Vector3d> FlatSeabedPoint(const CameraModel& camera, const VehiclePose& pose,
+                                               const cv::Point2f& ideal_px);
+
+}  // namespace seamap

@@ -1,0 +1,94 @@
+#!/usr/bin/env bash
+# Refinement in 3-D (docs/TERRAIN.md, "Refinement in 3-D"): accuracy of
+# `seamap trajectory --mode refine` (the bundle adjustment, and the planar
+# pose graph beside it) on drifting surveys like the issue's, over a few
+# seeds, and its cost at three survey lengths. Prints one line per figure.
+#
+#   SEAMAP_BIN=build/seamap            the binary
+#   SEAMAP_BENCH_SEEDS="1 2 3"         seeds of the accuracy surveys
+#   SEAMAP_BENCH_FRAMES=720            frames of an accuracy survey
+#   SEAMAP_BENCH_CASES="flat relief005 relief015 rugged"
+#   SEAMAP_BENCH_SCALING="800 3800 20000"   frames of the scaling surveys ("" to skip)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seamap=${SEAMAP_BIN:-$PWD/build/seamap}
+seeds=${SEAMAP_BENCH_SEEDS:-"1 2 3"}
+frames=${SEAMAP_BENCH_FRAMES:-720}
+cases=${SEAMAP_BENCH_CASES:-"flat relief005 relief015 rugged"}
+scaling=${SEAMAP_BENCH_SCALING-"800 3800 20000"}
+out=$PWD/out/bench/refine3d
+mkdir -p "$out"
+drift="--nav-drift 0.5 --nav-noise 0.005 --heading-noise 0.5"
+survey="--image-format jpg --line-length 14 --line-spacing 0.9 $drift"
+
+case_args() {
+  case "$1" in
+    flat) echo "" ;;
+    relief005) echo "--relief 0.05" ;;
+    relief015) echo "--relief 0.15" ;;
+    rugged) echo "--relief 0.15 --pitch-amp 3 --roll-amp 3 --degrade --color" ;;
+  esac
+}
+
+# refine SURVEY_DIR TAG METHOD [extra]: prints "cpu_s peak_mb p90_mm ate_mm"
+refine() {
+  local dir=$1 tag=$2 method=$3
+  shift 3
+  /usr/bin/time -f "%U %S %M" -o "$out/$tag.time" "$seamap" trajectory --mode refine --images "$dir/photo" \
+    --nav "$dir/nav.csv" --camera "$dir/camera.json" --origin 43.1,131.9 --quiet $drift --refine-method "$method" \
+    --out "$out/$tag.csv" --report "$out/$tag.json" "$@" >/dev/null 2>"$out/$tag.log"
+  "$seamap" trajectory-eval "$out/$tag.csv" "$dir/nav_truth.csv" --origin 43.1,131.9 --json "$out/$tag.eval.json" \
+    >/dev/null 2>&1
+  python3 - "$out/$tag.time" "$out/$tag.eval.json" <<'PY'
+import json, sys
+u, s, m = open(sys.argv[1]).read().split()[-3:]
+e = json.load(open(sys.argv[2]))
+print(f"{float(u) + float(s):.1f} {int(m) / 1024:.0f} {e['cross_p90_mm']:.1f} {e['ate_m'] * 1000:.1f}")
+PY
+}
+
+summary() {  # label, target, values "p90 ate cpu" one per line on stdin
+  python3 -c '
+import statistics, sys
+label, target = sys.argv[1], sys.argv[2]
+rows = [list(map(float, l.split())) for l in sys.stdin if l.strip()]
+if not rows: sys.exit()
+def f(k): v = [r[k] for r in rows]; return f"median {statistics.median(v):6.1f} worst {max(v):6.1f}"
+print(f"{label:<40} p90 {f(0)} mm  ATE {f(1)} mm  CPU {f(2)} s  ({len(rows)} seeds; {target})")
+' "$@"
+}
+
+for c in $cases; do
+  for method in bundle planar; do
+    rows=""
+    for seed in $seeds; do
+      dir="$out/survey_${c}_$seed"
+      [[ -f "$dir/nav_truth.csv" ]] || "$seamap" simulate --out "$dir" --frames "$frames" --seed "$seed" --force --quiet \
+        $survey $(case_args "$c") >/dev/null 2>&1
+      read -r cpu mb p90 ate < <(refine "$dir" "${c}_${method}_$seed" "$method")
+      rows+="$p90 $ate $cpu"$'\n'
+    done
+    target="target p90 <= 10 mm, ATE <= 20 mm, <= 180 s"
+    [[ "$c" == flat ]] && target="flat today: p90 3.7 mm"
+    printf "%s" "$rows" | summary "$c x$frames: refine $method" "$target"
+  done
+done
+
+# Cost against the survey's length: the same lawnmower, longer. The longest
+# uses small frames (348x260) so that it fits the disk; the 800-frame survey
+# is run at both sizes so the two can be compared.
+prev_cpu=""
+for n in $scaling; do
+  for size in full small; do
+    [[ "$n" -ge 20000 && "$size" == full ]] && continue
+    [[ "$n" -gt 800 && "$n" -lt 20000 && "$size" == small ]] && continue
+    extra=""
+    [[ "$size" == small ]] && extra="--width 348 --height 260 --pixel-pitch-um 25.8"
+    dir="$out/scale_${n}_$size"
+    [[ -f "$dir/nav_truth.csv" ]] || "$seamap" simulate --out "$dir" --frames "$n" --seed 7 --force --quiet $survey $extra \
+      >/dev/null 2>&1
+    read -r cpu mb p90 ate < <(refine "$dir" "scale_${n}_$size" bundle)
+    printf "%-40s CPU %7.1f s  peak RSS %5.0f MB  p90 %5.1f mm  ATE %5.1f mm  (target: 4x frames <= 5x CPU; < 1500 MB at 20,000)\n" \
+      "scaling x$n ($size frames): refine bundle" "$cpu" "$mb" "$p90" "$ate"
+  done
+done

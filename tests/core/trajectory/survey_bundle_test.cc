@@ -1,0 +1,262 @@
+#include "core/trajectory/survey_bundle.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "core/camera/frame_projector.h"
+#include "core/util/error.h"
+
+namespace seamap {
+namespace {
+
+constexpr double kSeaDepthM = 30;
+
+CameraModel Camera() {
+  CameraModel c;
+  c.width = 480;
+  c.height = 360;
+  c.fx = c.fy = 420;
+  c.cx = 239.5;
+  c.cy = 179.5;
+  return c;
+}
+
+// A rugged seabed: 0.15 m rms of a few waves, heights up (sea surface 0).
+double SeabedUp(double east, double north) {
+  return -kSeaDepthM + 0.15 * std::sin(1.7 * east + 0.3) * std::cos(1.1 * north) +
+         0.1 * std::sin(2.9 * north - 0.8 * east);
+}
+
+// What a 4-beam DVL (beams 30 deg off vertical at 45, 135, 225, 315 deg from
+// the bow) reads over that seabed: the mean vertical range of its beams.
+double DvlAltitude(const VehiclePose& pose) {
+  const double up = -pose.depth_m;
+  const Eigen::Matrix3d r_nb = NedFromBody(pose);
+  double sum = 0;
+  for (int b = 0; b < 4; ++b) {
+    const double az = (45 + 90 * b) * M_PI / 180, tilt = 30 * M_PI / 180;
+    const Eigen::Vector3d ray =
+        r_nb * Eigen::Vector3d(std::cos(az) * std::sin(tilt), std::sin(az) * std::sin(tilt), std::cos(tilt));
+    double range = 2;  // vertical range, by fixed-point iteration onto the relief
+    for (int it = 0; it < 50; ++it) {
+      const double t = range / ray.z();
+      range = up - SeabedUp(pose.east_m + t * ray.y(), pose.north_m + t * ray.x());
+    }
+    sum += range;
+  }
+  return sum / 4;
+}
+
+// The ideal pixel of a point seen from a pose; false when outside the image.
+bool Project(const CameraModel& camera, const VehiclePose& pose, const Eigen::Vector3d& enu, cv::Point2f* px) {
+  const Eigen::Vector3d centre(pose.north_m, pose.east_m, pose.depth_m);
+  const Eigen::Vector3d d =
+      NedFromCamera(camera, pose).transpose() * (Eigen::Vector3d(enu.y(), enu.x(), -enu.z()) - centre);
+  if (d.z() <= 0) return false;
+  *px = cv::Point2f(static_cast<float>(camera.fx * d.x() / d.z() + camera.cx),
+                    static_cast<float>(camera.fy * d.y() / d.z() + camera.cy));
+  return px->x >= 0 && px->y >= 0 && px->x < camera.width && px->y < camera.height;
+}
+
+struct Scene {
+  std::vector<VehiclePose> truth;
+  std::vector<SurveyBundleFrame> frames;
+  std::vector<Eigen::Vector3d> points_truth, points_start;
+  std::vector<SurveyBundleObservation> observations;
+};
+
+// Three lanes 0.9 m apart of 40 frames each at 2 m altitude, pitch and roll of
+// a few degrees; navigation drifting 1 m/min north-east with noisy heading;
+// 400 seabed points on the relief, seen with 0.3 px noise.
+Scene MakeScene() {
+  Scene s;
+  const CameraModel camera = Camera();
+  std::mt19937 rng(29);
+  std::normal_distribution<double> unit(0, 1);
+  const double speed = 0.5, fps = 5;
+  for (int lane = 0; lane < 3; ++lane)
+    for (int k = 0; k < 40; ++k) {
+      VehiclePose p;
+      const double along = k * speed / fps;
+      p.east_m = 0.9 * lane;
+      p.north_m = lane % 2 == 0 ? along : 3.9 - along;
+      p.heading_deg = lane % 2 == 0 ? 0 : 180;
+      const int i = static_cast<int>(s.truth.size());
+      p.pitch_deg = 3 * std::sin(0.3 * i);
+      p.roll_deg = 3 * std::cos(0.23 * i);
+      p.altitude_m = 2 + 0.1 * std::sin(0.1 * i);
+      p.depth_m = -(SeabedUp(p.east_m, p.north_m) + p.altitude_m);
+      p.altitude_m = DvlAltitude(p);  // as the navigation reports it
+      s.truth.push_back(p);
+    }
+  const double drift_m_per_s = 1.0 / 60;
+  for (size_t i = 0; i < s.truth.size(); ++i) {
+    SurveyBundleFrame f;
+    f.time_s = i / fps + (i / 40) * 5.0;  // turns take 5 s
+    f.nav = s.truth[i];
+    f.nav.east_m += 0.6 * drift_m_per_s * f.time_s;
+    f.nav.north_m += 0.8 * drift_m_per_s * f.time_s;
+    f.nav.heading_deg += 0.3 * unit(rng);
+    f.nav.pitch_deg += 0.2 * unit(rng);
+    f.nav.roll_deg += 0.2 * unit(rng);
+    f.start = f.nav;
+    s.frames.push_back(f);
+  }
+  std::uniform_real_distribution<double> east(-0.8, 2.6), north(-0.8, 4.7);
+  for (int k = 0; k < 400; ++k) {
+    const double e = east(rng), n = north(rng);
+    const Eigen::Vector3d point(e, n, SeabedUp(e, n));
+    std::vector<SurveyBundleObservation> seen;
+    for (size_t i = 0; i < s.truth.size(); ++i) {
+      cv::Point2f px;
+      if (!Project(camera, s.truth[i], point, &px)) continue;
+      px.x += static_cast<float>(0.3 * unit(rng));
+      px.y += static_cast<float>(0.3 * unit(rng));
+      seen.push_back({static_cast<int>(i), static_cast<int>(s.points_truth.size()), px});
+    }
+    if (seen.size() < 2) continue;
+    Eigen::Vector3d start = Eigen::Vector3d::Zero();
+    for (const auto& o : seen) start += *FlatSeabedPoint(camera, s.frames[o.frame].nav, o.ideal_px);
+    s.points_start.push_back(start / seen.size());
+    s.points_truth.push_back(point);
+    s.observations.insert(s.observations.end(), seen.begin(), seen.end());
+  }
+  return s;
+}
+
+// The scene's noise as stated to the solver.
+SurveyBundleOptions SceneOptions() {
+  SurveyBundleOptions options;
+  options.nav_sigma_m = 0.005;
+  options.nav_drift_m_per_s = 1.0 / 60;
+  options.heading_sigma_rad = 0.5 * M_PI / 180;
+  options.attitude_sigma_rad = 0.3 * M_PI / 180;
+  options.altitude_sigma_m = 0.01;
+  options.depth_sigma_m = 0.01;
+  options.pixel_sigma = 0.3;
+  options.threads = 1;
+  return options;
+}
+
+double HorizontalError(const VehiclePose& a, const VehiclePose& b) {
+  return std::hypot(a.east_m - b.east_m, a.north_m - b.north_m);
+}
+
+TEST(SurveyBundle, RecoversPosesAndPointsOfARuggedSeabed) {
+  Scene s = MakeScene();
+  ASSERT_GT(s.points_truth.size(), 300u);
+  const SurveyBundleOptions options = SceneOptions();
+  const SurveyBundleResult r = SolveSurveyBundle(s.frames, Camera(), s.points_start, s.observations, options);
+  ASSERT_EQ(r.poses.size(), s.truth.size());
+  EXPECT_LT(r.rms_px_after, 0.5);
+  EXPECT_GT(r.rms_px_before, 3 * r.rms_px_after);
+
+  // The drift is one smooth motion the priors cannot see: compare shapes, after the mean offset.
+  Eigen::Vector2d mean_nav = Eigen::Vector2d::Zero(), mean_refined = Eigen::Vector2d::Zero();
+  for (size_t i = 0; i < s.truth.size(); ++i) {
+    mean_nav +=
+        Eigen::Vector2d(s.frames[i].nav.east_m - s.truth[i].east_m, s.frames[i].nav.north_m - s.truth[i].north_m);
+    mean_refined += Eigen::Vector2d(r.poses[i].east_m - s.truth[i].east_m, r.poses[i].north_m - s.truth[i].north_m);
+  }
+  mean_nav /= s.truth.size();
+  mean_refined /= s.truth.size();
+  double nav_sq = 0, refined_sq = 0, attitude_sq = 0, depth_sq = 0;
+  for (size_t i = 0; i < s.truth.size(); ++i) {
+    VehiclePose nav = s.frames[i].nav, refined = r.poses[i];
+    nav.east_m -= mean_nav.x();
+    nav.north_m -= mean_nav.y();
+    refined.east_m -= mean_refined.x();
+    refined.north_m -= mean_refined.y();
+    nav_sq += std::pow(HorizontalError(nav, s.truth[i]), 2);
+    refined_sq += std::pow(HorizontalError(refined, s.truth[i]), 2);
+    attitude_sq +=
+        std::pow(refined.pitch_deg - s.truth[i].pitch_deg, 2) + std::pow(refined.roll_deg - s.truth[i].roll_deg, 2);
+    depth_sq += std::pow(refined.depth_m - s.truth[i].depth_m, 2);
+  }
+  const double n = s.truth.size();
+  if (getenv("SEAMAP_DEBUG")) {
+    for (size_t i = 0; i < s.truth.size(); i += 10)
+      printf("%zu truth %.3f %.3f err %.1f %.1f mm dp %.2f dr %.2f dz %.1f mm\n", i, s.truth[i].east_m,
+             s.truth[i].north_m, 1000 * (r.poses[i].east_m - s.truth[i].east_m - mean_refined.x()),
+             1000 * (r.poses[i].north_m - s.truth[i].north_m - mean_refined.y()),
+             r.poses[i].pitch_deg - s.truth[i].pitch_deg, r.poses[i].roll_deg - s.truth[i].roll_deg,
+             1000 * (r.poses[i].depth_m - s.truth[i].depth_m));
+    printf("iterations %d converged %d rms %.3f -> %.3f cost %.1f -> %.1f\n", r.iterations, r.converged,
+           r.rms_px_before, r.rms_px_after, r.cost_before, r.cost_after);
+  }
+  EXPECT_GT(std::sqrt(nav_sq / n), 0.04);            // the navigation's shape is off by centimetres
+  EXPECT_LT(std::sqrt(refined_sq / n), 0.005);       // the bundle's by under 5 mm
+  EXPECT_LT(std::sqrt(attitude_sq / (2 * n)), 0.1);  // degrees, where the AHRS was off by 0.2
+  EXPECT_LT(std::sqrt(depth_sq / n), 0.01);
+
+  // The seabed's shape: heights within 10 mm rms after the mean offset, each with its sigma.
+  double offset = 0;
+  int kept = 0;
+  for (size_t p = 0; p < s.points_truth.size(); ++p)
+    if (r.points[p].views >= 2) {
+      offset += r.points[p].east_north_up_m.z() - s.points_truth[p].z();
+      ++kept;
+    }
+  ASSERT_GT(kept, 300);
+  offset /= kept;
+  double height_sq = 0;
+  for (size_t p = 0; p < s.points_truth.size(); ++p)
+    if (r.points[p].views >= 2) {
+      height_sq += std::pow(r.points[p].east_north_up_m.z() - s.points_truth[p].z() - offset, 2);
+      EXPECT_GT(r.points[p].sigma_up_m, 0);
+    }
+  EXPECT_LT(std::sqrt(height_sq / kept), 0.01);
+  EXPECT_LT(std::fabs(offset), 0.02);  // depth and altitude set the datum
+}
+
+// RMS horizontal error of the poses' shape (after their mean offset), metres.
+double ShapeError(const std::vector<VehiclePose>& poses, const std::vector<VehiclePose>& truth) {
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (size_t i = 0; i < truth.size(); ++i)
+    mean += Eigen::Vector2d(poses[i].east_m - truth[i].east_m, poses[i].north_m - truth[i].north_m);
+  mean /= truth.size();
+  double sum = 0;
+  for (size_t i = 0; i < truth.size(); ++i)
+    sum +=
+        (Eigen::Vector2d(poses[i].east_m - truth[i].east_m, poses[i].north_m - truth[i].north_m) - mean).squaredNorm();
+  return std::sqrt(sum / truth.size());
+}
+
+TEST(SurveyBundle, WrongObservationsAreDroppedAndChangeLittle) {
+  Scene s = MakeScene();
+  const SurveyBundleOptions options = SceneOptions();
+  const SurveyBundleResult clean = SolveSurveyBundle(s.frames, Camera(), s.points_start, s.observations, options);
+  for (size_t k = 10; k < s.observations.size(); k += 50) s.observations[k].ideal_px.x += 40;  // mismatches 40 px off
+  const SurveyBundleResult dirty = SolveSurveyBundle(s.frames, Camera(), s.points_start, s.observations, options);
+  for (size_t k = 10; k < s.observations.size(); k += 50) EXPECT_TRUE(dirty.observation_rejected[k]) << k;
+  EXPECT_LT(ShapeError(clean.poses, s.truth), 0.005);
+  EXPECT_LT(ShapeError(dirty.poses, s.truth), ShapeError(clean.poses, s.truth) + 0.0005);
+}
+
+TEST(SurveyBundle, WithoutObservationsTheNavigationComesBack) {
+  Scene s = MakeScene();
+  const SurveyBundleResult r = SolveSurveyBundle(s.frames, Camera(), {}, {}, SurveyBundleOptions{});
+  for (size_t i = 0; i < s.frames.size(); ++i) {
+    EXPECT_DOUBLE_EQ(r.poses[i].east_m, s.frames[i].nav.east_m);
+    EXPECT_TRUE(r.nav_only[i]);
+  }
+}
+
+TEST(SurveyBundle, BadInputIsAnErrorNamingIt) {
+  Scene s = MakeScene();
+  SurveyBundleOptions options;
+  options.attitude_sigma_rad = 0;
+  EXPECT_THROW(SolveSurveyBundle(s.frames, Camera(), s.points_start, s.observations, options), InputError);
+  std::vector<SurveyBundleObservation> bad = {{0, 99999, cv::Point2f(1, 1)}};
+  try {
+    SolveSurveyBundle(s.frames, Camera(), s.points_start, bad, SurveyBundleOptions{});
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("observations[0]"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace seamap

@@ -9,6 +9,9 @@
 // surface, so a seabed 35 m down is -35; a camera's height is -depth_m.
 // Without depth, the vehicle is taken at a constant depth of 0, so heights
 // are relative to it (see has_depth_datum).
+#include <algorithm>
+#include <cmath>
+
 #include <opencv2/core.hpp>
 
 #include "core/geo/local_frame.h"
@@ -36,6 +39,23 @@ struct HeightGrid {
   // Bilinear height (and sigma) at a local point; false outside the grid or
   // where any of the four cells around it is a hole.
   bool Sample(LocalXY p, double* height_m_out, double* sigma_m_out = nullptr) const;
+  // The bilinear height at fractional cell indices, for the hot loops of ray
+  // casting and occlusion: false outside the grid or when any of the four
+  // cells around it is a hole (even one of weight 0: stricter than Sample).
+  bool HeightAtCell(double row, double col, double* up_m) const {
+    const int last_row = rows() - 1, last_col = cols() - 1;
+    if (!(row >= 0 && col >= 0 && row <= last_row && col <= last_col)) return false;
+    const int r0 = std::min(static_cast<int>(row), std::max(last_row - 1, 0));
+    const int c0 = std::min(static_cast<int>(col), std::max(last_col - 1, 0));
+    const int r1 = std::min(r0 + 1, last_row), c1 = std::min(c0 + 1, last_col);
+    const double fr = row - r0, fc = col - c0;
+    const float* a = height_m[r0];
+    const float* b = height_m[r1];
+    const double h = (1 - fr) * ((1 - fc) * a[c0] + fc * a[c1]) + fr * ((1 - fc) * b[c0] + fc * b[c1]);
+    if (!std::isfinite(h)) return false;
+    *up_m = h;
+    return true;
+  }
 };
 
 }  // namespace seamap

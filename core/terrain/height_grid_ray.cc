@@ -51,8 +51,6 @@ HeightGridRayCaster::HeightGridRayCaster(const HeightGrid& grid) : grid_(grid) {
       float& super = super_max_(br / kPerSuper, bc / kPerSuper);
       super = std::max(super, block_max_(br, bc));
     }
-  last_row_ = h.rows - 1;
-  last_col_ = h.cols - 1;
   min_height_m_ = std::isfinite(lo) ? lo : 0;
   max_height_m_ = std::isfinite(hi) ? hi : 0;
   max_slope_ = grid_.empty() ? 0 : std::sqrt(slope2) / grid_.cell_m * 1.001 + 1e-6;
@@ -63,17 +61,7 @@ bool HeightGridRayCaster::Height(double east_m, double north_m, double* up_m) co
 }
 
 bool HeightGridRayCaster::HeightAtCell(double row, double col, double* up_m) const {
-  if (!(row >= 0 && col >= 0 && row <= last_row_ && col <= last_col_)) return false;
-  const int r0 = std::min(static_cast<int>(row), last_row_ - 1 < 0 ? 0 : last_row_ - 1);
-  const int c0 = std::min(static_cast<int>(col), last_col_ - 1 < 0 ? 0 : last_col_ - 1);
-  const int r1 = std::min(r0 + 1, last_row_), c1 = std::min(c0 + 1, last_col_);
-  const double fr = row - r0, fc = col - c0;
-  const float* a = grid_.height_m[r0];
-  const float* b = grid_.height_m[r1];
-  const double h = (1 - fr) * ((1 - fc) * a[c0] + fc * a[c1]) + fr * ((1 - fc) * b[c0] + fc * b[c1]);
-  if (!std::isfinite(h)) return false;
-  *up_m = h;
-  return true;
+  return grid_.HeightAtCell(row, col, up_m);
 }
 
 bool HeightGridRayCaster::Cast(const Eigen::Vector3d& origin, const Eigen::Vector3d& d, double* t_out) const {

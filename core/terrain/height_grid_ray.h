@@ -46,7 +46,6 @@ class HeightGridRayCaster {
   double north0_m() const { return grid_.north0_m; }
 
   HeightGrid grid_;
-  int last_row_ = -1, last_col_ = -1;
   double min_height_m_ = 0, max_height_m_ = 0, max_slope_ = 0;
   // Per block of 4 x 4 cells: the highest height (rays passing above it
   // skip the block) and the slope bound (steps within it).

@@ -39,20 +39,7 @@ LineOfSight::LineOfSight(const HeightGrid& grid) : grid_(grid) {
 }
 
 bool LineOfSight::Height(double east_m, double north_m, double* up_m) const {
-  const double col = (east_m - grid_.east0_m) / grid_.cell_m;
-  const double row = (grid_.north0_m - north_m) / grid_.cell_m;
-  const int rows = grid_.rows(), cols = grid_.cols();
-  if (!(row >= 0 && col >= 0 && row <= rows - 1 && col <= cols - 1)) return false;
-  const int r0 = std::min(static_cast<int>(row), std::max(rows - 2, 0));
-  const int c0 = std::min(static_cast<int>(col), std::max(cols - 2, 0));
-  const int r1 = std::min(r0 + 1, rows - 1), c1 = std::min(c0 + 1, cols - 1);
-  const double fr = row - r0, fc = col - c0;
-  const float* a = grid_.height_m[r0];
-  const float* b = grid_.height_m[r1];
-  const double h = (1 - fr) * ((1 - fc) * a[c0] + fc * a[c1]) + fr * ((1 - fc) * b[c0] + fc * b[c1]);
-  if (!std::isfinite(h)) return false;
-  *up_m = h;
-  return true;
+  return grid_.HeightAtCell((grid_.north0_m - north_m) / grid_.cell_m, (east_m - grid_.east0_m) / grid_.cell_m, up_m);
 }
 
 bool LineOfSight::Clear(const Eigen::Vector3d& point, const Eigen::Vector3d& eye, double tolerance_m) const {

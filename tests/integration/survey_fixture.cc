@@ -29,6 +29,13 @@ const SimulatedSurvey& SharedSurvey(const std::string& name, const std::string& 
     });
     return p;
   }();
+  // One name, one survey: a second test reusing a name with other options
+  // would silently get the first one's survey.
+  static std::map<std::string, std::string> options_of;
+  const auto [known, first] = options_of.emplace(name, extra);
+  if (!first && known->second != extra)
+    ADD_FAILURE() << "SharedSurvey(\"" << name << "\") asked for again with other options: \"" << known->second
+                  << "\" and \"" << extra << "\"";
   auto& slot = cache[name];
   if (!slot) {
     slot = std::make_unique<SimulatedSurvey>();

@@ -18,7 +18,7 @@ using testing::SharedSurvey;
 
 // Small frames (a quarter of the default's pixels, same field of view) keep the ray-cast survey quick.
 const testing::SimulatedSurvey& ReliefSurvey() {
-  return SharedSurvey("relief",
+  return SharedSurvey("relief_ortho",
                       "--relief 0.3 --altitude-min 2 --altitude-max 2 --line-spacing 0.9 --line-length 4 "
                       "--frames 70 --width 348 --height 260 --pixel-pitch-um 25.8 --image-format jpg --seed 3 --quiet");
 }

@@ -214,7 +214,9 @@ TEST(LiveServer, ServeFollowsAMissionAnotherProcessIsBuilding) {
   const SimulatedSurvey& survey = SharedSurvey("follow", "--frames 30");
   TempDir tmp;
   const std::string mission = (tmp / "m.mbtiles").string();
-  ChildProcess replay({SeamapBinary(), "replay", survey.dir, "--out", mission, "--speed", "1.5", "--host", "127.0.0.1",
+  // 8 s of replay (30 frames at 5 frames/s, 0.75x): long enough for a `serve`
+  // started on a loaded machine to see the mission while it is being built.
+  ChildProcess replay({SeamapBinary(), "replay", survey.dir, "--out", mission, "--speed", "0.75", "--host", "127.0.0.1",
                        "--port", "0", "--web", kWeb, "--quiet", "--exit-when-done"});
   ASSERT_TRUE(replay.WaitForLine("serving http://", seconds(60))) << replay.output();
   ChildProcess serve({SeamapBinary(), "serve", mission, "--host", "127.0.0.1", "--port", "0", "--web", kWeb});

@@ -65,6 +65,16 @@ bool MissionBuild::Open() {
     surface_ = ReadSeabedSurface(config.terrain.file, options_.frame, options_.camera, frames);
     CheckAgainstNavigation(options_.camera, frames, "--terrain-file", &surface_);
   }
+  // The seabed's shape from the photos, on the poses they are painted with.
+  const auto estimate_surface = [&] {
+    if (observer_.on_note) observer_.on_note("estimating the seabed's shape from the photos");
+    surface_ = EstimateSeabedSurface(options_.frame, options_.camera, frames, config.threads, !options_.poses.quiet);
+  };
+  // On the navigation's poses it comes before the map is created, so photos
+  // that give no seabed leave no map behind; refined poses are placed once
+  // the map is open (their report goes into it), and the estimate follows them.
+  const bool estimate_first = config.terrain.estimate && poses_.mode() == PoseMode::kNavigation;
+  if (estimate_first) estimate_surface();
   output_ = OpenOutput(options_.out, config, {options_.append, options_.overwrite, options_.resume});
   TileStore& store = *output_.store;
   if (!options_.live) {
@@ -89,13 +99,7 @@ bool MissionBuild::Open() {
       WriteMissionMetadata(&store, mission);
     }
   }
-  // The seabed's shape, once the poses are placed (refined ones with
-  // --refine-nav), painted onto: estimated from the photos (a file was read
-  // before the map was opened).
-  if (config.terrain.estimate) {
-    if (observer_.on_note) observer_.on_note("estimating the seabed's shape from the photos");
-    surface_ = EstimateSeabedSurface(options_.frame, options_.camera, frames, config.threads, !options_.poses.quiet);
-  }
+  if (config.terrain.estimate && !estimate_first) estimate_surface();
   if (surface_.grid) {
     CheckAgainstNavigation(options_.camera, frames, config.terrain.file.empty() ? "--terrain" : "--terrain-file",
                            &surface_);

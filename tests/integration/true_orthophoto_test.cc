@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #include "tests/integration/survey_fixture.h"
 
@@ -72,6 +74,26 @@ TEST(TrueOrthophoto, ABadHeightModelIsRefusedBeforeTheMapIsMade) {
   EXPECT_FALSE(std::filesystem::exists(out));
   EXPECT_EQ(testing::Seamap(survey.BuildArgs() + " --out " + out + " --terrain --terrain-file " + not_a_dem, &log), 2);
   EXPECT_NE(log.find("--terrain-file"), std::string::npos) << log;
+}
+
+TEST(TrueOrthophoto, PhotosThatShowNoSeabedAreAClearErrorAndLeaveNoMap) {
+  const auto& survey = ReliefSurvey();
+  testing::TempDir dir;
+  // The survey's navigation over photos without any texture: nothing to triangulate.
+  const std::filesystem::path photos = dir / "photo";
+  std::filesystem::create_directories(photos);
+  const auto camera = nlohmann::json::parse(std::ifstream(survey.camera));
+  const cv::Mat blank(camera.at("height").get<int>(), camera.at("width").get<int>(), CV_8UC1, cv::Scalar(128));
+  for (const auto& entry : std::filesystem::directory_iterator(survey.photo))
+    ASSERT_TRUE(cv::imwrite((photos / entry.path().filename()).string(), blank));
+  const std::string out = (dir / "m.mbtiles").string();
+  std::string log;
+  EXPECT_EQ(testing::Seamap("build --images " + photos.string() + " --nav " + survey.nav + " --camera " +
+                                survey.camera + " --origin " + survey.origin + " --out " + out + " --terrain --quiet",
+                            &log),
+            2);
+  EXPECT_NE(log.find("--terrain: no seabed point could be triangulated"), std::string::npos) << log;
+  EXPECT_FALSE(std::filesystem::exists(out)) << "a failed estimate must not leave a map behind";
 }
 
 }  // namespace

@@ -9,25 +9,13 @@
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 
+#include "core/trajectory/nav_priors.h"
 #include "core/util/error.h"
 
 namespace seamap {
 namespace {
 
-// Floors keep exact navigation (stated noise 0) from dividing by zero.
-constexpr double kNavSigmaFloorM = 1e-3;
-constexpr double kHeadingSigmaFloorRad = 0.01 * M_PI / 180;
-
 using PoseBlock = std::array<double, 3>;  // [east_m, north_m, heading_rad], one Ceres parameter block
-
-// atan2(sin, cos) is smooth for automatic differentiation; fmod is not.
-template <typename T>
-T WrapAngle(const T& angle_rad) {
-  using std::atan2;
-  using std::cos;
-  using std::sin;
-  return atan2(sin(angle_rad), cos(angle_rad));
-}
 
 // S^-1/2 [Rot(-psi_i)(t_j - t_i) - dt ; wrap(psi_j - psi_i - dpsi)]. The whitening
 // is L^-1 with S = L L^T: it differs from the symmetric root by a rotation, which
@@ -63,18 +51,6 @@ struct NavRelativeResidual {
     residual[0] = ((pose_b[0] - pose_a[0]) - d_east_m) * inv_sigma_m;
     residual[1] = ((pose_b[1] - pose_a[1]) - d_north_m) * inv_sigma_m;
     residual[2] = WrapAngle((pose_b[2] - pose_a[2]) - d_heading_rad) * inv_sigma_heading_rad;
-    return true;
-  }
-};
-
-// The navigation's absolute position, trusted less as drift accumulates.
-struct NavPositionResidual {
-  double east_m, north_m, inv_sigma_m;
-
-  template <typename T>
-  bool operator()(const T* pose, T* residual) const {
-    residual[0] = (pose[0] - east_m) * inv_sigma_m;
-    residual[1] = (pose[1] - north_m) * inv_sigma_m;
     return true;
   }
 };

@@ -14,26 +14,17 @@
 
 #include "core/camera/frame_projector.h"
 #include "core/geo/rotation.h"
+#include "core/trajectory/nav_priors.h"
 #include "core/util/error.h"
 
 namespace seamap {
 namespace {
 
 constexpr double kDegToRad = M_PI / 180;
-constexpr double kNavSigmaFloorM = 1e-3;
-constexpr double kHeadingSigmaFloorRad = 0.01 * kDegToRad;
 
 // [east_m, north_m, up_m, heading_rad, pitch_rad, roll_rad]: one Ceres block per frame.
 using PoseBlock = std::array<double, 6>;
 using PointBlock = std::array<double, 3>;  // east, north, up
-
-template <typename T>
-T Wrap(const T& angle_rad) {
-  using std::atan2;
-  using std::cos;
-  using std::sin;
-  return atan2(sin(angle_rad), cos(angle_rad));
-}
 
 // NedFromBody = Rz(heading) Ry(pitch) Rx(roll) (core/geo/rotation.h), row-major 3x3.
 template <typename T>
@@ -95,7 +86,7 @@ struct NavRelativeResidual {
   bool operator()(const T* a, const T* b, T* residual) const {
     residual[0] = ((b[0] - a[0]) - d_east_m) * inv_sigma_m;
     residual[1] = ((b[1] - a[1]) - d_north_m) * inv_sigma_m;
-    residual[2] = Wrap((b[3] - a[3]) - d_heading_rad) * inv_sigma_heading_rad;
+    residual[2] = WrapAngle((b[3] - a[3]) - d_heading_rad) * inv_sigma_heading_rad;
     return true;
   }
 };
@@ -108,17 +99,7 @@ struct AbsoluteResidual {
   template <typename T>
   bool operator()(const T* pose, T* residual) const {
     const T d = pose[index] - value;
-    residual[0] = (angle ? Wrap(d) : d) * inv_sigma;
-    return true;
-  }
-};
-
-struct PositionResidual {
-  double east_m, north_m, inv_sigma_m;
-  template <typename T>
-  bool operator()(const T* pose, T* residual) const {
-    residual[0] = (pose[0] - east_m) * inv_sigma_m;
-    residual[1] = (pose[1] - north_m) * inv_sigma_m;
+    residual[0] = (angle ? WrapAngle(d) : d) * inv_sigma;
     return true;
   }
 };
@@ -383,8 +364,8 @@ SurveyBundleResult SolveSurveyBundle(const std::vector<SurveyBundleFrame>& frame
     for (int i = 0; i < n_frames; ++i) {
       const VehiclePose& nav = frames[i].nav;
       const double tau_s = frames[i].time_s - frames[0].time_s;
-      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<PositionResidual, 1 * 2, 6>(
-                                   new PositionResidual{nav.east_m, nav.north_m, 1 / std::hypot(sigma_n, rho * tau_s)}),
+      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<NavPositionResidual, 1 * 2, 6>(new NavPositionResidual{
+                                   nav.east_m, nav.north_m, 1 / std::hypot(sigma_n, rho * tau_s)}),
                                &prior_loss, poses[i].data());
       auto absolute = [&](int index, double value, double sigma, bool angle) {
         problem.AddResidualBlock(new ceres::AutoDiffCostFunction<AbsoluteResidual, 1, 6>(
@@ -453,7 +434,7 @@ SurveyBundleResult SolveSurveyBundle(const std::vector<SurveyBundleFrame>& frame
     p.east_m = poses[i][0];
     p.north_m = poses[i][1];
     p.depth_m = -poses[i][2];
-    p.heading_deg = Wrap(poses[i][3]) / kDegToRad;
+    p.heading_deg = WrapAngle(poses[i][3]) / kDegToRad;
     p.pitch_deg = poses[i][4] / kDegToRad;
     p.roll_deg = poses[i][5] / kDegToRad;
     result.poses[i] = p;

@@ -1,0 +1,35 @@
+#pragma once
+// What the planar pose graph (pose_graph.cc) and the bundle adjustment
+// (survey_bundle.cc) both weigh the navigation with: the stated-noise
+// floors, angle wrapping for automatic differentiation, and the absolute
+// position prior on a pose block whose first two entries are east, north.
+#include <cmath>
+
+namespace seamap {
+
+// Floors keep exact navigation (stated noise 0) from dividing by zero.
+constexpr double kNavSigmaFloorM = 1e-3;
+constexpr double kHeadingSigmaFloorRad = 0.01 * M_PI / 180;
+
+// atan2(sin, cos) is smooth for automatic differentiation; fmod is not.
+template <typename T>
+T WrapAngle(const T& angle_rad) {
+  using std::atan2;
+  using std::cos;
+  using std::sin;
+  return atan2(sin(angle_rad), cos(angle_rad));
+}
+
+// The navigation's absolute position, trusted less as drift accumulates.
+struct NavPositionResidual {
+  double east_m, north_m, inv_sigma_m;
+
+  template <typename T>
+  bool operator()(const T* pose, T* residual) const {
+    residual[0] = (pose[0] - east_m) * inv_sigma_m;
+    residual[1] = (pose[1] - north_m) * inv_sigma_m;
+    return true;
+  }
+};
+
+}  // namespace seamap

@@ -5,7 +5,7 @@
 
 import {getJSON, missionUrl, send} from './api.js';
 import {classColour} from './class_colour.js';
-import {$, el, toast} from './dom.js';
+import {$, el, escapeHtml, toast} from './dom.js';
 import {formatLatLon, formatMetres, formatTime} from './geo.js';
 
 const L = window.L;
@@ -84,7 +84,7 @@ export class Detections {
     const iconKey = `${p.class}|${p.source}|${p.status}|${heading}`;
     const icon = L.divIcon({
       className: `detection-icon ${p.source === 'operator' ? 'operator' : 'detected'} class-${escapeClass(p.class)} status-${escapeClass(p.status || 'unconfirmed')}`,
-      html: `<span data-detection-id="${id}" title="${escapeHtml(p.class)}" style="background:${classColour(p.class)}"></span>` +
+      html: `<span data-detection-id="${escapeHtml(id)}" title="${escapeHtml(p.class)}" style="background:${classColour(p.class)}"></span>` +
         (heading === null ? '' : `<b class="heading" data-heading="${heading}" style="transform:rotate(${heading}deg)">↑</b>`),
       iconSize: [18, 18],
       iconAnchor: [9, 9],
@@ -355,8 +355,4 @@ export class Detections {
   toGeoJSON() {
     return {type: 'FeatureCollection', features: [...this.features.values()]};
   }
-}
-
-function escapeHtml(text) {
-  return String(text).replace(/[&<>"']/g, c => ({'&': '&amp;', '<': '&lt;', '>': '&gt;', '"': '&quot;', "'": '&#39;'}[c]));
 }

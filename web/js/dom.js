@@ -20,6 +20,13 @@ export function el(tag, attributes = {}, ...children) {
   return node;
 }
 
+// Text from a map, a file name or a record for the few Leaflet options that
+// take HTML (attribution, layer names, divIcon): escaped, it shows as typed
+// and never runs. Everything else reaches the DOM through el()/textContent.
+export function escapeHtml(text) {
+  return String(text).replace(/[&<>"']/g, c => ({'&': '&amp;', '<': '&lt;', '>': '&gt;', '"': '&quot;', "'": '&#39;'}[c]));
+}
+
 export function download(filename, text, type) {
   const url = URL.createObjectURL(new Blob([text], {type}));
   const a = el('a', {href: url, download: filename});

@@ -22,7 +22,9 @@ export class Footprints {
           L.DomEvent.stopPropagation(event);
           this.openFrame(feature.properties.id);
         });
-        path.bindTooltip(feature.properties.image || `frame ${feature.id}`, {sticky: true});
+        // A node, not a string (Leaflet writes a string as HTML): the file name shows as typed.
+        path.bindTooltip(() => document.createTextNode(String(feature.properties.image || `frame ${feature.id}`)),
+          {sticky: true});
       },
     });
     this.on = false;

@@ -2,6 +2,7 @@
 // the mission has more than one), scale bar and the cursor readout.
 
 import {getJSON, missionUrl} from './api.js';
+import {escapeHtml} from './dom.js';
 import {formatLatLon, formatMetres, localFrame} from './geo.js';
 import {link} from './link.js';
 import {LiveTileLayer} from './tile_layer.js';
@@ -54,7 +55,8 @@ function tileLayerFrom(tilejson) {
     minNativeZoom: minzoom,
     minZoom: Math.max(0, minzoom - 2),
     tileSize: tilejson.seamap_tile_size ? Number(tilejson.seamap_tile_size) : 256,
-    attribution: tilejson.attribution || 'SeaMap',
+    // Leaflet writes attributions as HTML: the map's text is escaped, shown as typed.
+    attribution: escapeHtml(tilejson.attribution || 'SeaMap'),
     keepBuffer: 2,
     updateWhenZooming: false,
   });
@@ -78,7 +80,7 @@ export async function addPhotoLayers(map) {
       if (extra.tiles && extra.tiles[0] !== tilejson.tiles[0]) layers.set(name, tileLayerFrom(extra));
       else layers.set(name, main);
     } catch {
-      layers.set(name, tileLayerFrom({...tilejson, tiles: [missionUrl(`/tiles/${name}/{z}/{x}/{y}.${tilejson.format || 'png'}`)]}));
+      layers.set(name, tileLayerFrom({...tilejson, tiles: [missionUrl(`/tiles/${encodeURIComponent(name)}/{z}/{x}/{y}.${tilejson.format || 'png'}`)]}));
     }
     if (layers.get(name) !== main) layers.get(name).eventLayer = name;
   }
@@ -87,7 +89,9 @@ export async function addPhotoLayers(map) {
   map.setMinZoom(main.options.minZoom);
   const distinct = new Map([...layers].filter(([name, layer]) => name === mainName || layer !== main));
   if (distinct.size > 1) {
-    L.control.layers(Object.fromEntries(distinct), null, {collapsed: true, position: 'topright'}).addTo(map);
+    // The layer control writes names as HTML: a map's layer names are escaped.
+    const named = [...distinct].map(([name, layer]) => [escapeHtml(name), layer]);
+    L.control.layers(Object.fromEntries(named), null, {collapsed: true, position: 'topright'}).addTo(map);
   }
   const result = {layers, main, tilejson, active: main, distinct,
     nameOf: layer => [...distinct].find(([, l]) => l === layer)?.[0] || mainName};

@@ -5,6 +5,13 @@ import {el} from './dom.js';
 
 const L = window.L;
 
+// An SVG element with these attributes (set as attributes, never parsed as markup).
+function svg(tag, attributes) {
+  const node = document.createElementNS('http://www.w3.org/2000/svg', tag);
+  for (const [key, value] of Object.entries(attributes)) node.setAttribute(key, String(value));
+  return node;
+}
+
 // entries: [{key, label, color, dashArray, dot, fill, toggle}]; `toggle(on)`: a checkbox shows/hides it.
 export function trackLegend(map, entries) {
   const Legend = L.Control.extend({
@@ -12,13 +19,11 @@ export function trackLegend(map, entries) {
     onAdd() {
       const box = el('div', {class: 'leaflet-control track-legend', role: 'group', 'aria-label': 'tracks'});
       for (const entry of entries) {
-        const swatch = document.createElementNS('http://www.w3.org/2000/svg', 'svg');  // el() makes HTML elements
-        swatch.setAttribute('width', '22');
-        swatch.setAttribute('height', '8');
-        swatch.innerHTML = entry.dot
-          ? `<circle cx="11" cy="4" r="3" stroke="${entry.color}" fill="${entry.fill ? entry.color : 'none'}"/>`
-          : `<line x1="1" y1="4" x2="21" y2="4" stroke="${entry.color}" stroke-width="3"` +
-            `${entry.dashArray ? ` stroke-dasharray="${entry.dashArray}"` : ''}/>`;
+        const swatch = svg('svg', {width: 22, height: 8});
+        swatch.append(entry.dot
+          ? svg('circle', {cx: 11, cy: 4, r: 3, stroke: entry.color, fill: entry.fill ? entry.color : 'none'})
+          : svg('line', {x1: 1, y1: 4, x2: 21, y2: 4, stroke: entry.color, 'stroke-width': 3,
+            ...(entry.dashArray ? {'stroke-dasharray': entry.dashArray} : {})}));
         const label = el('span', {class: 'label'}, entry.label);
         const row = entry.toggle
           ? el('label', {class: 'entry', dataset: {track: entry.key}},

@@ -6,11 +6,16 @@
 #include <algorithm>
 #include <array>
 #include <climits>
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <map>
 #include <memory>
 #include <set>
+#include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <opencv2/imgproc.hpp>
@@ -133,10 +138,131 @@ CPLErr TileBand::IReadBlock(int block_x, int block_y, void* data) {
   return CE_None;
 }
 
+// GDAL's progress callback: an exception from ours (Ctrl-C) must not cross
+// GDAL's C++ frames; it is kept, GDAL is told to stop, and it is rethrown after.
+struct Progress {
+  const std::function<void(double)>* callback = nullptr;
+  std::exception_ptr error;
+};
+
 int ProgressThunk(double fraction, const char*, void* arg) {
-  const auto* f = static_cast<const std::function<void(double)>*>(arg);
-  if (*f) (*f)(fraction);
+  auto* progress = static_cast<Progress*>(arg);
+  if (progress->error) return FALSE;
+  if (!*progress->callback) return TRUE;
+  try {
+    (*progress->callback)(fraction);
+  } catch (...) {
+    progress->error = std::current_exception();
+    return FALSE;
+  }
   return TRUE;
+}
+
+// What a failed or stopped export leaves: the partial file and the COG
+// driver's temporary overviews (`path`.ovr.tmp, `path`.msk.ovr.tmp).
+void RemovePartialGeotiff(const std::string& path) {
+  for (const std::string& file : {path, path + ".ovr.tmp", path + ".msk.ovr.tmp"}) VSIUnlink(file.c_str());
+}
+
+// A level's tiles that hold data: their extent (inclusive) and count.
+struct LevelExtent {
+  int x0 = 0, y0 = 0, x1 = -1, y1 = -1;
+  int64_t tiles = 0;
+  void Add(int x, int y) {
+    if (tiles++ == 0) {
+      x0 = x1 = x;
+      y0 = y1 = y;
+      return;
+    }
+    x0 = std::min(x0, x);
+    y0 = std::min(y0, y);
+    x1 = std::max(x1, x);
+    y1 = std::max(y1, y);
+  }
+  int64_t Width() const { return int64_t{x1} - x0 + 1; }
+  int64_t Height() const { return int64_t{y1} - y0 + 1; }
+  double Pixels(int tile_px) const { return static_cast<double>(Width()) * Height() * tile_px * tile_px; }
+  double FilledShare() const { return static_cast<double>(tiles) / (static_cast<double>(Width()) * Height()); }
+  bool Sparse(int tile_px) const {
+    return Pixels(tile_px) > kSparseRasterPixels && FilledShare() < kSparseMaxFilledShare;
+  }
+};
+
+// The tiles of `zoom` (inclusive x0, y0, x1, y1) that touch `b`.
+std::array<int, 4> TileRange(const LatLonBounds& b, int zoom) {
+  const GlobalPixel nw = LatLonToPixel({b.north, b.west}, zoom, 1);
+  const GlobalPixel se = LatLonToPixel({b.south, b.east}, zoom, 1);
+  const double last = std::ldexp(1.0, zoom) - 1;
+  auto cell = [&](double v) { return static_cast<int>(std::clamp(std::floor(v), 0.0, last)); };
+  return {cell(nw.x), cell(nw.y), cell(se.x), cell(se.y)};
+}
+
+// Where most of a level's tiles are: split the tiles where consecutive
+// columns, then rows, are more than kGapTiles apart and keep the part with
+// the most tiles (a frame placed kilometres off is left out).
+constexpr int kGapTiles = 16;
+
+LevelExtent MainPart(std::vector<std::pair<int, int>> tiles) {
+  auto keep_largest = [&](bool by_x) {
+    auto key = [by_x](const std::pair<int, int>& t) { return by_x ? t.first : t.second; };
+    std::sort(tiles.begin(), tiles.end(), [&](const auto& a, const auto& b) { return key(a) < key(b); });
+    size_t best_begin = 0, best_end = 0;
+    for (size_t begin = 0, i = 1; i <= tiles.size(); ++i) {
+      if (i < tiles.size() && int64_t{key(tiles[i])} - key(tiles[i - 1]) <= kGapTiles) continue;
+      if (i - begin > best_end - best_begin) best_begin = begin, best_end = i;
+      begin = i;
+    }
+    tiles = std::vector<std::pair<int, int>>(tiles.begin() + best_begin, tiles.begin() + best_end);
+  };
+  keep_largest(true);
+  keep_largest(false);
+  LevelExtent main;
+  for (const auto& [x, y] : tiles) main.Add(x, y);
+  return main;
+}
+
+std::string Degrees(const LatLonBounds& b) {
+  char text[128];
+  std::snprintf(text, sizeof text, "%.7f,%.7f,%.7f,%.7f", b.west, b.south, b.east, b.north);
+  return text;
+}
+
+LatLonBounds BoundsOf(const LevelExtent& e, int zoom) {
+  const LatLonBounds nw = TileBounds({zoom, e.x0, e.y0}), se = TileBounds({zoom, e.x1, e.y1});
+  return {nw.west, se.south, se.east, nw.north};
+}
+
+// The refusal of a huge, mostly empty raster: how big, how empty, and the ways out.
+std::string SparseMessage(const std::string& source, int zoom, const LevelExtent& level, int tile_px, int bands,
+                          const std::vector<std::pair<int, int>>& tiles, const std::map<int, LevelExtent>& levels) {
+  char text[512];
+  std::snprintf(text, sizeof text,
+                "zoom %d of %s would be a GeoTIFF of %lld x %lld px (%.1f gigapixels, %.1f GB before compression) "
+                "of which %s%.2f %% is empty: %lld of %lld tiles hold data. ",
+                zoom, source.c_str(), static_cast<long long>(level.Width() * tile_px),
+                static_cast<long long>(level.Height() * tile_px), level.Pixels(tile_px) / 1e9,
+                level.Pixels(tile_px) * bands / 1e9, level.FilledShare() < 1e-4 ? "over " : "",
+                level.FilledShare() < 1e-4 ? 99.99 : 100.0 * (1.0 - level.FilledShare()),
+                static_cast<long long>(level.tiles), static_cast<long long>(level.Width() * level.Height()));
+  std::string out = text;
+  const LevelExtent main = MainPart(tiles);
+  out += "Choose the area with --bounds W,S,E,N";
+  if (main.tiles < level.tiles) {
+    std::snprintf(text, sizeof text, " (%lld of the %lld tiles, %lld x %lld px, lie within %s)",
+                  static_cast<long long>(main.tiles), static_cast<long long>(level.tiles),
+                  static_cast<long long>(main.Width() * tile_px), static_cast<long long>(main.Height() * tile_px),
+                  Degrees(BoundsOf(main, zoom)).c_str());
+    out += text;
+  }
+  for (auto it = levels.rbegin(); it != levels.rend(); ++it) {
+    if (it->first >= zoom || it->second.Sparse(tile_px)) continue;
+    std::snprintf(text, sizeof text, ", or a coarser --zoom (zoom %d: %lld x %lld px)", it->first,
+                  static_cast<long long>(it->second.Width() * tile_px),
+                  static_cast<long long>(it->second.Height() * tile_px));
+    out += text;
+    break;
+  }
+  return out + ", or pass --allow-sparse to write it anyway";
 }
 
 }  // namespace
@@ -149,32 +275,73 @@ void GeotiffOptions::Check() const {
     throw InputError("--resampling", 0, "",
                      "'" + resampling + "' is not one of NEAREST, AVERAGE, BILINEAR, CUBIC, LANCZOS, MODE, RMS");
   if (threads < 0) throw InputError("--threads", 0, "", "must be >= 0");
+  if (bounds) {
+    const LatLonBounds& b = *bounds;
+    if (!(b.west >= -180 && b.east <= 180 && b.west < b.east))
+      throw InputError("--bounds", 0, "", "west and east must be degrees in -180..180 with west < east");
+    if (!(b.south >= -kWebMercatorMaxLat && b.north <= kWebMercatorMaxLat && b.south < b.north))
+      throw InputError("--bounds", 0, "", "south and north must be degrees in -85.05..85.05 with south < north");
+  }
+}
+
+LatLonBounds ParseGeotiffBounds(const std::string& text) {
+  const std::string quoted = "'" + (text.size() > 100 ? text.substr(0, 100) + "..." : text) + "'";
+  std::vector<double> v;
+  std::stringstream in(text);
+  for (std::string part; std::getline(in, part, ',');) {
+    size_t used = 0;
+    double value = NAN;
+    try {
+      value = std::stod(part, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || part.find_first_not_of(" ", used) != std::string::npos || !std::isfinite(value))
+      throw InputError("--bounds", 0, "", "expected W,S,E,N in degrees (four numbers), got " + quoted);
+    v.push_back(value);
+  }
+  if (v.size() != 4 || (!text.empty() && text.back() == ','))
+    throw InputError("--bounds", 0, "", "expected W,S,E,N in degrees (four numbers), got " + quoted);
+  return {v[0], v[1], v[2], v[3]};
 }
 
 GeotiffSummary ExportGeotiff(const TileStore& from, const std::string& source, const std::string& path,
                              const GeotiffOptions& options, const std::function<void(double)>& on_progress) {
   options.Check();
-  // The level's tile-aligned extent, from the tile ids alone (no tile data in RAM).
-  std::map<int, std::array<int, 5>> levels;  // zoom -> x0, y0, x1, y1, count
-  for (const TileId& t : from.TileIds()) {
-    auto [it, fresh] = levels.try_emplace(t.z, std::array<int, 5>{t.x, t.y, t.x, t.y, 0});
-    auto& l = it->second;
-    l = {std::min(l[0], t.x), std::min(l[1], t.y), std::max(l[2], t.x), std::max(l[3], t.y), l[4] + 1};
+  // Each level's tile-aligned extent (within --bounds), from the tile ids alone (no tile data in RAM).
+  const std::vector<TileId> ids = from.TileIds();
+  std::map<int, LevelExtent> levels;
+  std::map<int, std::array<int, 4>> ranges;  // --bounds at each zoom
+  for (const TileId& t : ids) {
+    if (options.bounds) {
+      auto [it, fresh] = ranges.try_emplace(t.z);
+      if (fresh) it->second = TileRange(*options.bounds, t.z);
+      const auto& r = it->second;
+      if (t.x < r[0] || t.x > r[2] || t.y < r[1] || t.y > r[3]) continue;
+    }
+    levels[t.z].Add(t.x, t.y);
   }
-  if (levels.empty()) throw InputError(source, 0, "tiles", "the map has no tiles to export");
+  if (ids.empty()) throw InputError(source, 0, "tiles", "the map has no tiles to export");
+  if (levels.empty())
+    throw InputError("--bounds", 0, "", "no tile of " + source + " lies within " + Degrees(*options.bounds));
   const int zoom = options.zoom < 0 ? levels.rbegin()->first : options.zoom;
-  if (!levels.count(zoom))
+  if (!levels.count(zoom)) {
+    if (options.bounds && std::any_of(ids.begin(), ids.end(), [&](const TileId& t) { return t.z == zoom; }))
+      throw InputError(
+          "--bounds", 0, "",
+          "no tile of zoom " + std::to_string(zoom) + " of " + source + " lies within " + Degrees(*options.bounds));
     throw InputError("--zoom", 0, "",
                      "the map " + source + " has no tiles at zoom " + std::to_string(zoom) + "; it has zooms " +
                          std::to_string(levels.begin()->first) + ".." + std::to_string(levels.rbegin()->first));
-  const auto& l = levels.at(zoom);
-  const int tiles_x = l[2] - l[0] + 1, tiles_y = l[3] - l[1] + 1;
+  }
+  const LevelExtent& extent = levels.at(zoom);
+  const int64_t tiles_x = extent.Width(), tiles_y = extent.Height();
 
   const MissionMetadata mission = ReadMissionMetadata(from);
   int tile_px = mission.tile_size_px.value_or(256);
   int colour_channels = mission.channels.value_or(0);
   if (colour_channels != 1 && colour_channels != 3) {  // not a SeaMap map: ask one tile
-    for (const TileId& t : from.TileIds()) {
+    for (const TileId& t : ids) {
       if (t.z != zoom) continue;
       const cv::Mat tile = DecodeTile(*from.GetTile(t));
       colour_channels = tile.channels() == 2 ? 1 : 3;
@@ -182,14 +349,24 @@ GeotiffSummary ExportGeotiff(const TileStore& from, const std::string& source, c
       break;
     }
   }
-  if (tile_px <= 0 || static_cast<int64_t>(tiles_x) * tile_px > INT_MAX ||
-      static_cast<int64_t>(tiles_y) * tile_px > INT_MAX)
+  if (tile_px <= 0) throw InputError(source, 0, "seamap_tile_size", "tiles must be at least 1 px");
+  const int bands = colour_channels == 1 ? 2 : 4;
+  if (extent.Sparse(tile_px) && !options.allow_sparse) {
+    std::vector<std::pair<int, int>> tiles;  // the level's tiles, for the main part's bounds
+    tiles.reserve(static_cast<size_t>(extent.tiles));
+    for (const TileId& t : ids)
+      if (t.z == zoom && t.x >= extent.x0 && t.x <= extent.x1 && t.y >= extent.y0 && t.y <= extent.y1)
+        tiles.emplace_back(t.x, t.y);
+    throw InputError("--zoom/--bounds", 0, "", SparseMessage(source, zoom, extent, tile_px, bands, tiles, levels));
+  }
+  if (tiles_x * tile_px > INT_MAX || tiles_y * tile_px > INT_MAX)
     throw InputError(source, 0, "--zoom", "level " + std::to_string(zoom) + " is too large for one GeoTIFF");
 
   GDALAllRegister();
   GDALDriver* cog = GetGDALDriverManager()->GetDriverByName("COG");
   if (!cog) throw std::runtime_error("GDAL has no COG driver (GDAL >= 3.1 needed)");
-  TileLevelDataset level(from, zoom, l[0], l[1], tiles_x, tiles_y, tile_px, colour_channels);
+  TileLevelDataset level(from, zoom, extent.x0, extent.y0, static_cast<int>(tiles_x), static_cast<int>(tiles_y),
+                         tile_px, colour_channels);
   const std::string threads = options.threads == 0 ? "ALL_CPUS" : std::to_string(options.threads);
   const std::string block = "BLOCKSIZE=" + std::to_string(std::min(tile_px, 4096));
   const std::string resampling = "RESAMPLING=" + options.resampling;
@@ -197,14 +374,16 @@ GeotiffSummary ExportGeotiff(const TileStore& from, const std::string& source, c
   const char* create_options[] = {"COMPRESS=DEFLATE",  block.c_str(),      resampling.c_str(),
                                   num_threads.c_str(), "BIGTIFF=IF_SAFER", nullptr};
   CPLErrorReset();
-  std::function<void(double)> progress = on_progress;
+  Progress progress{&on_progress, nullptr};
   CPLPushErrorHandler(CPLQuietErrorHandler);  // the message goes into our InputError instead
   GDALDataset* out =
       cog->CreateCopy(path.c_str(), &level, FALSE, const_cast<char**>(create_options), ProgressThunk, &progress);
   CPLPopErrorHandler();
-  if (!out) {
+  if (!out || progress.error) {
     const std::string why = CPLGetLastErrorMsg();
-    VSIUnlink(path.c_str());
+    if (out) GDALClose(out);
+    RemovePartialGeotiff(path);
+    if (progress.error) std::rethrow_exception(progress.error);
     throw InputError(path, 0, "output", "GDAL could not write the GeoTIFF: " + (why.empty() ? "unknown error" : why));
   }
   GDALClose(out);
@@ -214,7 +393,7 @@ GeotiffSummary ExportGeotiff(const TileStore& from, const std::string& source, c
   s.width_px = level.GetRasterXSize();
   s.height_px = level.GetRasterYSize();
   s.bands = level.GetRasterCount();
-  s.tiles = l[4];
+  s.tiles = static_cast<int>(extent.tiles);
   double gt[6];
   level.GetGeoTransform(gt);
   s.west_m = gt[0];

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <climits>
 #include <cmath>
 #include <cstdio>
@@ -12,6 +13,7 @@
 #include <exception>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <set>
 #include <sstream>
 #include <string>
@@ -28,6 +30,41 @@ namespace seamap {
 namespace {
 
 constexpr double kHalfWorld_m = 20037508.342789244;  // EPSG:3857 half circumference
+
+// The caller's progress callback, for GDAL: an exception from it (Ctrl-C) must
+// not cross GDAL's C++ frames; it is kept, GDAL is told to stop (a FALSE
+// progress answer, a failed block read), and it is rethrown after. Blocks
+// ask it too (Poll), since GDAL reports progress only every few rows of
+// blocks: on a wide raster that is seconds apart.
+struct Progress {
+  const std::function<void(double)>* callback = nullptr;
+  std::exception_ptr error;
+  double fraction = 0;
+  std::mutex mutex;
+
+  // Calls the callback at `at`; false once it has thrown.
+  bool Report(double at) {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (error) return false;
+    fraction = at;
+    if (!callback || !*callback) return true;
+    try {
+      (*callback)(at);
+    } catch (...) {
+      error = std::current_exception();
+      return false;
+    }
+    return true;
+  }
+  bool Poll() {
+    double at = 0;
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      at = fraction;
+    }
+    return Report(at);
+  }
+};
 
 class TileLevelDataset;
 
@@ -46,8 +83,14 @@ class TileBand : public GDALRasterBand {
 class TileLevelDataset : public GDALDataset {
  public:
   TileLevelDataset(const TileStore& store, int zoom, int x0, int y0, int tiles_x, int tiles_y, int tile_px,
-                   int colour_channels)
-      : store_(store), zoom_(zoom), x0_(x0), y0_(y0), tile_px_(tile_px), colour_channels_(colour_channels) {
+                   int colour_channels, Progress* progress)
+      : store_(store),
+        zoom_(zoom),
+        x0_(x0),
+        y0_(y0),
+        tile_px_(tile_px),
+        colour_channels_(colour_channels),
+        progress_(progress) {
     nRasterXSize = tiles_x * tile_px;
     nRasterYSize = tiles_y * tile_px;
     const std::vector<GDALColorInterp> interps =
@@ -90,9 +133,14 @@ class TileLevelDataset : public GDALDataset {
     return tile;
   }
 
+  // Every 16th block read asks the caller whether to go on (Ctrl-C).
+  bool GoOn() { return ++blocks_read_ % 16 != 0 || progress_->Poll(); }
+
  private:
   const TileStore& store_;
   int zoom_, x0_, y0_, tile_px_, colour_channels_;
+  Progress* progress_;
+  std::atomic<int64_t> blocks_read_{0};
   OGRSpatialReference* srs_ = nullptr;
 };
 
@@ -106,6 +154,7 @@ TileBand::TileBand(TileLevelDataset* ds, int band, int tile_px, GDALColorInterp 
 
 CPLErr TileBand::IReadBlock(int block_x, int block_y, void* data) {
   auto* ds = static_cast<TileLevelDataset*>(poDS);
+  if (!ds->GoOn()) return CE_Failure;
   cv::Mat tile;
   try {
     tile = ds->Tile(block_x, block_y);
@@ -138,24 +187,8 @@ CPLErr TileBand::IReadBlock(int block_x, int block_y, void* data) {
   return CE_None;
 }
 
-// GDAL's progress callback: an exception from ours (Ctrl-C) must not cross
-// GDAL's C++ frames; it is kept, GDAL is told to stop, and it is rethrown after.
-struct Progress {
-  const std::function<void(double)>* callback = nullptr;
-  std::exception_ptr error;
-};
-
 int ProgressThunk(double fraction, const char*, void* arg) {
-  auto* progress = static_cast<Progress*>(arg);
-  if (progress->error) return FALSE;
-  if (!*progress->callback) return TRUE;
-  try {
-    (*progress->callback)(fraction);
-  } catch (...) {
-    progress->error = std::current_exception();
-    return FALSE;
-  }
-  return TRUE;
+  return static_cast<Progress*>(arg)->Report(fraction) ? TRUE : FALSE;
 }
 
 // What a failed or stopped export leaves: the partial file and the COG
@@ -363,10 +396,15 @@ GeotiffSummary ExportGeotiff(const TileStore& from, const std::string& source, c
     throw InputError(source, 0, "--zoom", "level " + std::to_string(zoom) + " is too large for one GeoTIFF");
 
   GDALAllRegister();
+  // GDAL's block cache defaults to 5 % of RAM (6 GB on a 128 GB machine); the
+  // export reads each tile once, so 256 MiB is plenty and bounds its memory.
+  if (!CPLGetConfigOption("GDAL_CACHEMAX", nullptr)) GDALSetCacheMax64(int64_t{256} << 20);
   GDALDriver* cog = GetGDALDriverManager()->GetDriverByName("COG");
   if (!cog) throw std::runtime_error("GDAL has no COG driver (GDAL >= 3.1 needed)");
+  Progress progress;
+  progress.callback = &on_progress;
   TileLevelDataset level(from, zoom, extent.x0, extent.y0, static_cast<int>(tiles_x), static_cast<int>(tiles_y),
-                         tile_px, colour_channels);
+                         tile_px, colour_channels, &progress);
   const std::string threads = options.threads == 0 ? "ALL_CPUS" : std::to_string(options.threads);
   const std::string block = "BLOCKSIZE=" + std::to_string(std::min(tile_px, 4096));
   const std::string resampling = "RESAMPLING=" + options.resampling;
@@ -374,7 +412,6 @@ GeotiffSummary ExportGeotiff(const TileStore& from, const std::string& source, c
   const char* create_options[] = {"COMPRESS=DEFLATE",  block.c_str(),      resampling.c_str(),
                                   num_threads.c_str(), "BIGTIFF=IF_SAFER", nullptr};
   CPLErrorReset();
-  Progress progress{&on_progress, nullptr};
   CPLPushErrorHandler(CPLQuietErrorHandler);  // the message goes into our InputError instead
   GDALDataset* out =
       cog->CreateCopy(path.c_str(), &level, FALSE, const_cast<char**>(create_options), ProgressThunk, &progress);

@@ -45,7 +45,7 @@ const char* kHelp =
     "-32768, in the mission's local transverse Mercator, with overviews.\n"
     "\n"
     "--bounds W,S,E,N (degrees): only the tiles touching this area go into the GeoTIFF.\n"
-    "A GeoTIFF over 1 gigapixel that is more than half empty (a frame placed far off)\n"
+    "A GeoTIFF over 64 megapixels that is more than half empty (a frame placed far off)\n"
     "is refused with its size and the main part's bounds; --allow-sparse writes it anyway.\n"
     "A map still being built or interrupted is refused (exit 2); --partial exports what\n"
     "it holds now. Ctrl-C stops an archive export and removes the partial file.\n";

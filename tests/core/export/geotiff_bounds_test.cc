@@ -27,7 +27,7 @@ cv::Mat Tile(int k) {
 }
 
 // A 3x2-tile survey at zoom 20 and one tile 40,000 tiles (~30 km) east of it,
-// with their zoom 18 and zoom 16 parents.
+// with their zoom 18, 16 and 14 parents.
 std::string SparseMap(const testing::TempDir& dir) {
   const std::string path = (dir / "sparse.mbtiles").string();
   auto store = OpenTileStore(path, "png", true);
@@ -37,6 +37,7 @@ std::string SparseMap(const testing::TempDir& dir) {
   for (int x : {kX0, kX0 + 2, kX0 + kFarTiles}) {
     store->PutTile({kZoom - 2, x / 4, kY0 / 4}, EncodeTile(Tile(9), {}));
     store->PutTile({kZoom - 4, x / 16, kY0 / 16}, EncodeTile(Tile(9), {}));
+    store->PutTile({kZoom - 6, x / 64, kY0 / 64}, EncodeTile(Tile(9), {}));
   }
   store->SetMetadata("format", "png");
   store->Flush();
@@ -68,8 +69,8 @@ TEST(GeotiffBounds, RefusesAHugeMostlyEmptyRasterWithItsSizeAndTheWaysOut) {
       << message;
   EXPECT_NE(message.find("of which over 99.99 % is empty: 7 of 80002 tiles hold data"), std::string::npos) << message;
   EXPECT_NE(message.find("6 of the 7 tiles, 768 x 512 px, lie within"), std::string::npos) << message;
-  // Zoom 18 (655 megapixels, as empty) is no way out; zoom 16 (164) is.
-  EXPECT_NE(message.find("coarser --zoom (zoom 16: 640256 x 256 px)"), std::string::npos) << message;
+  // Zooms 18 and 16 (655 and 164 megapixels, as empty) are no way out; zoom 14 (41) is.
+  EXPECT_NE(message.find("coarser --zoom (zoom 14: 160256 x 256 px)"), std::string::npos) << message;
   EXPECT_NE(message.find("--allow-sparse"), std::string::npos) << message;
   EXPECT_FALSE(fs::exists(tif));
   EXPECT_FALSE(fs::exists(tif + ".ovr.tmp"));

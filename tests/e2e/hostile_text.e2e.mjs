@@ -150,7 +150,7 @@ await runE2E({name: 'hostile_text', timeoutMs: 140000}, async ({checks, defer, w
     for (const id of ids) {
       await page.evaluate(key => window.seamap.detections.focus(key), id);
       await page.waitForSelector(`.leaflet-popup .detection-popup[data-id="${id}"]`);
-      const popup = await textOf('.leaflet-popup .detection-popup');
+      const popup = await textOf(`.leaflet-popup .detection-popup[data-id="${id}"]`);  // not one fading out
       const isMark = popup.includes('operator mark');
       // (source and status are read back as one of their known values: not shown as stored)
       for (const text of isMark ? [payload('mark'), payload('mark-note')] : [texts.class, texts.model, texts.note]) {
@@ -211,8 +211,12 @@ await runE2E({name: 'hostile_text', timeoutMs: 140000}, async ({checks, defer, w
     if (objects < 6) throw new Error(`${objects} objects`);
     const popups = [];
     for (let i = 0; i < objects; ++i) {
-      await page.evaluate(index => window.seamapViewer.objects.getLayers()[index].openPopup(), i);
-      popups.push(await textOf('.leaflet-popup-content'));
+      // This object's own popup (the previous one may still be fading out).
+      popups.push(await page.evaluate(index => {
+        const layer = window.seamapViewer.objects.getLayers()[index];
+        layer.openPopup();
+        return layer.getPopup().getElement().querySelector('.leaflet-popup-content').textContent;
+      }, i));
       await noScript(`pmtiles.html popup ${i}`);
     }
     const all = popups.join('\n');

@@ -423,36 +423,40 @@ HeightGrid FitHeightGrid(const SeabedPoints& points, const std::vector<std::arra
   }
   if (rep.points_rejected > 0) FitGrid(usable, rejected, in_swath, options, &grid, &spread);
 
-  // Calibration by hold-out: a grid fitted to every other point predicts the
-  // rest; their squared residuals beyond their own variance, against that
-  // grid's variance, say how far the sigmas understate the error where no
-  // point was (relief finer than a cell, between cell centres). Every cell
-  // sigma is scaled up by it when it exceeds 1 (never down).
+  // Calibration by hold-out: a grid fitted to four points in five predicts
+  // the fifth (nearly the whole grid's density: fewer points would make the
+  // floor that of a sparser grid). What their squared residuals hold beyond the points' own variance
+  // and that grid's is an error no cell's fit can see (relief finer than a
+  // cell, between cell centres): a floor added to every cell's sigma. It is
+  // added, not multiplied: a cell fitted from many points has a tiny
+  // statistical sigma but the same unseen relief as any other.
   {
+    constexpr size_t kHoldOutEvery = 5;
     std::vector<char> held_out = rejected;
-    for (size_t k = 1; k < usable.size(); k += 2) held_out[k] = 1;
+    for (size_t k = 1; k < usable.size(); k += kHoldOutEvery) held_out[k] = 1;
     HeightGrid half = grid;
     half.height_m = grid.height_m.clone();
     half.sigma_m = grid.sigma_m.clone();
     cv::Mat1f half_spread;
     FitGrid(usable, held_out, in_swath, options, &half, &half_spread);
-    std::vector<std::pair<double, std::pair<double, double>>> terms;  // (standardised^2, (excess, grid variance))
-    for (size_t k = 1; k < usable.size(); k += 2) {
+    std::vector<std::pair<double, double>> terms;  // (standardised^2, excess^2)
+    for (size_t k = 1; k < usable.size(); k += kHoldOutEvery) {
       double h = 0, s = 0;
       if (rejected[k] || !half.Sample({usable[k].east, usable[k].north}, &h, &s)) continue;
       const double r2 = (usable[k].up - h) * (usable[k].up - h), p2 = usable[k].sigma * usable[k].sigma;
-      terms.push_back({r2 / (p2 + s * s), {r2 - p2, s * s}});
+      terms.push_back({r2 / (p2 + s * s), r2 - p2 - s * s});
     }
     // The worst 1 % are outliers the fit dropped or should have: not calibration.
     std::sort(terms.begin(), terms.end());
     terms.resize(terms.size() - terms.size() / 100);
-    double excess = 0, variance = 0;
-    for (const auto& t : terms) {
-      excess += t.second.first;
-      variance += t.second.second;
-    }
-    if (variance > 0) rep.sigma_scale = std::sqrt(std::max(1.0, excess / variance));
-    grid.sigma_m *= rep.sigma_scale;
+    double excess = 0;
+    for (const auto& t : terms) excess += t.second;
+    if (!terms.empty()) rep.sigma_floor_m = std::sqrt(std::max(0.0, excess / terms.size()));
+    const float floor2 = static_cast<float>(rep.sigma_floor_m * rep.sigma_floor_m);
+    for (int r = 0; r < grid.rows(); ++r)
+      for (int c = 0; c < grid.cols(); ++c)
+        if (std::isfinite(grid.sigma_m(r, c)))
+          grid.sigma_m(r, c) = std::sqrt(grid.sigma_m(r, c) * grid.sigma_m(r, c) + floor2);
   }
 
   // Small holes, from their rims; the sigma grows by the grid's slope spread.

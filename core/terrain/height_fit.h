@@ -10,10 +10,10 @@
 //    pulls nor votes; the height is the plane at the cell centre, its sigma
 //    the fit's covariance (sandwich form) scaled by the residuals when they
 //    exceed the points' sigmas;
-//  - calibration by hold-out: a grid fitted to every other point predicts
-//    the others; when their residuals exceed what their sigmas and that
-//    grid's sigmas allow (relief finer than a cell), every cell sigma is
-//    scaled up by the ratio (HeightFitReport::sigma_scale);
+//  - calibration by hold-out: a grid fitted to four points in five predicts
+//    the fifth; what their residuals hold beyond their sigmas and that
+//    grid's (relief finer than a cell, between cell centres) is a floor
+//    added in quadrature to every cell sigma (HeightFitReport::sigma_floor_m);
 //  - outliers against the neighbourhood: after a first fit, a point further
 //    than `outlier_sigmas` from the surface (its sigma, the cell's and the
 //    local spread together) is dropped and the grid fitted again;
@@ -46,7 +46,7 @@ struct HeightFitOptions {
 struct HeightFitReport {
   double cell_m = 0;
   long points = 0, points_rejected = 0;
-  double sigma_scale = 1;    // the calibration applied to the cells' sigmas (>= 1)
+  double sigma_floor_m = 0;  // the hold-out's unseen error, added to every cell's sigma
   long cells_swath = 0;      // cells inside the surveyed swath
   long cells_estimated = 0;  // with a height from points
   long cells_filled = 0;     // interpolated over a small hole

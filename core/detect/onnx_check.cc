@@ -9,10 +9,13 @@
 namespace seamap {
 namespace {
 
-// A name from the file, quoted, at most ~60 characters of it.
+// A name from the file, at most ~60 characters of it.
+std::string Short(const std::string& name) {
+  if (name.size() <= 60) return name;
+  return name.substr(0, 60) + "... (" + std::to_string(name.size()) + " bytes)";
+}
 std::string Quoted(const std::string& name) {
-  if (name.size() <= 60) return "'" + name + "'";
-  return "'" + name.substr(0, 60) + "...' (" + std::to_string(name.size()) + " bytes)";
+  return "'" + Short(name) + "'";
 }
 
 // TensorProto.DataType 1..20: bytes per element in raw_data (0: strings;
@@ -180,7 +183,7 @@ class GraphCheck {
         throw Bad(where, "malformed node");
       }
     }
-    const std::string field = where + " (" + (name.empty() ? "" : Quoted(name) + ", ") + Quoted(op) + ")";
+    const std::string field = where + " (" + (name.empty() ? "" : Short(name) + ", ") + Short(op) + ")";
     for (const WireSpan& a : attributes) Attribute(a, field);
     for (const std::string& i : in)  // "": an optional input left out
       if (!i.empty() && !defined_.count(i))
@@ -219,7 +222,9 @@ class GraphCheck {
     uint64_t values[12] = {};  // per typed field number
     WireReader r(s_, span);
     int f, t;
-    const auto bad = [&](const std::string& why) { return Bad(where + (name.empty() ? "" : " " + Quoted(name)), why); };
+    const auto bad = [&](const std::string& why) {
+      return Bad(where + (name.empty() ? "" : " (" + Short(name) + ")"), why);
+    };
     while (!r.Done()) {
       if (!r.Next(&f, &t)) throw bad("malformed tensor");
       WireSpan b;

@@ -96,5 +96,30 @@ TEST(OnnxFuzz, MutatedStructureLoadsAWorkingModelOrIsRefusedByName) {
   while (fuzz.More()) Check(fuzz, path, testing::OnnxModelBytes(MutateStructure(fuzz, SmallModel())));
 }
 
+// The metadata a search reads (names, imgsz, seamap.*) with hostile values.
+TEST(OnnxFuzz, HostileMetadataLoadsOrIsRefusedByName) {
+  testing::TempDir dir;
+  Fuzz fuzz;
+  const std::string path = (dir / "fuzzed.onnx").string();
+  const std::vector<std::string> names = {R"(["tyre", "crate"])", "{0: 'tyre', 1: 'crate'}", "{1: 'crate', 0: 'tyre'}"};
+  const std::vector<std::string> keys = {"names", "imgsz", "seamap.min_score", "seamap.class_sizes_m", "seamap.layer"};
+  while (fuzz.More()) {
+    OnnxModelSpec spec = SmallModel();
+    const std::string key = fuzz.Pick(keys);
+    const std::string base = key == "names"                  ? fuzz.Pick(names)
+                             : key == "imgsz"                ? "[64, 64]"
+                             : key == "seamap.class_sizes_m" ? R"({"tyre": [0.5, 1.0], "crate": 1.2})"
+                                                             : "0.5";
+    std::string value = fuzz.Mutate(base);
+    if (fuzz.OneIn(3)) {  // a number replaced by a hostile one
+      const size_t at = value.find_first_of("0123456789");
+      if (at != std::string::npos) value.replace(at, 1, fuzz.HostileNumber());
+    }
+    if (fuzz.OneIn(20)) value = std::string(1 << 20, value.empty() ? '7' : value[0]);
+    spec.metadata[key] = value;
+    Check(fuzz, path, testing::OnnxModelBytes(spec));
+  }
+}
+
 }  // namespace
 }  // namespace seamap

@@ -116,6 +116,7 @@ run_case() {  # label, command (arguments of seamap, run in OUT_DIR), [prepare: 
 }
 
 cd "$out"
+# shellcheck disable=SC2016  # expanded when run_case evals it
 fresh='rm -rf "case.mbtiles" "case_copy.mbtiles"; cp "$map" "case.mbtiles"'
 build="build --quiet --images survey/photo --nav survey/nav.csv --camera survey/camera.json --origin $origin --out built.mbtiles"
 echo "hostile models: $(nproc) cores, survey of $(($(wc -l <"survey/nav.csv") - 1)) frames"

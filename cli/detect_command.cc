@@ -21,7 +21,7 @@ const char* kHelp =
     "  --classes FILE    class names, one per line (default: the model's metadata)\n"
     "  --zooms LIST      levels to search, e.g. 22,20,18 (default: base, base-2, ...\n"
     "                    until the model's largest class fits)\n"
-    "  --min-score S     drop boxes scoring below S (default: the model's\n"
+    "  --min-score S     drop boxes scoring below S, 0.001..1 (default: the model's\n"
     "                    seamap.min_score metadata, else 0.4)\n"
     "  --layer NAME      raw | enhanced: the tiles searched (default raw)\n"
     "  --out FILE        also write the detections as GeoJSON\n"

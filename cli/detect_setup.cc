@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "core/detect/detection_record.h"
+#include "core/detect/onnx_meta.h"
 #include "core/util/error.h"
 #include "core/util/statistics.h"
 
@@ -38,9 +39,13 @@ std::vector<int> ParseZooms(const std::string& text, const std::string& option) 
 }
 
 std::optional<float> MinScoreArg(Args& args) {
-  if (!args.Get("min-score")) return std::nullopt;
+  const std::optional<std::string> text = args.Get("min-score");
+  if (!text) return std::nullopt;
   const double s = args.GetDouble("min-score", 0);
-  if (!(s >= 0 && s <= 1)) throw InputError("--min-score", 0, "", "expected a score between 0 and 1");
+  if (!(s >= kMinScoreFloor && s <= 1))
+    throw InputError(
+        "--min-score", 0, "",
+        "expected a score between 0.001 and 1 (a probability the model could mean), got '" + Excerpt(*text) + "'");
   return static_cast<float>(s);
 }
 
@@ -57,6 +62,16 @@ void PrintDetectSummary(const std::vector<RecognisedObject>& objects, const Dete
   std::printf("%s; %d windows searched, %d empty skipped; %.1f ms per window (median), %.1f (p90)\n",
               counts.empty() ? "" : ")", stats.searched, stats.skipped, Percentile(stats.window_ms, 0.5),
               Percentile(stats.window_ms, 0.9));
+  // What the model gave that no map should hold (issue 33): said, never stored.
+  if (stats.non_finite > 0)
+    std::printf("%swarning: %lld boxes with an inf/NaN coordinate or score dropped (the model's output is broken)\n",
+                prefix.c_str(), static_cast<long long>(stats.non_finite));
+  if (stats.capped_windows > 0)
+    std::printf(
+        "%swarning: %d windows proposed more boxes than %d before NMS or %d after it; %lld lowest scores "
+        "dropped (is --min-score too low?)\n",
+        prefix.c_str(), stats.capped_windows, kMaxYoloCandidates, kMaxYoloBoxes,
+        static_cast<long long>(stats.capped_boxes));
 }
 
 void WriteGeoJson(const std::vector<RecognisedObject>& objects, const std::string& path, const std::string& option) {

@@ -18,7 +18,7 @@ std::string DefaultModelPath();
 // "22,20,18" -> zooms; InputError naming `option` when malformed.
 std::vector<int> ParseZooms(const std::string& text, const std::string& option);
 
-// --min-score in [0, 1] (nullopt: not given, the model's own applies);
+// --min-score in [0.001, 1] (nullopt: not given, the model's own applies);
 // InputError naming it otherwise.
 std::optional<float> MinScoreArg(Args& args);
 

@@ -39,6 +39,15 @@ DetectionFilter Filter(Args& args) {
   }
 }
 
+// A record a recogniser stored with inf/NaN numbers is left out and said, not a failed pack.
+void WarnUnreadableDetections(const std::string& map, const std::vector<int64_t>& ids) {
+  if (ids.empty()) return;
+  std::string list;
+  for (size_t i = 0; i < ids.size() && i < 10; ++i) list += (i ? ", " : "") + std::to_string(ids[i]);
+  std::fprintf(stderr, "warning: %s: %zu detections with non-finite or unreadable numbers left out (ids %s%s)\n",
+               map.c_str(), ids.size(), list.c_str(), ids.size() > 10 ? ", ..." : "");
+}
+
 int Decode(const std::string& path, const std::optional<std::string>& map) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, 0, "--decode", "cannot read the file");
@@ -91,7 +100,9 @@ int RunDetectionsPack(int argc, char** argv, int first) {
   auto store = OpenExistingMap(path, false);
   // The mission's detection book, read-only: the same selection, order and class ids as /api/detections.bin.
   DetectionBook book(nullptr);
-  book.Load(*store);
+  std::vector<int64_t> unreadable;
+  book.LoadReadable(*store, &unreadable);
+  WarnUnreadableDetections(path, unreadable);
   const PackedDetections packed = book.Pack(filter, max, MissionT0(*store));
   if (out) {
     std::ofstream file(*out, std::ios::binary);

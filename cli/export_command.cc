@@ -238,7 +238,13 @@ int RunExport(int argc, char** argv, int first) {
   }
   for (const auto& f : from->Records().Frames()) to->Records().PutFrame(f);
   for (const auto& p : from->Records().Track()) to->Records().PutTrackPoint(p);
-  for (const auto& d : from->Records().Detections()) to->Records().PutDetection(d);
+  // A record a recogniser stored with inf/NaN numbers is left out and said, not a failed export.
+  std::vector<int64_t> unreadable;
+  for (const auto& d : from->Records().ReadableDetections(&unreadable)) to->Records().PutDetection(d);
+  if (!unreadable.empty())
+    std::fprintf(stderr,
+                 "warning: %s: %zu detections with non-finite or unreadable numbers not exported (first id %lld)\n",
+                 from_path.c_str(), unreadable.size(), static_cast<long long>(unreadable[0]));
   if (auto terrain = from->Records().Terrain()) to->Records().PutTerrain(*terrain);
   to->Flush();
   progress.Finish();

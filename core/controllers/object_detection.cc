@@ -118,10 +118,7 @@ ObjectDetectionResult DetectObjects(const ObjectDetectionOptions& options) {
   for (const auto& sr : searchers) {
     const auto r = sr->Raw();
     raw.insert(raw.end(), r.begin(), r.end());
-    result.stats.searched += sr->stats().searched;
-    result.stats.skipped += sr->stats().skipped;
-    result.stats.window_ms.insert(result.stats.window_ms.end(), sr->stats().window_ms.begin(),
-                                  sr->stats().window_ms.end());
+    result.stats.Add(sr->stats());
   }
   result.objects = MergeSearched(settings, std::move(raw), store->Records().Frames());
   StoreRecognised(*store, result.objects, model->name, model->class_names);

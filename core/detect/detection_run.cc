@@ -46,6 +46,15 @@ std::vector<WindowKey> MapWindows(const TileStore& store, const std::vector<int>
 WindowSearcher::WindowSearcher(const DetectSettings& settings)
     : settings_(settings), detector_(settings.model, settings.tile_size, settings.min_score) {}
 
+void DetectStats::Add(const DetectStats& other) {
+  window_ms.insert(window_ms.end(), other.window_ms.begin(), other.window_ms.end());
+  searched += other.searched;
+  skipped += other.skipped;
+  non_finite += other.non_finite;
+  capped_boxes += other.capped_boxes;
+  capped_windows += other.capped_windows;
+}
+
 void WindowSearcher::Search(const WindowKey& w, const TileReader& read) {
   WindowSearch s = detector_.Search(w, read);
   if (s.skipped) {
@@ -54,6 +63,9 @@ void WindowSearcher::Search(const WindowKey& w, const TileReader& read) {
     return;
   }
   ++stats_.searched;
+  stats_.non_finite += s.dropped.non_finite;
+  stats_.capped_boxes += s.dropped.capped;
+  stats_.capped_windows += s.dropped.capped > 0;
   stats_.window_ms.push_back(s.ms);
   results_.Replace(w, std::move(s.found));
 }

@@ -35,6 +35,10 @@ std::vector<WindowKey> MapWindows(const TileStore& store, const std::vector<int>
 struct DetectStats {
   std::vector<double> window_ms;  // searched windows
   int searched = 0, skipped = 0;  // skipped: under 2 % painted
+  int64_t non_finite = 0;         // inf/NaN boxes dropped (never stored)
+  int64_t capped_boxes = 0;       // boxes over a window's cap (YoloDropped)
+  int capped_windows = 0;         // windows that proposed more than the cap
+  void Add(const DetectStats& other);
 };
 
 // One net searching windows one after another (not thread-safe).

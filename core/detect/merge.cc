@@ -50,12 +50,17 @@ std::vector<RecognisedObject> MergeDetections(std::vector<RawDetection> raw, con
     geo[i] = ToGeo(raw[i].box, raw[i].window.z, tile_size, frame);
     m[i] = {geo[i].west_m, geo[i].east_m, geo[i].south_m, geo[i].north_m};
   }
-  // Same-class clusters: candidate pairs through a 5 m grid hash.
-  constexpr double kCell = 5.0;
+  // Same-class clusters: candidate pairs through a grid hash of 5 m cells, or
+  // larger so that no box spans more than ~8 cells a side (a model's boxes
+  // the size of a window would otherwise fill millions of cells). Which
+  // pairs are compared, not what they give, depends on the cell.
+  double largest_m = 0;
+  for (int i = 0; i < n; ++i) largest_m = std::max({largest_m, m[i].e - m[i].w, m[i].n - m[i].s});
+  const double cell_m = std::max(5.0, largest_m / 8);
   std::map<std::tuple<int, long, long>, std::vector<int>> cells;
   for (int i = 0; i < n; ++i)
-    for (long cx = std::lround(std::floor(m[i].w / kCell)); cx <= std::lround(std::floor(m[i].e / kCell)); ++cx)
-      for (long cy = std::lround(std::floor(m[i].s / kCell)); cy <= std::lround(std::floor(m[i].n / kCell)); ++cy)
+    for (long cx = std::lround(std::floor(m[i].w / cell_m)); cx <= std::lround(std::floor(m[i].e / cell_m)); ++cx)
+      for (long cy = std::lround(std::floor(m[i].s / cell_m)); cy <= std::lround(std::floor(m[i].n / cell_m)); ++cy)
         cells[{raw[i].class_id, cx, cy}].push_back(i);
   std::vector<int> parent(n);
   std::iota(parent.begin(), parent.end(), 0);
@@ -63,6 +68,7 @@ std::vector<RecognisedObject> MergeDetections(std::vector<RawDetection> raw, con
     for (size_t a = 0; a < members.size(); ++a)
       for (size_t b = a + 1; b < members.size(); ++b) {
         const int i = members[a], j = members[b];
+        if (Find(parent, i) == Find(parent, j)) continue;  // already one cluster (big cells hold many)
         if (Iou(m[i], m[j]) >= options.same_class_iou || Ios(m[i], m[j]) >= options.same_class_ios)
           parent[Find(parent, i)] = Find(parent, j);
       }

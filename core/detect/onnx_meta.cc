@@ -1,79 +1,21 @@
 #include "core/detect/onnx_meta.h"
 
 #include <cctype>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
 
+#include "core/detect/onnx_check.h"
+#include "core/detect/protobuf_wire.h"
 #include "core/util/error.h"
 
 namespace seamap {
 namespace {
 
-// One length-delimited protobuf message, read field by field.
-class WireReader {
- public:
-  WireReader(const std::string& bytes, size_t begin, size_t end) : s_(bytes), pos_(begin), end_(end) {}
-  bool Done() const { return pos_ >= end_; }
-  // Next field: number and wire type; false on malformed data.
-  bool Next(int* field, int* type) {
-    uint64_t key;
-    if (!Varint(&key)) return false;
-    *field = static_cast<int>(key >> 3);
-    *type = static_cast<int>(key & 7);
-    return *field > 0;
-  }
-  bool Varint(uint64_t* v) {
-    *v = 0;
-    for (int shift = 0; shift < 64; shift += 7) {
-      if (pos_ >= end_) return false;
-      const uint8_t b = static_cast<uint8_t>(s_[pos_++]);
-      *v |= static_cast<uint64_t>(b & 0x7f) << shift;
-      if (!(b & 0x80)) return true;
-    }
-    return false;
-  }
-  // A length-delimited payload: [begin, end) in the buffer.
-  bool Bytes(size_t* begin, size_t* end) {
-    uint64_t n;
-    if (!Varint(&n) || n > end_ - pos_) return false;
-    *begin = pos_;
-    *end = pos_ + n;
-    pos_ += n;
-    return true;
-  }
-  bool Skip(int type) {
-    uint64_t v;
-    size_t b, e;
-    switch (type) {
-      case 0:
-        return Varint(&v);
-      case 1:
-        return Advance(8);
-      case 2:
-        return Bytes(&b, &e);
-      case 5:
-        return Advance(4);
-      default:
-        return false;  // groups are not used by ONNX
-    }
-  }
-
- private:
-  bool Advance(size_t n) {
-    if (n > end_ - pos_) return false;
-    pos_ += n;
-    return true;
-  }
-  const std::string& s_;
-  size_t pos_, end_;
-};
-
-struct Span {
-  size_t begin = 0, end = 0;
-};
+using Span = WireSpan;
 
 bool ReadKeyValue(const std::string& s, Span span, std::string* key, std::string* value) {
   WireReader r(s, span.begin, span.end);
@@ -158,7 +100,35 @@ std::string Trim(const std::string& s) {
   return s.substr(a, b - a);
 }
 
+// A whole file of at most `max_bytes`; a FIFO, a device (/dev/zero) or a
+// larger file is refused before it is read.
+std::string ReadBoundedFile(const std::string& path, int64_t max_bytes, const std::string& field,
+                            const std::string& what) {
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  if (ec || !std::filesystem::exists(status)) throw InputError(path, 0, field, "no such " + what);
+  if (!std::filesystem::is_regular_file(status))
+    throw InputError(path, 0, field, "the " + what + " is not a regular file (a device, FIFO or folder)");
+  const auto size = std::filesystem::file_size(path, ec);
+  if (ec) throw InputError(path, 0, field, "cannot read the " + what);
+  if (size > static_cast<uintmax_t>(max_bytes))
+    throw InputError(path, 0, field,
+                     "the " + what + " holds " + std::to_string(size) + " bytes; at most " + std::to_string(max_bytes) +
+                         " are read");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, 0, field, "cannot read the " + what);
+  std::string bytes(static_cast<size_t>(size), '\0');
+  in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  if (static_cast<size_t>(in.gcount()) != bytes.size()) throw InputError(path, 0, field, "cannot read the " + what);
+  return bytes;
+}
+
 }  // namespace
+
+std::string Excerpt(const std::string& text) {
+  if (text.size() <= 100) return text;
+  return text.substr(0, 100) + "... (" + std::to_string(text.size()) + " bytes)";
+}
 
 OnnxInfo ParseOnnxInfo(const std::string& s, const std::string& path) {
   const auto bad = [&](const std::string& why) { return InputError(path, 0, "", "not an ONNX model (" + why + ")"); };
@@ -227,15 +197,13 @@ OnnxInfo ParseOnnxInfo(const std::string& s, const std::string& path) {
     info.input_dims = dims;
     break;
   }
+  // OpenCV trusts the rest (tensor sizes, node inputs): checked here, before it reads the file.
+  CheckOnnxGraph(s, path);
   return info;
 }
 
 OnnxInfo ReadOnnxInfo(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, 0, "", "cannot read the model file");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ParseOnnxInfo(ss.str(), path);
+  return ParseOnnxInfo(ReadBoundedFile(path, kMaxOnnxModelBytes, "", "model file"), path);
 }
 
 std::vector<std::string> ParseClassNames(const std::string& text, const std::string& source) {
@@ -243,7 +211,7 @@ std::vector<std::string> ParseClassNames(const std::string& text, const std::str
   const auto bad = [&]() {
     return InputError(
         source, 0, "names",
-        "expected a JSON list of class names or a Python dict {0: 'name', ...}, got '" + t.substr(0, 80) + "'");
+        "expected a JSON list of class names or a Python dict {0: 'name', ...}, got '" + Excerpt(t) + "'");
   };
   if (t.empty()) throw bad();
   if (t.front() == '[') {
@@ -251,6 +219,10 @@ std::vector<std::string> ParseClassNames(const std::string& text, const std::str
       std::vector<std::string> names;
       for (const auto& v : nlohmann::json::parse(t)) names.push_back(v.get<std::string>());
       if (names.empty()) throw bad();
+      for (size_t k = 0; k < names.size(); ++k)
+        if (Trim(names[k]).empty())
+          throw InputError(source, 0, "names",
+                           "class " + std::to_string(k) + " has an empty name (expected a name per class)");
       return names;
     } catch (const nlohmann::json::exception&) {
       throw bad();
@@ -269,6 +241,10 @@ std::vector<std::string> ParseClassNames(const std::string& text, const std::str
     size_t start = i;
     while (i < t.size() && std::isdigit(static_cast<unsigned char>(t[i]))) ++i;
     if (i == start) throw bad();
+    // Ids are 0..C-1: more than 6 digits is no id a model has (and would overflow an int).
+    if (i - start > 6)
+      throw InputError(source, 0, "names",
+                       "class id '" + Excerpt(t.substr(start, i - start)) + "' is too large (expected 0..C-1)");
     const int id = std::stoi(t.substr(start, i - start));
     skip_space();
     if (i >= t.size() || t[i] != ':') throw bad();
@@ -289,12 +265,15 @@ std::vector<std::string> ParseClassNames(const std::string& text, const std::str
     names.push_back(name);
   }
   if (names.empty()) throw bad();
+  for (size_t k = 0; k < names.size(); ++k)
+    if (Trim(names[k]).empty())
+      throw InputError(source, 0, "names",
+                       "class " + std::to_string(k) + " has an empty name (expected a name per class)");
   return names;
 }
 
 std::vector<std::string> ReadClassesFile(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path, 0, "--classes", "cannot read the classes file");
+  std::istringstream in(ReadBoundedFile(path, kMaxClassesFileBytes, "--classes", "classes file"));
   std::vector<std::string> names;
   std::string line;
   while (std::getline(in, line)) {

@@ -48,7 +48,7 @@ WindowSearch TileDetector::Search(const WindowKey& w, const TileReader& read) {
     result.skipped = true;
     return result;
   }
-  const std::vector<YoloBox> boxes = model_.Detect(bgr, min_score_);
+  const std::vector<YoloBox> boxes = model_.Detect(bgr, min_score_, 0.5f, &result.dropped);
   const int side = bgr.cols;
   const double scale = MakeLetterbox(bgr.size(), model_.info().input).scale;
   const double edge_px = 2 / scale;  // 2 network pixels

@@ -25,6 +25,7 @@ cv::Mat ComposeWindow(const WindowKey& w, int tile_size, const TileReader& read,
 struct WindowSearch {
   bool skipped = false;  // under 2 % painted
   double ms = 0;         // compose + forward + decode
+  YoloDropped dropped;   // non-finite and capped boxes
   std::vector<RawDetection> found;
 };
 

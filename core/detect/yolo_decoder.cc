@@ -32,7 +32,10 @@ YoloLayout RecogniseYoloLayout(const std::vector<int>& shape, int num_classes, c
   return v5 ? YoloLayout::kV5 : YoloLayout::kV8;
 }
 
-std::vector<YoloBox> DecodeYolo(const cv::Mat& output, YoloLayout layout, int num_classes, float min_score) {
+std::vector<YoloBox> DecodeYolo(const cv::Mat& output, YoloLayout layout, int num_classes, float min_score,
+                                YoloDropped* dropped) {
+  YoloDropped local;
+  if (!dropped) dropped = &local;
   CV_Assert(output.dims == 3 && output.type() == CV_32F && output.isContinuous());
   const int a = output.size[1], b = output.size[2];
   const float* d = output.ptr<float>();
@@ -51,12 +54,38 @@ std::vector<YoloBox> DecodeYolo(const cv::Mat& output, YoloLayout layout, int nu
       if (p > best_p) best_p = p, best = c;
     }
     const float score = obj * best_p;
+    if (std::isnan(score) || std::isinf(score)) {
+      ++dropped->non_finite;
+      continue;
+    }
     if (!(score >= min_score)) continue;
     const float cx = at(i, 0), cy = at(i, 1), w = at(i, 2), h = at(i, 3);
+    const YoloBox box{cx - w / 2, cy - h / 2, cx + w / 2, cy + h / 2, score, best};
+    if (!std::isfinite(box.x0) || !std::isfinite(box.y0) || !std::isfinite(box.x1) || !std::isfinite(box.y1)) {
+      ++dropped->non_finite;  // a clipped inf would be stored as a box of no size at the window's edge
+      continue;
+    }
     if (!(w > 0 && h > 0)) continue;
-    boxes.push_back({cx - w / 2, cy - h / 2, cx + w / 2, cy + h / 2, score, best});
+    boxes.push_back(box);
   }
-  return boxes;
+  return KeepBestBoxes(std::move(boxes), kMaxYoloCandidates, dropped);
+}
+
+std::vector<YoloBox> KeepBestBoxes(std::vector<YoloBox> boxes, size_t max_boxes, YoloDropped* dropped) {
+  if (boxes.size() <= max_boxes) return boxes;
+  if (dropped) dropped->capped += static_cast<int>(boxes.size() - max_boxes);
+  std::vector<size_t> order(boxes.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  const auto better = [&](size_t a, size_t b) {
+    return boxes[a].score != boxes[b].score ? boxes[a].score > boxes[b].score : a < b;
+  };
+  std::nth_element(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(max_boxes), order.end(), better);
+  order.resize(max_boxes);
+  std::sort(order.begin(), order.end());
+  std::vector<YoloBox> kept;
+  kept.reserve(max_boxes);
+  for (size_t i : order) kept.push_back(boxes[i]);
+  return kept;
 }
 
 std::vector<YoloBox> NmsPerClass(const std::vector<YoloBox>& boxes, float iou_threshold) {

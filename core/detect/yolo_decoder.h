@@ -25,12 +25,31 @@ struct YoloBox {
   int class_id = 0;
 };
 
-// Boxes scoring at least `min_score`. `output` is the 3-D float blob.
-std::vector<YoloBox> DecodeYolo(const cv::Mat& output, YoloLayout layout, int num_classes, float min_score);
+// What a window's decoding dropped (issue 33): a model that outputs inf/NaN
+// boxes, or proposes more boxes than any window holds objects.
+struct YoloDropped {
+  int non_finite = 0;  // box or score inf/NaN: never stored
+  int capped = 0;      // over kMaxYoloCandidates before NMS or kMaxYoloBoxes after it
+};
+
+// At most this many boxes of a window go into NMS (the best scores; a real
+// model proposes a few hundred over the score, the shipped one 2100 at all),
+// and at most kMaxYoloBoxes come out of it (Ultralytics' max_det).
+constexpr int kMaxYoloCandidates = 3000;
+constexpr int kMaxYoloBoxes = 300;
+
+// Boxes scoring at least `min_score`, finite, the best kMaxYoloCandidates.
+// `output` is the 3-D float blob.
+std::vector<YoloBox> DecodeYolo(const cv::Mat& output, YoloLayout layout, int num_classes, float min_score,
+                                YoloDropped* dropped = nullptr);
 
 // Class-aware NMS (OpenCV 4.6 lacks NMSBoxesBatched: one pass per class).
 // Output sorted by class, then descending score.
 std::vector<YoloBox> NmsPerClass(const std::vector<YoloBox>& boxes, float iou_threshold);
+
+// The `max_boxes` best scores of `boxes` (ties: the earlier), in their order;
+// how many were dropped added to dropped->capped.
+std::vector<YoloBox> KeepBestBoxes(std::vector<YoloBox> boxes, size_t max_boxes, YoloDropped* dropped);
 
 // Fits an image into the network input keeping its aspect ratio, padded
 // with grey 114 (Ultralytics' letterbox).

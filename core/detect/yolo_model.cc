@@ -21,6 +21,8 @@ cv::dnn::Net LoadNet(const std::string& path) {
     return net;
   } catch (const cv::Exception& e) {
     throw InputError(path, 0, "", std::string("OpenCV cannot import this ONNX model: ") + e.what());
+  } catch (const std::exception& e) {  // e.g. std::length_error from shapes OpenCV does not check
+    throw InputError(path, 0, "", std::string("OpenCV cannot import this ONNX model: ") + e.what());
   }
 }
 
@@ -46,9 +48,7 @@ std::string ContentName(const std::string& path) {
 }  // namespace
 
 std::shared_ptr<const YoloModelInfo> YoloModel::Inspect(const std::string& path, const std::string& classes_path) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path, 0, "", "no such model file");
-  const OnnxInfo onnx = ReadOnnxInfo(path);
+  const OnnxInfo onnx = ReadOnnxInfo(path);  // a missing, irregular, huge or malformed file: refused here
   auto info = std::make_shared<YoloModelInfo>();
   info->path = path;
   info->name = ContentName(path);
@@ -65,14 +65,14 @@ std::shared_ptr<const YoloModelInfo> YoloModel::Inspect(const std::string& path,
   info->class_sizes_m.assign(c, 0.0);
   if (onnx.metadata.count("seamap.class_sizes_m"))
     info->class_sizes_m = ParseClassSizes(onnx.metadata.at("seamap.class_sizes_m"), info->class_names, path);
-  if (onnx.metadata.count("seamap.layer")) info->layer = onnx.metadata.at("seamap.layer");
+  if (onnx.metadata.count("seamap.layer")) info->layer = Excerpt(onnx.metadata.at("seamap.layer"));
   if (onnx.metadata.count("seamap.min_score")) {
     const std::string& text = onnx.metadata.at("seamap.min_score");
     char* end = nullptr;
     const double s = std::strtod(text.c_str(), &end);
-    if (end == text.c_str() || *end != '\0' || !(s > 0 && s < 1))
+    if (end == text.c_str() || *end != '\0' || !(s >= kMinScoreFloor && s <= 1))
       throw InputError(path, 0, "seamap.min_score",
-                       "expected a score between 0 and 1 in the metadata, got '" + text + "'");
+                       "expected a score between 0.001 and 1 in the metadata, got '" + Excerpt(text) + "'");
     info->min_score = static_cast<float>(s);
   }
   // Input size: graph input dims, else metadata imgsz, else 640.
@@ -82,8 +82,12 @@ std::shared_ptr<const YoloModelInfo> YoloModel::Inspect(const std::string& path,
   } else if (onnx.metadata.count("imgsz")) {
     try {
       const auto j = nlohmann::json::parse(onnx.metadata.at("imgsz"));
-      info->input =
-          j.is_array() ? cv::Size(j.at(1).get<int>(), j.at(0).get<int>()) : cv::Size(j.get<int>(), j.get<int>());
+      const auto side = [&](const nlohmann::json& v) {  // an integer that fits; the range is checked below
+        if (!v.is_number_integer() || v.get<int64_t>() < 0 || v.get<int64_t>() > 1 << 20)
+          throw InputError(path, 0, "imgsz", "expected an integer or [height, width]");
+        return static_cast<int>(v.get<int64_t>());
+      };
+      info->input = j.is_array() ? cv::Size(side(j.at(1)), side(j.at(0))) : cv::Size(side(j), side(j));
     } catch (const nlohmann::json::exception&) {
       throw InputError(path, 0, "imgsz", "expected an integer or [height, width]");
     }
@@ -106,6 +110,8 @@ std::shared_ptr<const YoloModelInfo> YoloModel::Inspect(const std::string& path,
                      std::string("OpenCV 4.6 cannot run this model (re-export with the box decoding in 4-D "
                                  "tensors, or use OpenCV >= 4.7): ") +
                          e.what());
+  } catch (const std::exception& e) {
+    throw InputError(path, 0, "", std::string("OpenCV cannot run this model: ") + e.what());
   }
   for (int i = 0; i < out.dims; ++i) info->output_shape.push_back(out.size[i]);
   info->layout = RecogniseYoloLayout(info->output_shape, c, path, info->names_source);
@@ -114,12 +120,14 @@ std::shared_ptr<const YoloModelInfo> YoloModel::Inspect(const std::string& path,
 
 YoloModel::YoloModel(std::shared_ptr<const YoloModelInfo> info) : info_(std::move(info)), net_(LoadNet(info_->path)) {}
 
-std::vector<YoloBox> YoloModel::Detect(const cv::Mat& bgr, float min_score, float nms_iou) {
+std::vector<YoloBox> YoloModel::Detect(const cv::Mat& bgr, float min_score, float nms_iou, YoloDropped* dropped) {
   const Letterbox lb = MakeLetterbox(bgr.size(), info_->input);
   cv::Mat out = Forward(net_, ApplyLetterbox(bgr, lb));
   if (!out.isContinuous()) out = out.clone();
-  std::vector<YoloBox> boxes =
-      NmsPerClass(DecodeYolo(out, info_->layout, static_cast<int>(info_->class_names.size()), min_score), nms_iou);
+  std::vector<YoloBox> boxes = KeepBestBoxes(
+      NmsPerClass(DecodeYolo(out, info_->layout, static_cast<int>(info_->class_names.size()), min_score, dropped),
+                  nms_iou),
+      kMaxYoloBoxes, dropped);
   for (YoloBox& b : boxes) b = UndoLetterbox(b, lb);
   return boxes;
 }

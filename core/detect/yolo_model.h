@@ -13,6 +13,11 @@
 
 namespace seamap {
 
+// The lowest minimum score a search takes (--min-score, seamap.min_score):
+// below it a model's scores are no probability it could mean, and every
+// proposal of every window becomes an object.
+constexpr double kMinScoreFloor = 1e-3;
+
 struct YoloModelInfo {
   std::string path;
   std::string name;  // file name#first 16 hex of FNV-1a 64 of its bytes
@@ -34,9 +39,11 @@ class YoloModel {
   explicit YoloModel(std::shared_ptr<const YoloModelInfo> info);
 
   const YoloModelInfo& info() const { return *info_; }
-  // Boxes in image pixels after letterbox undo and per-class NMS. image:
+  // Boxes in image pixels after letterbox undo and per-class NMS, at most
+  // kMaxYoloBoxes (the best); what was dropped added to *dropped. image:
   // 8-bit BGR. Not thread-safe: one model per thread.
-  std::vector<YoloBox> Detect(const cv::Mat& bgr, float min_score, float nms_iou = 0.5f);
+  std::vector<YoloBox> Detect(const cv::Mat& bgr, float min_score, float nms_iou = 0.5f,
+                              YoloDropped* dropped = nullptr);
 
  private:
   std::shared_ptr<const YoloModelInfo> info_;

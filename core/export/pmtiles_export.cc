@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 #include <utility>
 #include <vector>
@@ -104,7 +105,11 @@ PmtilesSummary ExportPmtiles(const TileStore& from, const std::string& source, c
   meta["minzoom"] = std::to_string(order.front().second.z);  // ids ascend by zoom first
   meta["maxzoom"] = std::to_string(max_zoom);
   meta["seamap_track"] = TrackGeoJson(from.Records().Track());
-  meta["seamap_objects"] = ObjectsGeoJson(from.Records().Detections());
+  std::vector<int64_t> unreadable;  // inf/NaN records a recogniser once stored: left out, said
+  meta["seamap_objects"] = ObjectsGeoJson(from.Records().ReadableDetections(&unreadable));
+  if (!unreadable.empty())
+    std::fprintf(stderr, "warning: %zu detections with non-finite or unreadable numbers not exported (first id %lld)\n",
+                 unreadable.size(), static_cast<long long>(unreadable[0]));
   info.metadata_json = meta.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 
   PmtilesWriter writer(path);

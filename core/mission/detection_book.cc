@@ -5,6 +5,7 @@
 
 #include "core/mission/detection_match.h"
 #include "core/mission/mission_classes.h"
+#include "core/mission/mission_metadata.h"
 #include "core/tiles/modem_record.h"
 #include "core/tiles/record_json.h"
 #include "core/util/utc_time.h"
@@ -108,6 +109,22 @@ DetectionError NotFound(int64_t id) {
 }
 
 }  // namespace
+
+void DetectionBook::LoadReadable(const TileStore& store, std::vector<int64_t>* unreadable) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const std::vector<Detection> readable = store.Records().ReadableDetections(unreadable);
+  for (const Detection& d : readable) {
+    detections_[d.id] = d;
+    stored_seq_[d.id] = d.seq;
+    last_seq_ = std::max(last_seq_, d.seq);
+    last_id_ = std::max(last_id_, d.id);
+  }
+  if (unreadable)
+    for (int64_t id : *unreadable) last_id_ = std::max(last_id_, id);  // never reused
+  // MissionClassTable's table, from the records that could be read.
+  classes_ = ReadMissionMetadata(store).classes.value_or(std::vector<std::string>{});
+  for (const Detection& d : readable) ExtendClassTable(&classes_, {d.class_name});
+}
 
 void DetectionBook::Load(const TileStore& store) {
   std::lock_guard<std::mutex> lock(mutex_);

@@ -62,6 +62,10 @@ class DetectionBook {
       : store_(store), listener_(std::move(listener)) {}
 
   void Load(const TileStore& store);
+  // Load without the records that cannot be read (MissionRecords::
+  // ReadableDetections), their ids in *unreadable: a pack or an export of
+  // what is left instead of no answer.
+  void LoadReadable(const TileStore& store, std::vector<int64_t>* unreadable);
   // Takes in what another process wrote to the mission since (stereo-locate
   // --map, seamap detect): new and changed detections and the ones it deleted,
   // announced like the book's own changes, and new classes. Every write does

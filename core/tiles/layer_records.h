@@ -20,6 +20,9 @@ class LayerRecords final : public MissionRecords {
   void PutDetection(const Detection& d) override { mission_->PutDetection(d); }
   void DeleteDetection(int64_t id) override { mission_->DeleteDetection(id); }
   std::vector<Detection> Detections() const override { return mission_->Detections(); }
+  std::vector<Detection> ReadableDetections(std::vector<int64_t>* unreadable) const override {
+    return mission_->ReadableDetections(unreadable);
+  }
   void PutTerrain(const TerrainBlob& t) override { mission_->PutTerrain(t); }
   std::optional<TerrainBlob> Terrain() const override { return mission_->Terrain(); }
 

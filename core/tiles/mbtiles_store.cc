@@ -559,38 +559,68 @@ void MBTilesStore::DeleteDetection(int64_t id) {
   EndWrite();
 }
 
+namespace {
+
+// One row of the detections table (kDetectionColumns); throws on JSON it cannot read.
+Detection ReadDetectionRow(sqlite3_stmt* s) {
+  Detection d;
+  d.id = sqlite3_column_int64(s, 0);
+  d.class_name = ColumnText(s, 1);
+  d.score = sqlite3_column_double(s, 2);
+  d.position = {sqlite3_column_double(s, 3), sqlite3_column_double(s, 4)};
+  d.note = ColumnText(s, 5);
+  d.source = ColumnText(s, 6);
+  if (sqlite3_column_type(s, 7) != SQLITE_NULL) d.frame_id = sqlite3_column_int(s, 7);
+  d.time_s = ColumnOptional(s, 8);
+  d.created = ColumnText(s, 9);
+  d.updated = ColumnText(s, 10);
+  d.seq = sqlite3_column_int64(s, 11);
+  d.model = ColumnText(s, 12);
+  if (sqlite3_column_type(s, 13) != SQLITE_NULL) d.level = sqlite3_column_int(s, 13);
+  const std::string levels = ColumnText(s, 14), box = ColumnText(s, 15), frames = ColumnText(s, 20);
+  if (!levels.empty()) d.levels = nlohmann::json::parse(levels).get<std::vector<int>>();
+  if (!box.empty()) d.box = BoxFromJson(nlohmann::json::parse(box));
+  if (ColumnsSet(s, 16, 17))
+    d.position_m = std::array<double, 2>{sqlite3_column_double(s, 16), sqlite3_column_double(s, 17)};
+  if (ColumnsSet(s, 18, 19))
+    d.size_m = std::array<double, 2>{sqlite3_column_double(s, 18), sqlite3_column_double(s, 19)};
+  if (!frames.empty()) d.frames = nlohmann::json::parse(frames).get<std::vector<int>>();
+  d.status = ColumnText(s, 21);
+  d.truncated = sqlite3_column_int(s, 22) != 0;
+  d.alt_class = ColumnText(s, 23);
+  d.heading_deg = ColumnOptional(s, 24);
+  d.depth_m = ColumnOptional(s, 25);
+  NormaliseDetection(&d);
+  return d;
+}
+
+}  // namespace
+
 std::vector<Detection> MBTilesStore::Detections() const {
-  return ReadRows<Detection>("detections", kDetectionColumns, "id", "read detections", [](sqlite3_stmt* s) {
-    Detection d;
-    d.id = sqlite3_column_int64(s, 0);
-    d.class_name = ColumnText(s, 1);
-    d.score = sqlite3_column_double(s, 2);
-    d.position = {sqlite3_column_double(s, 3), sqlite3_column_double(s, 4)};
-    d.note = ColumnText(s, 5);
-    d.source = ColumnText(s, 6);
-    if (sqlite3_column_type(s, 7) != SQLITE_NULL) d.frame_id = sqlite3_column_int(s, 7);
-    d.time_s = ColumnOptional(s, 8);
-    d.created = ColumnText(s, 9);
-    d.updated = ColumnText(s, 10);
-    d.seq = sqlite3_column_int64(s, 11);
-    d.model = ColumnText(s, 12);
-    if (sqlite3_column_type(s, 13) != SQLITE_NULL) d.level = sqlite3_column_int(s, 13);
-    const std::string levels = ColumnText(s, 14), box = ColumnText(s, 15), frames = ColumnText(s, 20);
-    if (!levels.empty()) d.levels = nlohmann::json::parse(levels).get<std::vector<int>>();
-    if (!box.empty()) d.box = BoxFromJson(nlohmann::json::parse(box));
-    if (ColumnsSet(s, 16, 17))
-      d.position_m = std::array<double, 2>{sqlite3_column_double(s, 16), sqlite3_column_double(s, 17)};
-    if (ColumnsSet(s, 18, 19))
-      d.size_m = std::array<double, 2>{sqlite3_column_double(s, 18), sqlite3_column_double(s, 19)};
-    if (!frames.empty()) d.frames = nlohmann::json::parse(frames).get<std::vector<int>>();
-    d.status = ColumnText(s, 21);
-    d.truncated = sqlite3_column_int(s, 22) != 0;
-    d.alt_class = ColumnText(s, 23);
-    d.heading_deg = ColumnOptional(s, 24);
-    d.depth_m = ColumnOptional(s, 25);
-    NormaliseDetection(&d);
-    return d;
+  return ReadRows<Detection>("detections", kDetectionColumns, "id", "read detections", ReadDetectionRow);
+}
+
+std::vector<Detection> MBTilesStore::ReadableDetections(std::vector<int64_t>* unreadable) const {
+  using Row = std::pair<int64_t, std::optional<Detection>>;
+  const auto rows = ReadRows<Row>("detections", kDetectionColumns, "id", "read detections", [](sqlite3_stmt* s) {
+    const int64_t id = sqlite3_column_int64(s, 0);
+    // SQLite keeps a NaN as NULL, which reads back as 0: a missing position is no position.
+    if (sqlite3_column_type(s, 3) == SQLITE_NULL || sqlite3_column_type(s, 4) == SQLITE_NULL) return Row{id, {}};
+    try {
+      Detection d = ReadDetectionRow(s);
+      return IsFiniteDetection(d) ? Row{id, std::move(d)} : Row{id, {}};
+    } catch (const std::exception&) {  // a box or list with nulls
+      return Row{id, {}};
+    }
   });
+  std::vector<Detection> out;
+  for (const auto& [id, d] : rows) {
+    if (d)
+      out.push_back(*d);
+    else if (unreadable)
+      unreadable->push_back(id);
+  }
+  return out;
 }
 
 }  // namespace seamap

@@ -48,6 +48,7 @@ class MBTilesStore : public TileStore, public MissionRecords, public CheckpointS
   void PutDetection(const Detection& detection) override;
   void DeleteDetection(int64_t id) override;
   std::vector<Detection> Detections() const override;
+  std::vector<Detection> ReadableDetections(std::vector<int64_t>* unreadable) const override;
   // Table `terrain` (one row: header text, cells blob), made by the first PutTerrain.
   void PutTerrain(const TerrainBlob& terrain) override;
   std::optional<TerrainBlob> Terrain() const override;

@@ -87,6 +87,9 @@ struct TerrainBlob {
 // "unconfirmed" otherwise.
 void NormaliseDetection(Detection* d);
 bool IsDetectionSource(const std::string& source);
+// Whether every number a reader uses (score, position, box, position_m,
+// size_m) is finite: a record that is not cannot be drawn, packed or exported.
+bool IsFiniteDetection(const Detection& d);
 bool IsDetectionStatus(const std::string& status);
 
 // Where a mission's records are kept (TileStore::Records): in the same file or
@@ -106,6 +109,11 @@ class MissionRecords {
   virtual void PutDetection(const Detection& detection) = 0;
   virtual void DeleteDetection(int64_t id) = 0;
   virtual std::vector<Detection> Detections() const = 0;  // in id order
+  // Detections() without the records that cannot be read or are not finite
+  // (a recogniser before issue 33 stored inf/NaN boxes as nulls), whose ids
+  // go to *unreadable: what exports and packs use, so that one such record
+  // does not fail the whole map.
+  virtual std::vector<Detection> ReadableDetections(std::vector<int64_t>* unreadable) const;
 
   // The height model (replaces an earlier one); none: the mission has none.
   virtual void PutTerrain(const TerrainBlob& terrain) = 0;

@@ -82,3 +82,9 @@ raw = b''.join(b'\\x00' + bytes([200, 40, 20]) * w for _ in range(h))
 ihdr = struct.pack('>IIBBBBB', w, h, 8, 2, 0, 0, 0)
 open(f'{d}/photo/frame_000000.png', 'wb').write(b'\\x89PNG\\r\\n\\x1a\\n' + chunk(b'IHDR', ihdr) + chunk(b'IDAT', zlib.compress(raw)) + chunk(b'IEND', b''))" ""
 rm -rf "$out/case" "$out/case.mbtiles"
+
+# Issue 33's surfaces, one script per area (each prints the same kind of line, time beside memory).
+here="$(dirname "$0")"
+for area in model web; do
+  "$here/bench_hostile_$area.sh" "$seamap" "$out/$area"
+done

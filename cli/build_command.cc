@@ -45,6 +45,9 @@ const char* kHelp =
     "                      when given) and project every pixel onto it instead of the plane at the altitude\n"
     "  --terrain-file DEM  the same onto a height model from elsewhere (GeoTIFF or any GDAL raster, metres up,\n"
     "                      in any CRS GDAL knows)\n"
+    "  --max-relief M      with --terrain: how far the seabed may lie from the plane at the altitude (1.5)\n"
+    "  --dem-cell M        with --terrain: the height model's cell (default: from the points' density)\n"
+    "  --dem-max-sigma M   with --terrain: a cell less certain than this is a hole (0.05)\n"
     "  --feature-enhance off|auto|LIST  with --refine-nav: enhance the frames before their features are\n"
     "                      detected (seamap trajectory --help)\n"
     "  --detect            search tiles for objects as they are finished (seamap detect's recogniser)\n"
@@ -104,6 +107,18 @@ int RunBuild(int argc, char** argv, int first) {
     options.config.terrain = TerrainSettings{false, *file};
   } else if (estimate_terrain) {
     options.config.terrain = TerrainSettings{true, ""};
+  }
+  // The estimate's knobs: only where there is an estimate to tune.
+  for (const auto& [name, value] : {std::pair<const char*, double*>{"max-relief", &options.config.terrain.max_relief_m},
+                                    {"dem-cell", &options.config.terrain.cell_m},
+                                    {"dem-max-sigma", &options.config.terrain.max_sigma_m}}) {
+    if (!args.Get(name)) continue;
+    if (!options.config.terrain.estimate)
+      throw InputError("", 0, std::string("--") + name,
+                       "applies to the height model --terrain estimates; add --terrain");
+    *value = args.GetDouble(name, 0);
+    if (!(*value > 0 && *value <= 1000))
+      throw InputError("", 0, std::string("--") + name, "expected metres in (0, 1000]");
   }
   options.poses.feature_enhance = ReadFeatureEnhance(args);
   options.poses.quiet = quiet;

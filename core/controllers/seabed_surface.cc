@@ -94,10 +94,15 @@ SeabedSurface ReadSeabedSurface(const std::string& path, const LocalFrame& frame
 }
 
 SeabedSurface EstimateSeabedSurface(const LocalFrame& frame, const CameraModel& camera,
-                                    const std::vector<FrameSpec>& frames, int threads, bool show_progress) {
+                                    const std::vector<FrameSpec>& frames, const TerrainSettings& settings, int threads,
+                                    bool show_progress) {
   (void)frame;  // the frames' poses are in its local metres already
   TerrainOptions options;
   options.threads = threads;
+  if (settings.max_relief_m != 0) options.tracks.max_relief_m = settings.max_relief_m;
+  if (settings.cell_m != 0) options.fit.cell_m = settings.cell_m;
+  if (settings.max_sigma_m != 0) options.fit.max_sigma_m = settings.max_sigma_m;
+  options.Check();  // InputError naming --max-relief, --dem-cell or --dem-max-sigma
   TerrainReport report;
   ProgressBar bar("frames triangulated", static_cast<long>(frames.size()), show_progress);
   HeightGrid grid =

@@ -38,7 +38,8 @@ SeabedSurface ReadSeabedSurface(const std::string& path, const LocalFrame& frame
 // The seabed estimated from the photos of `frames` (poses placed: refined
 // first with --refine-nav). InputError naming --terrain.
 SeabedSurface EstimateSeabedSurface(const LocalFrame& frame, const CameraModel& camera,
-                                    const std::vector<FrameSpec>& frames, int threads, bool show_progress);
+                                    const std::vector<FrameSpec>& frames, const TerrainSettings& settings, int threads,
+                                    bool show_progress);
 
 // The share of footprint samples without a height (see SeabedSurface::hole_share).
 double HoleShare(const HeightGrid& grid, const CameraModel& camera, const std::vector<FrameSpec>& frames);

@@ -82,6 +82,9 @@ struct NavigationSettings {
 struct TerrainSettings {
   bool estimate = false;
   std::string file;
+  // For the estimate (build --max-relief, --dem-cell, --dem-max-sigma); 0:
+  // the estimator's own default (seabed_terrain.h).
+  double max_relief_m = 0, cell_m = 0, max_sigma_m = 0;
   bool enabled() const { return estimate || !file.empty(); }
 };
 

@@ -96,5 +96,26 @@ TEST(TrueOrthophoto, PhotosThatShowNoSeabedAreAClearErrorAndLeaveNoMap) {
   EXPECT_FALSE(std::filesystem::exists(out)) << "a failed estimate must not leave a map behind";
 }
 
+TEST(TrueOrthophoto, TheEstimatesKnobsReachItAndAreCheckedFirst) {
+  const auto& survey = ReliefSurvey();
+  testing::TempDir dir;
+  const std::string out = (dir / "m.mbtiles").string(), report = (dir / "report.json").string();
+  std::string log;
+  // Without --terrain there is no estimate to tune; a value out of range is named; neither leaves a map.
+  EXPECT_EQ(testing::Seamap(survey.BuildArgs() + " --out " + out + " --dem-cell 0.2", &log), 2);
+  EXPECT_NE(log.find("--dem-cell: applies to the height model --terrain estimates"), std::string::npos) << log;
+  EXPECT_EQ(testing::Seamap(survey.BuildArgs() + " --out " + out + " --terrain --max-relief -1", &log), 2);
+  EXPECT_NE(log.find("--max-relief: expected metres in (0, 1000]"), std::string::npos) << log;
+  EXPECT_FALSE(std::filesystem::exists(out));
+  // A coarser cell than the automatic one (about 0.1 m here) is the model's cell.
+  ASSERT_EQ(testing::Seamap(survey.BuildArgs() + " --out " + out + " --terrain --dem-cell 0.25 --dem-max-sigma 0.1 " +
+                                "--report " + report,
+                            &log),
+            0)
+      << log;
+  const auto figures = nlohmann::json::parse(std::ifstream(report));
+  EXPECT_DOUBLE_EQ(figures.at("terrain").at("cell_m").get<double>(), 0.25) << figures.dump();
+}
+
 }  // namespace
 }  // namespace seamap

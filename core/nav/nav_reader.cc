@@ -88,6 +88,17 @@ SplitTimeReader MapTimeColumns(const CsvTable& table, const NavReadOptions& opti
   map->unknown.erase(std::remove_if(map->unknown.begin(), map->unknown.end(),
                                     [&](const std::string& name) { return used.count(name) > 0; }),
                      map->unknown.end());
+  // A second time column an alias took as a repeat of time_s is ignored for the same reason.
+  for (auto it = map->repeated.begin(); it != map->repeated.end();) {
+    if (used.count(*it) == 0 && CanonicalColumn(*it) != "time_s") {
+      ++it;
+      continue;
+    }
+    if (used.count(*it) == 0)
+      warnings->push_back(Where(path, table.header_line) + ": ignoring column '" + Shorten(*it) +
+                          "': the time comes from navigation.time_columns");
+    it = map->repeated.erase(it);
+  }
   for (auto it = map->index.begin(); it != map->index.end();) {
     const bool part_column = used.count(table.header[it->second]) > 0;
     if (!part_column && it->first != "time_s") {

@@ -261,5 +261,37 @@ TEST(RealNavLog, BadConfigValuesAreRefusedNamingTheField) {
   }
 }
 
+TEST(RealNavLog, SimulateRefusesImageNamesItCannotRender) {
+  // A log in local metres (--origin) naming its images: each bad name is refused, naming the line.
+  testing::TempDir dir;
+  const std::string good = "a.png,0,0,2,10\nb.png,0.2,0,2,10\n";
+  for (const auto& [rows, reason] :
+       std::vector<std::pair<std::string, std::string>>{{good + "photo/c.png,0.4,0,2,10\n", "plain file name"},
+                                                        {good + "c.tif,0.4,0,2,10\n", ".png, .jpg or .jpeg"},
+                                                        {good + "a.png,0.4,0,2,10\n", "named twice"}}) {
+    const std::string log_path =
+        testing::WriteFile(dir / "log.csv", "image,x_m,y_m,altitude_m,heading\n" + rows).string();
+    std::string log;
+    EXPECT_EQ(Seamap("simulate --path " + log_path + " --origin 43.1,131.9 --out " + (dir / "sim").string() +
+                         " --width 160 --height 120 --quiet",
+                     &log),
+              2)
+        << log;
+    EXPECT_TRUE(Contains(log, "log.csv:4: field 'image'")) << log;
+    EXPECT_TRUE(Contains(log, reason)) << log;
+  }
+  // The good rows render, named as the log names them.
+  const std::string log_path =
+      testing::WriteFile(dir / "log.csv", "image,x_m,y_m,altitude_m,heading\n" + good).string();
+  std::string log;
+  ASSERT_EQ(Seamap("simulate --path " + log_path + " --origin 43.1,131.9 --out " + (dir / "sim").string() +
+                       " --width 160 --height 120 --quiet",
+                   &log),
+            0)
+      << log;
+  EXPECT_TRUE(fs::exists(dir / "sim" / "photo" / "b.png"));
+  EXPECT_FALSE(Contains(log, "+-pi")) << log;  // 10 is beyond pi
+}
+
 }  // namespace
 }  // namespace seamap

@@ -115,6 +115,16 @@ TEST_F(NavColumnsTest, SplitDateAndTimeCrossMidnight) {
   EXPECT_NEAR(*table.records[2].time_s - *table.records[1].time_s, 1.0, 1e-6);
   EXPECT_TRUE(table.warnings.empty()) << ::testing::PrintToString(table.warnings);
 
+  // Parts in columns an alias would take for time_s: the parts win, another time column is ignored, said so.
+  options.time_columns = {{"date", "date"}, {"time", "time"}};
+  const NavTable aliased = ReadNavigation(Write("image,date,time,timestamp,lat,lon,alt\n"
+                                                "a.png,2009-06-11,06:54:20.38,5,43,131,2\n"),
+                                          options);
+  ASSERT_EQ(aliased.records.size(), 1u);
+  EXPECT_NEAR(*aliased.records[0].time_s, 1244703260.38, 1e-5);
+  ASSERT_EQ(aliased.warnings.size(), 1u);
+  EXPECT_TRUE(Contains(aliased.warnings[0], "ignoring column 'timestamp'")) << aliased.warnings[0];
+
   // Year, month, day, hour, minute, second over the end of a leap February.
   options.time_columns = {{"year", "y"}, {"month", "mo"},  {"day", "d"},
                           {"hour", "h"}, {"minute", "mi"}, {"second", "s"}};

@@ -304,7 +304,8 @@ PositionKind ChoosePosition(const Source& source, const std::string& path, const
   if (!has("image") && !has("time_s"))
     throw InputError(path, source.header_line, "image",
                      "no image or time column; found: " + FoundList(source) +
-                         "; accepted names: image: " + AcceptedNames("image") + "; time_s: " + AcceptedNames("time_s"));
+                         "; accepted names: image: " + AcceptedNames("image") + "; time_s: " + AcceptedNames("time_s") +
+                         "; other names: the config's navigation.columns, a split time: navigation.time_columns");
   return kind;
 }
 

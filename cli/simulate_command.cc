@@ -6,6 +6,10 @@
 
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "core/mosaic/build_config.h"
+#include "core/nav/column_aliases.h"
+#include "core/nav/csv_table.h"
+#include "core/nav/nav_reader.h"
 #include "core/sim/survey_simulator.h"
 #include "core/util/error.h"
 #include "core/util/progress.h"
@@ -25,7 +29,10 @@ path:
   --speed V               m/s (default 0.5)
   --line-length M         lawnmower line length (default 10)
   --line-spacing M        default 0.7 x the footprint width at --altitude-min
-  --path FILE             custom path: CSV with header x_m,y_m (waypoints)
+  --path FILE             custom path: CSV with header x_m,y_m (waypoints); or a navigation log that
+                          names images (any format build --nav reads, through --config's navigation
+                          object): one frame at each of its poses, named as it names them
+  --config FILE           a build config: its navigation object reads the --path log
   --altitude-min M, --altitude-max M   (default 1.6, 2.0)
   --pitch-amp DEG, --roll-amp DEG      attitude oscillations (default 3, 2)
   --sea-depth M           depth_m = sea depth - altitude (default 35)
@@ -66,6 +73,30 @@ std::vector<double> ParseList(const std::string& text, const std::string& param)
   return values;
 }
 
+// A --path file whose header (through the column map) has an image column is
+// a navigation log, not waypoints.
+bool NamesImages(const std::string& path, const NavReadOptions& nav) {
+  const std::vector<TextLine> lines = ReadTextLines(path);
+  const CsvTable header = ParseCsv({lines.front()}, path);
+  return MapColumns(header.header, nav.columns, path, header.header_line).Has("image");
+}
+
+// The log's records as frames to render; its warnings and skipped lines go to
+// standard error, as build reports them.
+void ReadPosedFrames(const std::string& path, const NavReadOptions& nav_options, SimulationOptions* o) {
+  const NavTable nav = ReadNavigation(path, nav_options);
+  for (const auto& w : nav.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  for (const auto& r : nav.rejected) std::fprintf(stderr, "skipped: %s\n", r.Message().c_str());
+  o->origin = nav.origin;
+  for (size_t i = 0; i < nav.records.size(); ++i) {
+    const NavRecord& r = nav.records[i];
+    if (r.image.empty()) continue;  // a time series denser than the photos
+    const double time_s = r.time_s.value_or(static_cast<double>(i) / o->trajectory.fps);
+    o->posed_frames.push_back({r.image, {time_s, r.pose}, r.line});
+  }
+  if (o->posed_frames.empty()) throw InputError(path, 0, "image", "no line of the navigation log names an image");
+}
+
 SimulationOptions ParseOptions(Args& args) {
   SimulationOptions o;
   o.out_dir = args.Require("out");
@@ -90,6 +121,13 @@ SimulationOptions ParseOptions(Args& args) {
   if (args.Get("line-spacing") && !(o.line_spacing_m > 0))
     throw InputError("", 0, "--line-spacing", "expected a positive spacing in metres");
   o.path_file = args.GetOr("path", "");
+  NavReadOptions nav_options;
+  if (auto config = args.Get("config")) nav_options = LoadBuildConfig(*config).nav;
+  if (auto origin = args.Get("origin")) {
+    const LatLonArg ll = ParseLatLon(*origin, "--origin");
+    nav_options.origin = LatLon{ll.lat, ll.lon};
+  }
+  if (!o.path_file.empty() && NamesImages(o.path_file, nav_options)) ReadPosedFrames(o.path_file, nav_options, &o);
   o.objects = args.GetInt("objects", 0);
   o.relief.rms_m = args.GetDouble("relief", 0);
   o.relief.texture_file = args.GetOr("relief-texture", "");

@@ -67,6 +67,17 @@ void ApplyNavigation(const json& nav, const std::string& source, NavReadOptions*
       if (!v.is_array() || v.size() != 2 || !v[0].is_number() || !v[1].is_number())
         throw InputError(source, 0, k, "expected [lat, lon]");
       out->origin = LatLon{v[0].get<double>(), v[1].get<double>()};
+    } else if (key == "angle_unit") {
+      const std::string unit = String(v, source, k);
+      if (unit != "degrees" && unit != "radians")
+        throw InputError(source, 0, k, "expected \"degrees\" or \"radians\", got " + v.dump());
+      out->angle_unit = unit == "radians" ? AngleUnit::kRadians : AngleUnit::kDegrees;
+    } else if (key == "time_columns") {
+      if (!v.is_object() || v.empty())
+        throw InputError(source, 0, k,
+                         "expected an object {part: column}, e.g. {\"date\": \"Date\", \"time\": \"UTC\"}");
+      out->time_columns.clear();
+      for (auto& [part, name] : v.items()) out->time_columns[part] = String(name, source, k + "." + part);
     } else if (key == "refine") {
       settings->refine = Bool(v, source, k);
     } else if (key == "noise_m") {
@@ -77,8 +88,8 @@ void ApplyNavigation(const json& nav, const std::string& source, NavReadOptions*
       settings->heading_noise_deg = Number(v, source, k);
     } else {
       throw InputError(source, 0, k,
-                       "unknown key (known: columns, utm_zone, utm_north, origin, refine, noise_m, drift_m_per_min, "
-                       "heading_noise_deg)");
+                       "unknown key (known: columns, time_columns, angle_unit, utm_zone, utm_north, origin, refine, "
+                       "noise_m, drift_m_per_min, heading_noise_deg)");
     }
   }
 }
@@ -132,6 +143,7 @@ void NavigationSettings::Check(const std::string& source) const {
 void BuildConfig::Check(const std::string& source) const {
   map.Check(source);
   navigation.Check(source);
+  nav.Check(source);
   blend.Check(source);
   buffer.Check(source);
   frames.Check(source);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <optional>
 #include <set>
@@ -12,6 +13,7 @@
 #include "core/nav/csv_table.h"
 #include "core/nav/nav_limits.h"
 #include "core/nav/nav_values.h"
+#include "core/nav/split_time.h"
 #include "core/util/error.h"
 
 namespace seamap {
@@ -54,15 +56,96 @@ std::string Where(const std::string& path, int line) {
 
 // ---- CSV ----------------------------------------------------------------
 
+// A time split over columns (options.time_columns): where each part is, and
+// the day carried across midnight when the parts have no date.
+struct SplitTimeReader {
+  std::map<std::string, int> index;  // part -> column
+  bool has_date = false;
+  double day_offset_s = 0;
+  std::optional<double> previous_s;
+  int midnight_line = 0;  // first line carried into the next day
+};
+
+// Finds the time parts' columns; they are no longer unknown, and a column
+// an alias took for something else (e.g. 'time' as time_s) is theirs.
+SplitTimeReader MapTimeColumns(const CsvTable& table, const NavReadOptions& options, const std::string& path,
+                               ColumnMap* map, std::vector<std::string>* warnings) {
+  SplitTimeReader reader;
+  reader.has_date = SplitTimeHasDate(options.time_columns);
+  std::set<std::string> used;
+  for (const auto& [part, name] : options.time_columns) {
+    const std::string wanted = NormalizeColumnName(name);
+    int found = -1;
+    for (size_t i = 0; i < table.header.size() && found < 0; ++i)
+      if (NormalizeColumnName(table.header[i]) == wanted) found = static_cast<int>(i);
+    if (found < 0)
+      throw InputError(path, table.header_line, "navigation.time_columns." + part,
+                       "column '" + Shorten(name) + "' (the time's " + part +
+                           ") is not in the header; found: " + Join(table.header));
+    reader.index[part] = found;
+    used.insert(table.header[found]);
+  }
+  map->unknown.erase(std::remove_if(map->unknown.begin(), map->unknown.end(),
+                                    [&](const std::string& name) { return used.count(name) > 0; }),
+                     map->unknown.end());
+  // A second time column an alias took as a repeat of time_s is ignored for the same reason.
+  for (auto it = map->repeated.begin(); it != map->repeated.end();) {
+    if (used.count(*it) == 0 && CanonicalColumn(*it) != "time_s") {
+      ++it;
+      continue;
+    }
+    if (used.count(*it) == 0)
+      warnings->push_back(Where(path, table.header_line) + ": ignoring column '" + Shorten(*it) +
+                          "': the time comes from navigation.time_columns");
+    it = map->repeated.erase(it);
+  }
+  for (auto it = map->index.begin(); it != map->index.end();) {
+    const bool part_column = used.count(table.header[it->second]) > 0;
+    if (!part_column && it->first != "time_s") {
+      ++it;
+      continue;
+    }
+    if (!part_column)
+      warnings->push_back(Where(path, table.header_line) + ": ignoring column '" + Shorten(table.header[it->second]) +
+                          "': the time comes from navigation.time_columns");
+    it = map->index.erase(it);
+  }
+  return reader;
+}
+
+// The row's time in seconds as text (time_s), or a Rejection's reason.
+std::optional<std::string> ComposeRowTime(SplitTimeReader* reader, const CsvRow& row, bool decimal_comma,
+                                          SplitTimeError* error) {
+  std::map<std::string, std::string> values;
+  for (const auto& [part, index] : reader->index) values[part] = row.fields[index];
+  auto time_s = ComposeSplitTime(values, decimal_comma, error);
+  if (!time_s) return std::nullopt;
+  if (!reader->has_date) {
+    // A time of day only: a drop of more than half a day is the next day.
+    if (reader->previous_s && *time_s + reader->day_offset_s < *reader->previous_s - 43200) {
+      reader->day_offset_s += 86400;
+      if (!reader->midnight_line) reader->midnight_line = row.line;
+    }
+    *time_s += reader->day_offset_s;
+    reader->previous_s = *time_s;
+  }
+  char text[64];
+  std::snprintf(text, sizeof text, "%.6f", *time_s);
+  return std::string(text);
+}
+
 Source ReadCsv(const std::string& path, const std::vector<TextLine>& lines, const NavReadOptions& options,
                std::vector<std::string>* warnings) {
   const CsvTable table = ParseCsv(lines, path);
-  const ColumnMap map = MapColumns(table.header, options.columns, path, table.header_line);
+  ColumnMap map = MapColumns(table.header, options.columns, path, table.header_line);
+  std::optional<SplitTimeReader> split_time;
+  if (!options.time_columns.empty()) split_time = MapTimeColumns(table, options, path, &map, warnings);
   Source source;
   source.header_line = table.header_line;
   source.found = table.header;
   source.decimal_comma = table.separator != ',';
   for (const auto& entry : map.index) source.columns.insert(entry.first);
+  if (split_time) source.columns.insert("time_s");
   if (!map.unknown.empty())
     warnings->push_back(Where(path, table.header_line) + ": ignoring unknown columns: " + Join(map.unknown));
   if (!map.repeated.empty())
@@ -95,8 +178,21 @@ Source ReadCsv(const std::string& path, const std::vector<TextLine>& lines, cons
     }
     RawRow raw{row.line, {}};
     for (const auto& [canonical, index] : map.index) raw.fields[canonical] = row.fields[index];
+    if (split_time) {
+      SplitTimeError error;
+      const auto time_s = ComposeRowTime(&*split_time, row, source.decimal_comma, &error);
+      if (!time_s) {
+        source.rejected.push_back({path, row.line, error.part, error.reason});
+        continue;
+      }
+      raw.fields["time_s"] = *time_s;
+    }
     source.rows.push_back(std::move(raw));
   }
+  if (split_time && split_time->midnight_line)
+    warnings->push_back(Where(path, split_time->midnight_line) +
+                        ": the time of day passes midnight; read as the next day (navigation.time_columns has no "
+                        "date)");
   return source;
 }
 
@@ -208,15 +304,17 @@ PositionKind ChoosePosition(const Source& source, const std::string& path, const
   if (!has("image") && !has("time_s"))
     throw InputError(path, source.header_line, "image",
                      "no image or time column; found: " + FoundList(source) +
-                         "; accepted names: image: " + AcceptedNames("image") + "; time_s: " + AcceptedNames("time_s"));
+                         "; accepted names: image: " + AcceptedNames("image") + "; time_s: " + AcceptedNames("time_s") +
+                         "; other names: the config's navigation.columns, a split time: navigation.time_columns");
   return kind;
 }
 
 // ---- one line's values --------------------------------------------------
 
 struct Parsed {
-  NavRecord record;           // pose in local metres when !geo
-  std::optional<LatLon> geo;  // geographic position, converted once the origin is known
+  NavRecord record;                          // pose in local metres when !geo
+  std::optional<LatLon> geo;                 // geographic position, converted once the origin is known
+  std::optional<double> heading_as_written;  // before any unit conversion: to tell radians from degrees
 };
 
 class RowParser {
@@ -339,14 +437,16 @@ Parsed ParseRow(const RawRow& raw, PositionKind kind, const NavReadOptions& opti
                                    " m above the seabed, got " + FormatNumber(pose.altitude_m)};
   pose.depth_m = row.Number("depth_m").value_or(0);
   CheckRange("depth_m", pose.depth_m, nav_limits::kMinDepthM, nav_limits::kMaxDepthM, false);
-  const double heading = row.Number("heading_deg").value_or(0);
+  const double to_deg = options.angle_unit == AngleUnit::kRadians ? 180 / M_PI : 1.0;
+  out.heading_as_written = row.Number("heading_deg");
+  const double heading = out.heading_as_written.value_or(0) * to_deg;
   pose.heading_deg = std::fmod(heading, 360.0);
   if (pose.heading_deg < 0) pose.heading_deg += 360.0;
   if (pose.heading_deg >= 360.0) pose.heading_deg = 0;  // -1e-17 + 360 rounds to 360
   const double attitude = nav_limits::kMaxAttitudeDeg;
-  pose.pitch_deg = row.Number("pitch_deg").value_or(0);
+  pose.pitch_deg = row.Number("pitch_deg").value_or(0) * to_deg;
   CheckRange("pitch_deg", pose.pitch_deg, -attitude, attitude, true);
-  pose.roll_deg = row.Number("roll_deg").value_or(0);
+  pose.roll_deg = row.Number("roll_deg").value_or(0) * to_deg;
   CheckRange("roll_deg", pose.roll_deg, -attitude, attitude, true);
   return out;
 }
@@ -362,6 +462,31 @@ void DropEmptyTimeColumn(Source* source) {
   }
   source->columns.erase("time_s");
   for (RawRow& row : source->rows) row.fields.erase("time_s");
+}
+
+// Radians read as degrees put every frame within 3 degrees of north: never
+// silently. Headings that never leave +-pi (some not 0) look like radians;
+// beyond +-2 pi they cannot be.
+void WarnAboutAngleUnit(const std::vector<Parsed>& parsed, const NavReadOptions& options, const Source& source,
+                        const std::string& path, std::vector<std::string>* warnings) {
+  double largest = 0;
+  int count = 0;
+  for (const Parsed& p : parsed)
+    if (p.heading_as_written) {
+      largest = std::max(largest, std::fabs(*p.heading_as_written));
+      ++count;
+    }
+  if (count == 0 || largest == 0) return;
+  const std::string where = Where(path, source.header_line);
+  if (!options.angle_unit && largest <= M_PI + 1e-9)
+    warnings->push_back(where + ": headings never leave +-pi (largest " + FormatNumber(largest) + " over " +
+                        std::to_string(count) +
+                        " lines): radians? They are read as degrees; if they are radians, set \"angle_unit\": "
+                        "\"radians\" in the config's navigation object (--config), if degrees, \"angle_unit\": "
+                        "\"degrees\" silences this");
+  if (options.angle_unit == AngleUnit::kRadians && largest > 2 * M_PI + 1e-9)
+    warnings->push_back(where + ": headings reach " + FormatNumber(largest) +
+                        ", beyond +-2 pi: degrees? They are read as radians (navigation.angle_unit is \"radians\")");
 }
 
 void WarnIfTimeGoesBack(NavTable& table) {
@@ -400,6 +525,7 @@ NavTable ReadNavigation(const std::string& path, const NavReadOptions& options) 
       table.rejected.push_back({path, row.line, reject.field, reject.reason});
     }
   }
+  WarnAboutAngleUnit(parsed, options, source, path, &table.warnings);
   if (!parsed.empty()) {
     table.origin = options.origin ? *options.origin : parsed.front().geo.value_or(LatLon{});
     std::optional<LocalFrame> frame;

@@ -1,5 +1,8 @@
 #include "core/nav/nav_table.h"
 
+#include "core/nav/split_time.h"
+#include "core/util/error.h"
+
 namespace seamap {
 
 // "nav.csv:12: altitude_m must be > 0, got -1.2"; the field is named in front
@@ -11,6 +14,15 @@ std::string Rejection::Message() const {
     out += (out.empty() ? "" : ": ") + std::string("field '") + field + "'";
   if (!out.empty()) out += ": ";
   return out + reason;
+}
+
+void NavReadOptions::Check(const std::string& source) const {
+  if (time_columns.empty()) return;
+  const std::string problem = SplitTimePartsProblem(time_columns);
+  if (!problem.empty()) throw InputError(source, 0, "navigation.time_columns", problem);
+  if (columns.count("time_s"))
+    throw InputError(source, 0, "navigation.time_columns",
+                     "the time comes either from navigation.columns.time_s or from navigation.time_columns, not both");
 }
 
 }  // namespace seamap

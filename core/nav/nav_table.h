@@ -27,6 +27,9 @@ struct Rejection {
   std::string Message() const;
 };
 
+// How the log writes heading, pitch and roll.
+enum class AngleUnit { kDegrees, kRadians };
+
 struct NavReadOptions {
   // Required when positions are local x_m/y_m; otherwise defaults to the
   // first record's position.
@@ -41,6 +44,16 @@ struct NavReadOptions {
   // False for position logs that have no altitude (a GPS buoy's fixes): the
   // column is then optional and not checked.
   bool require_altitude = true;
+  // Unset: degrees, with a warning when the headings look like radians
+  // (never beyond +-pi); set: as stated (the config's navigation.angle_unit).
+  std::optional<AngleUnit> angle_unit;
+  // A time split over several columns (core/nav/split_time.h): part -> name
+  // used in the file; parts year, month, day, hour, minute, second, or date
+  // and time (of day). Composed into time_s; empty: none.
+  std::map<std::string, std::string> time_columns;
+  // Throws InputError(source, 0, "navigation.<key>", ...) for a time_columns
+  // set that names unknown or too few parts, or that a time_s column doubles.
+  void Check(const std::string& source) const;
 };
 
 struct NavTable {

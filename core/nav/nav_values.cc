@@ -26,16 +26,6 @@ std::string AsciiMinus(const std::string& text) {
   return out;
 }
 
-// Days since 1970-01-01 of a proleptic Gregorian date (H. Hinnant's algorithm).
-long DaysFromCivil(long y, unsigned m, unsigned d) {
-  y -= m <= 2;
-  const long era = (y >= 0 ? y : y - 399) / 400;
-  const unsigned yoe = static_cast<unsigned>(y - era * 400);
-  const unsigned doy = (153 * (m + (m > 2 ? -3 : 9)) + 2) / 5 + d - 1;
-  const unsigned doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
-  return era * 146097 + static_cast<long>(doe) - 719468;
-}
-
 // hh:mm:ss[.f] at text[pos]; advances pos.
 std::optional<double> ParseClock(const std::string& text, size_t& pos) {
   int h = 0, m = 0, consumed = 0;
@@ -83,6 +73,16 @@ std::optional<double> ParseIsoTime(const std::string& text) {
 }
 
 }  // namespace
+
+// H. Hinnant's algorithm.
+long DaysFromCivil(long y, unsigned m, unsigned d) {
+  y -= m <= 2;
+  const long era = (y >= 0 ? y : y - 399) / 400;
+  const unsigned yoe = static_cast<unsigned>(y - era * 400);
+  const unsigned doy = (153 * (m + (m > 2 ? -3 : 9)) + 2) / 5 + d - 1;
+  const unsigned doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
+  return era * 146097 + static_cast<long>(doe) - 719468;
+}
 
 std::string FormatNumber(double value) {
   char buffer[32];

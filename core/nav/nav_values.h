@@ -25,6 +25,9 @@ struct UtmZone {
 // letters as the MGRS latitude band (C..M south, P..X north).
 std::optional<UtmZone> ParseUtmZone(const std::string& text, std::string* why);
 
+// Days since 1970-01-01 of a proleptic Gregorian date (month 1..12, day 1..31).
+long DaysFromCivil(long y, unsigned m, unsigned d);
+
 // 3.5, 1e-07, 1234567.25: short and exact enough for messages.
 std::string FormatNumber(double value);
 

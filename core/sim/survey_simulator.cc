@@ -1,6 +1,7 @@
 #include "core/sim/survey_simulator.h"
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -8,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <mutex>
+#include <set>
 #include <thread>
 
 #include <Eigen/Dense>
@@ -62,6 +64,28 @@ void Validate(const SimulationOptions& o) {
   Require(n.drift_m_per_min >= 0, "--nav-drift", "expected a non-negative drift in metres per minute");
   o.camera.Validate("camera");
   o.relief.Check();
+  std::set<std::string> names;
+  for (const PosedFrame& f : o.posed_frames) {
+    const std::string where = o.path_file;
+    const std::string name = f.image;
+    const fs::path as_path(name);
+    if (name.empty() || as_path.filename().string() != name || name == "." || name == "..")
+      throw InputError(where, f.line, "image",
+                       "expected a plain file name (no folder), got '" + name.substr(0, 100) + "'");
+    std::string ext = as_path.extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (ext != ".png" && ext != ".jpg" && ext != ".jpeg")
+      throw InputError(where, f.line, "image",
+                       "expected a .png, .jpg or .jpeg name to render the frame as, got '" + name.substr(0, 100) + "'");
+    if (o.bit_depth == 16 && ext != ".png")
+      throw InputError(where, f.line, "image",
+                       "16-bit frames need .png names (JPEG is 8-bit), got '" + name.substr(0, 100) + "'");
+    if (!names.insert(name).second)
+      throw InputError(where, f.line, "image", "the image '" + name.substr(0, 100) + "' is named twice");
+    if (!(f.pose.pose.altitude_m > 0))
+      throw InputError(where, f.line, "altitude_m", "a frame needs an altitude above the seabed > 0");
+  }
+  Require(o.posed_frames.empty() || o.relief.Flat(), "--relief", "is not available with a navigation log as --path");
 }
 
 // Over relief: nav altitude_m (truth and reported) becomes what a DVL
@@ -131,14 +155,22 @@ std::string FrameName(int i, const std::string& ext) {
   return name;
 }
 
-void WriteNav(const std::string& path, const std::vector<TimedPose>& poses, const std::string& ext) {
+// The frames' file names: the log's, or frame_NNNNNN.ext.
+std::vector<std::string> FrameNames(const SimulationOptions& o, size_t count) {
+  std::vector<std::string> names;
+  for (size_t i = 0; i < count; ++i)
+    names.push_back(o.posed_frames.empty() ? FrameName(static_cast<int>(i), o.image_format) : o.posed_frames[i].image);
+  return names;
+}
+
+void WriteNav(const std::string& path, const std::vector<TimedPose>& poses, const std::vector<std::string>& names) {
   std::FILE* f = std::fopen(path.c_str(), "w");
   if (!f) throw InputError(path, 0, "", "cannot write the navigation file");
   std::fprintf(f, "image,time_s,x_m,y_m,altitude_m,depth_m,heading_deg,pitch_deg,roll_deg\n");
   for (size_t i = 0; i < poses.size(); ++i) {
     const VehiclePose& p = poses[i].pose;
-    std::fprintf(f, "%s,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f\n", FrameName(static_cast<int>(i), ext).c_str(),
-                 poses[i].time_s, p.east_m, p.north_m, p.altitude_m, p.depth_m, p.heading_deg, p.pitch_deg, p.roll_deg);
+    std::fprintf(f, "%s,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f\n", names[i].c_str(), poses[i].time_s, p.east_m,
+                 p.north_m, p.altitude_m, p.depth_m, p.heading_deg, p.pitch_deg, p.roll_deg);
   }
   if (std::fclose(f) != 0) throw InputError(path, 0, "", "cannot write the navigation file");
 }
@@ -170,7 +202,9 @@ nlohmann::json SurveyJson(const SimulationOptions& o, const SimulationSummary& s
       {"image",
        {{"format", o.image_format}, {"jpeg_quality", o.jpeg_quality}, {"bit_depth", o.bit_depth}, {"color", o.color}}},
       {"path",
-       {{"type", o.path_file.empty() ? "lawnmower" : "file"},
+       {{"type", !o.posed_frames.empty() ? "poses"
+                 : o.path_file.empty()   ? "lawnmower"
+                                         : "file"},
         {"file", o.path_file},
         {"line_length_m", o.line_length_m},
         {"line_spacing_m", s.line_spacing_m},
@@ -228,15 +262,29 @@ SimulationSummary SimulateSurvey(const SimulationOptions& o, const std::function
   // Path and poses.
   const double needed_m = (traj.frames - 1) * traj.speed_mps / traj.fps;
   SurveyPath path = SurveyPath::FromWaypoints({{0, 0}, {0, 1}});
-  if (o.path_file.empty()) {
-    summary.line_spacing_m = o.line_spacing_m > 0 ? o.line_spacing_m : 0.7 * cam.width / cam.fx * traj.altitude_min_m;
-    path = SurveyPath::Lawnmower(o.line_length_m, summary.line_spacing_m, needed_m);
+  std::vector<TimedPose> truth;
+  double altitude_min_m = traj.altitude_min_m;
+  if (!o.posed_frames.empty()) {
+    altitude_min_m = INFINITY;
+    for (const PosedFrame& f : o.posed_frames) {
+      if (!truth.empty())
+        summary.path_length_m +=
+            std::hypot(f.pose.pose.east_m - truth.back().pose.east_m, f.pose.pose.north_m - truth.back().pose.north_m);
+      truth.push_back(f.pose);
+      altitude_min_m = std::min(altitude_min_m, f.pose.pose.altitude_m);
+    }
   } else {
-    path = SurveyPath::LoadCsv(o.path_file);
+    if (o.path_file.empty()) {
+      summary.line_spacing_m = o.line_spacing_m > 0 ? o.line_spacing_m : 0.7 * cam.width / cam.fx * traj.altitude_min_m;
+      path = SurveyPath::Lawnmower(o.line_length_m, summary.line_spacing_m, needed_m);
+    } else {
+      path = SurveyPath::LoadCsv(o.path_file);
+    }
+    summary.path_length_m = path.Length();
+    truth = MakeTrajectory(path, traj, o.seed);
   }
-  summary.path_length_m = path.Length();
-  std::vector<TimedPose> truth = MakeTrajectory(path, traj, o.seed);
   std::vector<TimedPose> nav = AddNavigationErrors(truth, o.nav_errors, o.seed);
+  const std::vector<std::string> names = FrameNames(o, truth.size());
   summary.frames = static_cast<int>(truth.size());
 
   // Texture (and relief) covering every footprint. Over relief the
@@ -250,7 +298,7 @@ SimulationSummary SimulateSurvey(const SimulationOptions& o, const std::function
   cv::Rect2d area;
   std::vector<cv::Rect2d> frame_bounds;
   SeabedTexture texture;
-  texture.res_m = o.texture_res_m > 0 ? o.texture_res_m : 0.55 * traj.altitude_min_m / cam.fx;
+  texture.res_m = o.texture_res_m > 0 ? o.texture_res_m : 0.55 * altitude_min_m / cam.fx;
   if (!o.texture_file.empty()) texture.image = LoadTextureImage(o.texture_file, o.color, o.bit_depth);
   cv::Size texture_size;
   HeightGrid terrain;
@@ -326,8 +374,8 @@ SimulationSummary SimulateSurvey(const SimulationOptions& o, const std::function
   PrepareOutput(o);
   const fs::path out(o.out_dir);
   SaveCameraJson(cam, (out / "camera.json").string());
-  WriteNav((out / "nav.csv").string(), nav, o.image_format);
-  WriteNav((out / "nav_truth.csv").string(), truth, o.image_format);
+  WriteNav((out / "nav.csv").string(), nav, names);
+  WriteNav((out / "nav_truth.csv").string(), truth, names);
   if (o.objects > 0) SaveObjectsTruth(objects, LocalFrame(o.origin), (out / "truth").string());
 
   // The large truth PNG is encoded while the frames render.
@@ -342,7 +390,7 @@ SimulationSummary SimulateSurvey(const SimulationOptions& o, const std::function
   });
 
   std::vector<int> params;
-  if (o.image_format == "jpg") params = {cv::IMWRITE_JPEG_QUALITY, o.jpeg_quality};
+  if (o.image_format == "jpg" || !o.posed_frames.empty()) params = {cv::IMWRITE_JPEG_QUALITY, o.jpeg_quality};
   std::exception_ptr frame_error;
   std::mutex error_mutex;
   const int total = summary.frames, batch = 16;
@@ -353,7 +401,7 @@ SimulationSummary SimulateSurvey(const SimulationOptions& o, const std::function
         try {
           const uint64_t noise_seed = o.seed * 1000003ull + static_cast<uint64_t>(i) + 1;
           const cv::Mat frame = renderer.Render(texture, truth[i].pose, noise_seed);
-          const std::string file = (out / "photo" / FrameName(i, o.image_format)).string();
+          const std::string file = (out / "photo" / names[i]).string();
           if (!cv::imwrite(file, frame, params)) throw InputError(file, 0, "", "cannot write the frame");
         } catch (...) {
           std::lock_guard<std::mutex> lock(error_mutex);

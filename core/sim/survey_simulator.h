@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "core/camera/camera_model.h"
 #include "core/geo/lat_lon.h"
@@ -26,6 +27,15 @@ namespace seamap {
 // The seed paper's camera: 696x520 (ICX285 binned 2x2, 12.9 um pitch),
 // f = 8 mm (fx ~ 620 px), with mild barrel distortion (k1 -0.05, k2 0.01).
 CameraModel DefaultSimCamera();
+
+// A frame rendered at a given pose (simulate --path with a navigation log)
+// and named as the log names it: a plain file name whose extension (.png,
+// .jpg, .jpeg) gives the format.
+struct PosedFrame {
+  std::string image;
+  TimedPose pose;
+  int line = 0;  // in path_file, for messages
+};
 
 struct SimulationOptions {
   std::string out_dir;
@@ -40,7 +50,11 @@ struct SimulationOptions {
   std::string texture_file;  // empty: procedural seabed
   double texture_res_m = 0;  // 0: 0.55 x the frame GSD at the lowest altitude
   std::string path_file;     // empty: lawnmower
-  int objects = 0;           // objects painted on the seabed (seabed_objects.h)
+  // Not empty: one frame at each of these poses (path_file the log they came
+  // from; origin its local frame's) instead of a path sampled in time; the
+  // trajectory options and line geometry are then unused.
+  std::vector<PosedFrame> posed_frames;
+  int objects = 0;  // objects painted on the seabed (seabed_objects.h)
   double line_length_m = 10;
   double line_spacing_m = 0;  // 0: 0.7 x the footprint width at the lowest altitude
   TrajectoryOptions trajectory;

@@ -20,6 +20,7 @@ class LayerRecords final : public MissionRecords {
   void PutDetection(const Detection& d) override { mission_->PutDetection(d); }
   void DeleteDetection(int64_t id) override { mission_->DeleteDetection(id); }
   std::vector<Detection> Detections() const override { return mission_->Detections(); }
+  int64_t SkippedDetections() const override { return mission_->SkippedDetections(); }
   void PutTerrain(const TerrainBlob& t) override { mission_->PutTerrain(t); }
   std::optional<TerrainBlob> Terrain() const override { return mission_->Terrain(); }
 

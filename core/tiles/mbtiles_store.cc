@@ -2,6 +2,8 @@
 
 #include <sqlite3.h>
 
+#include <climits>
+#include <cmath>
 #include <filesystem>
 #include <stdexcept>
 
@@ -112,6 +114,74 @@ std::string ColumnText(sqlite3_stmt* s, int col) {
   return text ? reinterpret_cast<const char*>(text) : "";
 }
 
+// A finite number in a column that must hold one (NULL, text or inf throw).
+double ColumnNumber(sqlite3_stmt* s, int col) {
+  const int type = sqlite3_column_type(s, col);
+  const double v = sqlite3_column_double(s, col);
+  if ((type != SQLITE_INTEGER && type != SQLITE_FLOAT) || !std::isfinite(v))
+    throw std::invalid_argument("not a finite number");
+  return v;
+}
+
+// An optional number: NULL is none, anything else must be finite.
+std::optional<double> ColumnFiniteOptional(sqlite3_stmt* s, int col) {
+  if (sqlite3_column_type(s, col) == SQLITE_NULL) return std::nullopt;
+  return ColumnNumber(s, col);
+}
+
+std::vector<int> IntListFromText(const std::string& text) {
+  std::vector<int> out;
+  if (text.empty()) return out;
+  const nlohmann::json j = nlohmann::json::parse(text);
+  if (!j.is_array()) throw std::invalid_argument("not a list");
+  for (const auto& v : j) {
+    if (!v.is_number_integer() || v.get<int64_t>() < INT_MIN || v.get<int64_t>() > INT_MAX)
+      throw std::invalid_argument("not an integer");
+    out.push_back(v.get<int>());
+  }
+  return out;
+}
+
+// Throws on a row that cannot be a detection (Detections() skips it).
+Detection ReadDetectionRow(sqlite3_stmt* s) {
+  Detection d;
+  d.id = sqlite3_column_int64(s, 0);
+  d.class_name = ColumnText(s, 1);
+  d.score = ColumnNumber(s, 2);
+  d.position = {ColumnNumber(s, 3), ColumnNumber(s, 4)};
+  if (std::abs(d.position.lat) > 90 || std::abs(d.position.lon) > 180) throw std::invalid_argument("off the globe");
+  d.note = ColumnText(s, 5);
+  d.source = ColumnText(s, 6);
+  if (sqlite3_column_type(s, 7) != SQLITE_NULL) d.frame_id = sqlite3_column_int(s, 7);
+  d.time_s = ColumnFiniteOptional(s, 8);
+  d.created = ColumnText(s, 9);
+  d.updated = ColumnText(s, 10);
+  d.seq = sqlite3_column_int64(s, 11);
+  d.model = ColumnText(s, 12);
+  if (sqlite3_column_type(s, 13) != SQLITE_NULL) d.level = sqlite3_column_int(s, 13);
+  d.levels = IntListFromText(ColumnText(s, 14));
+  const std::string box = ColumnText(s, 15);
+  if (!box.empty()) {
+    const nlohmann::json j = nlohmann::json::parse(box);
+    if (!j.is_null() && !j.is_array()) throw std::invalid_argument("box: not a list");
+    if (j.is_array())
+      for (const auto& c : j)
+        if (!c.is_array() || c.size() < 2 || !c[0].is_number() || !c[1].is_number() ||
+            !std::isfinite(c[0].get<double>()) || !std::isfinite(c[1].get<double>()))
+          throw std::invalid_argument("box: not [lon, lat] pairs");
+    d.box = BoxFromJson(j);
+  }
+  if (ColumnsSet(s, 16, 17)) d.position_m = std::array<double, 2>{ColumnNumber(s, 16), ColumnNumber(s, 17)};
+  if (ColumnsSet(s, 18, 19)) d.size_m = std::array<double, 2>{ColumnNumber(s, 18), ColumnNumber(s, 19)};
+  d.frames = IntListFromText(ColumnText(s, 20));
+  d.status = ColumnText(s, 21);
+  d.truncated = sqlite3_column_int(s, 22) != 0;
+  d.alt_class = ColumnText(s, 23);
+  d.heading_deg = ColumnFiniteOptional(s, 24);
+  d.depth_m = ColumnFiniteOptional(s, 25);
+  NormaliseDetection(&d);
+  return d;
+}
 }  // namespace
 
 MBTilesStore::MBTilesStore(const std::string& path, Mode mode) : path_(path), mode_(mode) {
@@ -560,37 +630,24 @@ void MBTilesStore::DeleteDetection(int64_t id) {
 }
 
 std::vector<Detection> MBTilesStore::Detections() const {
-  return ReadRows<Detection>("detections", kDetectionColumns, "id", "read detections", [](sqlite3_stmt* s) {
-    Detection d;
-    d.id = sqlite3_column_int64(s, 0);
-    d.class_name = ColumnText(s, 1);
-    d.score = sqlite3_column_double(s, 2);
-    d.position = {sqlite3_column_double(s, 3), sqlite3_column_double(s, 4)};
-    d.note = ColumnText(s, 5);
-    d.source = ColumnText(s, 6);
-    if (sqlite3_column_type(s, 7) != SQLITE_NULL) d.frame_id = sqlite3_column_int(s, 7);
-    d.time_s = ColumnOptional(s, 8);
-    d.created = ColumnText(s, 9);
-    d.updated = ColumnText(s, 10);
-    d.seq = sqlite3_column_int64(s, 11);
-    d.model = ColumnText(s, 12);
-    if (sqlite3_column_type(s, 13) != SQLITE_NULL) d.level = sqlite3_column_int(s, 13);
-    const std::string levels = ColumnText(s, 14), box = ColumnText(s, 15), frames = ColumnText(s, 20);
-    if (!levels.empty()) d.levels = nlohmann::json::parse(levels).get<std::vector<int>>();
-    if (!box.empty()) d.box = BoxFromJson(nlohmann::json::parse(box));
-    if (ColumnsSet(s, 16, 17))
-      d.position_m = std::array<double, 2>{sqlite3_column_double(s, 16), sqlite3_column_double(s, 17)};
-    if (ColumnsSet(s, 18, 19))
-      d.size_m = std::array<double, 2>{sqlite3_column_double(s, 18), sqlite3_column_double(s, 19)};
-    if (!frames.empty()) d.frames = nlohmann::json::parse(frames).get<std::vector<int>>();
-    d.status = ColumnText(s, 21);
-    d.truncated = sqlite3_column_int(s, 22) != 0;
-    d.alt_class = ColumnText(s, 23);
-    d.heading_deg = ColumnOptional(s, 24);
-    d.depth_m = ColumnOptional(s, 25);
-    NormaliseDetection(&d);
-    return d;
-  });
+  // A row that cannot be a detection (a number NULL, not finite or off the
+  // globe, a JSON column that does not parse: a search that stored inf/NaN, a
+  // hand edit) is skipped and counted, so one bad row never makes the map
+  // unreadable for serve, export and detections-pack.
+  const std::vector<std::optional<Detection>> rows = ReadRows<std::optional<Detection>>(
+      "detections", kDetectionColumns, "id", "read detections", [](sqlite3_stmt* s) -> std::optional<Detection> {
+        try {
+          return ReadDetectionRow(s);
+        } catch (const std::exception&) {
+          return std::nullopt;
+        }
+      });
+  std::vector<Detection> out;
+  out.reserve(rows.size());
+  for (const auto& d : rows)
+    if (d) out.push_back(*d);
+  skipped_detections_ = static_cast<int64_t>(rows.size() - out.size());
+  return out;
 }
 
 }  // namespace seamap

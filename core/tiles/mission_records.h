@@ -106,6 +106,9 @@ class MissionRecords {
   virtual void PutDetection(const Detection& detection) = 0;
   virtual void DeleteDetection(int64_t id) = 0;
   virtual std::vector<Detection> Detections() const = 0;  // in id order
+  // Rows the last Detections() skipped because they cannot be a detection
+  // (numbers NULL or not finite, broken JSON): one bad row leaves the rest readable.
+  virtual int64_t SkippedDetections() const { return 0; }
 
   // The height model (replaces an earlier one); none: the mission has none.
   virtual void PutTerrain(const TerrainBlob& terrain) = 0;

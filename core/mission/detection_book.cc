@@ -111,11 +111,12 @@ DetectionError NotFound(int64_t id) {
 
 void DetectionBook::Load(const TileStore& store) {
   std::lock_guard<std::mutex> lock(mutex_);
-  for (const Detection& d : store.Records().Detections()) {
-    detections_[d.id] = d;
+  for (Detection& d : store.Records().Detections()) {
     stored_seq_[d.id] = d.seq;
     last_seq_ = std::max(last_seq_, d.seq);
     last_id_ = std::max(last_id_, d.id);
+    const int64_t id = d.id;
+    detections_[id] = std::move(d);  // moved: one copy of a long list in memory, not two
   }
   unreadable_ = store.Records().SkippedDetections();
   classes_ = MissionClassTable(store);

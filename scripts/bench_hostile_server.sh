@@ -25,7 +25,8 @@ first_line() { head -c 2000 | head -n1 | cut -c1-110; }
 # label, setup (shell code run in $dir with $maps the catalogue), requests (shell code: prints the message), ulimit -n
 run_case() {
   local label="$1" setup="$2" requests="$3" files="${4:-1024}" dir="$out/case" rc=0
-  rm -rf "$dir" && mkdir -p "$dir/maps"
+  rm -rf "$dir" 2>/dev/null || { sleep 1 && rm -rf "$dir"; }  # a stopped server's last SQLite files
+  mkdir -p "$dir/maps"
   local maps="$dir/maps"
   (cd "$dir" && maps="$maps" map="$map" base="$base" eval "$setup")
   (ulimit -n "$files" && exec /usr/bin/time -v -o "$out/time.txt" "$seamap" serve "$maps" --host 127.0.0.1 --port 0) \
@@ -55,7 +56,7 @@ run_case() {
   mb="$(awk -v kb="${kb:-0}" 'BEGIN { printf "%.1f", kb / 1024 }')"
   seconds="$(awk -v t="${elapsed:-0}" 'BEGIN { n = split(t, p, ":"); s = 0; for (i = 1; i <= n; i++) s = s * 60 + p[i]; printf "%.1f", s }')"
   over="$(awk -v mb="$mb" -v s="$seconds" -v lm="$limit_mb" -v ls="$limit_s" 'BEGIN { if (mb > lm || s > ls) printf "OVER " }')"
-  printf 'hostile %-38s exit %d  peak RSS %6s MB  %5s s  %s(limit %d MB, %d s)  %s\n' "$label" "$rc" "$mb" "$seconds" \
+  printf 'hostile %-38s  exit %d  peak RSS %6s MB  %5s s  %s(limit %d MB, %d s)  %s\n' "$label" "$rc" "$mb" "$seconds" \
     "$over" "$limit_mb" "$limit_s" "$message"
 }
 
@@ -89,4 +90,4 @@ run_case "mission file mv-replaced while served" \
 run_case "120 missions, ulimit -n 512" \
   'for i in $(seq 120); do cp "$map" "$maps/d$i.mbtiles"; done' \
   'ok=0; for i in $(seq 120); do c="$(curl -s -m 30 -o /dev/null -w "%{http_code}" "http://127.0.0.1:$port/missions/d$i/api/status")"; [[ "$c" == 200 ]] && ok=$((ok + 1)); done; echo "$ok of 120 missions answered /api/status; $(grep -c "unable to open" "'"$out"'/serve.err" || true) open errors"' 512
-rm -rf "$out/case"
+rm -rf "$out/case" 2>/dev/null || { sleep 1 && rm -rf "$out/case"; }

@@ -1,6 +1,7 @@
 #include "server/detection_registry.h"
 
 #include "server/api_error.h"
+#include "server/http/http_util.h"
 
 namespace seamap::server {
 namespace {
@@ -45,7 +46,7 @@ DetectionRegistry::DetectionRegistry(TileStore* store, EventHub* events)
         if (!events) return;
         nlohmann::json data = {{"action", action}, {"id", d.id}};
         data["feature"] = std::string(action) == "deleted" ? nlohmann::json(nullptr) : DetectionFeature(d);
-        events->Publish("detection", data.dump());
+        events->Publish("detection", Dump(data));  // a class or note need not be UTF-8
       }) {}
 
 nlohmann::json DetectionRegistry::Query(const DetectionFilter& filter) const {
@@ -53,6 +54,15 @@ nlohmann::json DetectionRegistry::Query(const DetectionFilter& filter) const {
   nlohmann::json features = nlohmann::json::array();
   for (const Detection& d : book_.Query(filter, &last_seq)) features.push_back(DetectionFeature(d));
   return {{"type", "FeatureCollection"}, {"features", std::move(features)}, {"last_seq", last_seq}};
+}
+
+nlohmann::json DetectionRegistry::QueryPage(const DetectionFilter& filter, std::optional<int64_t> after_id,
+                                            size_t limit, bool* more) const {
+  const DetectionPage page = book_.QueryPage(filter, after_id, limit);
+  nlohmann::json features = nlohmann::json::array();
+  for (const Detection& d : page.detections) features.push_back(DetectionFeature(d));
+  *more = page.more;
+  return {{"type", "FeatureCollection"}, {"features", std::move(features)}, {"last_seq", page.last_seq}};
 }
 
 std::optional<nlohmann::json> DetectionRegistry::Get(int64_t id) const {

@@ -44,6 +44,12 @@ class DetectionRegistry {
 
   // FeatureCollection with "last_seq".
   nlohmann::json Query(const DetectionFilter& filter) const;
+  // One page of it: at most `limit` features with an id above `after_id`;
+  // *more: others follow.
+  nlohmann::json QueryPage(const DetectionFilter& filter, std::optional<int64_t> after_id, size_t limit,
+                           bool* more) const;
+  // Records the mission holds but could not read (skipped, see DetectionBook::unreadable).
+  int64_t Unreadable() const { return book_.unreadable(); }
   std::optional<nlohmann::json> Get(int64_t id) const;
   // The book's, answered as a Feature; throw ApiError.
   nlohmann::json Create(const nlohmann::json& feature);

@@ -4,6 +4,7 @@
 // (prefix "/missions/([a-z0-9_-]+)", the mission found from the request).
 #include <atomic>
 #include <functional>
+#include <memory>
 #include <string>
 
 #include "server/detection_registry.h"
@@ -22,6 +23,10 @@ struct MissionServices {
   MissionState* mission = nullptr;
   DetectionRegistry* detections = nullptr;
   EventHub* events = nullptr;  // must outlive the server: open streams keep reading it
+  // Keeps a catalogue mission's records alive while a request or an event
+  // stream uses them, though the catalogue closes it meanwhile (replaced, or
+  // least recently used); empty for the root map, which outlives the server.
+  std::shared_ptr<const void> keep;
 };
 
 // The mission a request is for; throws ApiError (404) when there is none.

@@ -1,14 +1,40 @@
 #include "server/mission_registry.h"
 
+#include <sys/stat.h>
+
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 
 #include "core/mission/map_follower.h"
 #include "core/mission/mission_metadata.h"
 #include "server/api_error.h"
+#include "server/http/http_util.h"
 #include "server/track_feature.h"
 
 namespace seamap::server {
+
+namespace {
+
+// How the files a map's records live in look now (inode, size, modification
+// time of the file, its WAL, a folder's detections.json): while it is the
+// same, no other process wrote, and the detections need not be read again
+// (232,362 of them took seconds and hundreds of MB every two seconds).
+std::string RecordsStamp(const std::string& path) {
+  std::string out;
+  for (const std::string& file : {path, path + "-wal", (std::filesystem::path(path) / "detections.json").string()}) {
+    struct stat st {};
+    if (::stat(file.c_str(), &st) != 0) {
+      out += "-;";
+      continue;
+    }
+    out += std::to_string(st.st_ino) + ":" + std::to_string(st.st_size) + ":" + std::to_string(st.st_mtim.tv_sec) +
+           "." + std::to_string(st.st_mtim.tv_nsec) + ";";
+  }
+  return out;
+}
+
+}  // namespace
 
 // A map followed from its file, and where what changes goes.
 struct MissionRegistry::Followed {
@@ -46,13 +72,23 @@ struct MissionRegistry::Followed {
     p.state = step.state;
     p.state_detail = step.state_detail;
     mission.SetProgress(p);
-    for (const TrackPoint& t : mission.TrackFrom(track_before)) events.Publish("track", TrackPointJson(t).dump());
+    for (const TrackPoint& t : mission.TrackFrom(track_before)) events.Publish("track", Dump(TrackPointJson(t)));
     const auto status = mission.StatusJson();
-    if (!status["last_pose"].is_null()) events.Publish("pose", status["last_pose"].dump());
-    events.Publish("progress", status.dump());
+    if (!status["last_pose"].is_null()) events.Publish("pose", Dump(status["last_pose"]));
+    events.Publish("progress", Dump(status));  // a name need not be UTF-8
+  }
+
+  // Takes in the detections another process stored (stereo-locate --map,
+  // detect), when the map's files changed since the last look.
+  void RefreshDetections() {
+    const std::string stamp = RecordsStamp(path);
+    if (stamp == detections_stamp) return;
+    detections.Refresh(records);
+    detections_stamp = stamp;
   }
 
   std::string path;
+  std::string detections_stamp;  // RecordsStamp when the detections were last read; empty: never
   MapFollower follower;
   const TileStore& records;
   MissionState& mission;
@@ -62,6 +98,8 @@ struct MissionRegistry::Followed {
 };
 
 struct MissionRegistry::OpenMission {
+  std::shared_ptr<TileSource> tiles;  // the follower reads the map's state through it
+  MapFileStamp stamp;                 // the file as it was opened
   std::unique_ptr<TileStore> records;
   MissionState mission;
   EventHub events;
@@ -79,8 +117,23 @@ MissionRegistry::MissionRegistry(TileSource* tiles, MissionState* mission, Detec
   root_mission_->SetAccess(token_required_, root_detections_->writable());
 }
 
-MissionRegistry::MissionRegistry(std::string folder, bool token_required)
-    : token_required_(token_required), catalog_(std::make_unique<MapCatalog>(std::move(folder))) {}
+MissionRegistry::MissionRegistry(std::string folder, bool token_required, size_t max_open)
+    : token_required_(token_required),
+      max_open_(std::max<size_t>(1, max_open)),
+      catalog_(std::make_unique<MapCatalog>(std::move(folder))) {}
+
+std::optional<MapFileStamp> StampOf(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) return std::nullopt;
+  if (S_ISDIR(st.st_mode) && ::stat((std::filesystem::path(path) / "metadata.json").c_str(), &st) != 0)
+    return std::nullopt;
+  MapFileStamp stamp;
+  stamp.device = static_cast<uint64_t>(st.st_dev);
+  stamp.inode = static_cast<uint64_t>(st.st_ino);
+  stamp.size = static_cast<int64_t>(st.st_size);
+  stamp.modified_ns = int64_t{st.st_mtim.tv_sec} * 1000000000 + st.st_mtim.tv_nsec;
+  return stamp;
+}
 
 MissionRegistry::~MissionRegistry() = default;
 
@@ -101,10 +154,70 @@ void MissionRegistry::Refresh() {
     scanning_ = false;
     throw;
   }
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    listing_ = std::move(listing);
+    scanned_ = std::chrono::steady_clock::now();
+    scanning_ = false;
+  }
+  CloseChanged();
+}
+
+void MissionRegistry::CloseChanged() {
+  struct Opened {
+    std::string path;
+    MapFileStamp stamp;
+    bool building = false, listed = false;
+  };
+  std::vector<Opened> opened;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (const auto& [path, open] : sources_) {
+      Opened o{path, open.stamp};
+      for (const CatalogEntry& e : listing_)
+        if (e.path == path) {
+          o.listed = e.available;
+          o.building = e.state == "building";
+        }
+      opened.push_back(o);
+    }
+  }
+  std::vector<std::string> changed;
+  for (const Opened& o : opened) {  // stat outside mutex_: tile requests do not wait on the disk
+    const std::optional<MapFileStamp> now = o.listed ? StampOf(o.path) : std::nullopt;
+    // Another file moved over it, or it is gone: always. Rewritten in place:
+    // unless it is being built (then it changes all the time, and its follower reads it).
+    const bool replaced = !now || now->device != o.stamp.device || now->inode != o.stamp.inode;
+    if (replaced || (!o.building && !(*now == o.stamp))) changed.push_back(o.path);
+  }
+  if (changed.empty()) return;
   std::lock_guard<std::mutex> lock(mutex_);
-  listing_ = std::move(listing);
-  scanned_ = std::chrono::steady_clock::now();
-  scanning_ = false;
+  for (const std::string& path : changed) {
+    auto it = sources_.find(path);
+    const Opened* o = nullptr;
+    for (const Opened& x : opened)
+      if (x.path == path) o = &x;
+    if (it == sources_.end() || !o || !(it->second.stamp == o->stamp)) continue;  // reopened meanwhile
+    std::fprintf(stderr, "seamap serve: %s changed on disk: opened again at its next request\n", path.c_str());
+    CloseLocked(path);
+  }
+}
+
+void MissionRegistry::CloseLocked(const std::string& path) {
+  sources_.erase(path);  // requests in flight keep their shared_ptr
+  auto it = open_.find(path);
+  if (it == open_.end()) return;
+  it->second->events.Close();  // its streams end; browsers reconnect to the map opened again
+  open_.erase(it);
+}
+
+void MissionRegistry::EvictLocked() {
+  while (sources_.size() > max_open_) {
+    auto oldest = sources_.begin();
+    for (auto it = sources_.begin(); it != sources_.end(); ++it)
+      if (it->second.used < oldest->second.used) oldest = it;
+    CloseLocked(std::string(oldest->first));
+  }
 }
 
 std::vector<CatalogEntry> MissionRegistry::Missions() {
@@ -130,8 +243,9 @@ std::pair<CatalogEntry, std::shared_ptr<TileSource>> MissionRegistry::Entry(cons
     const CatalogEntry& e = EntryLocked(id);
     auto it = sources_.find(e.path);
     if (it != sources_.end()) {
-      it->second->SetExternalWriter(e.state == "building");  // tiles still change: short cache
-      return {e, it->second};
+      it->second.used = ++use_clock_;
+      it->second.source->SetExternalWriter(e.state == "building");  // tiles still change: short cache
+      return {e, it->second.source};
     }
     path = e.path;
   }
@@ -143,17 +257,28 @@ std::pair<CatalogEntry, std::shared_ptr<TileSource>> MissionRegistry::Entry(cons
     auto it = sources_.find(path);
     if (it != sources_.end()) {
       const CatalogEntry& e = EntryLocked(id);
-      it->second->SetExternalWriter(e.state == "building");
-      return {e, it->second};
+      it->second.used = ++use_clock_;
+      it->second.source->SetExternalWriter(e.state == "building");
+      return {e, it->second.source};
     }
   }
+  // The stamp before opening: a file moved over it meanwhile is seen as a change.
+  const std::optional<MapFileStamp> stamp = StampOf(path);
+  if (!stamp) throw ApiError(404, "mission '" + id + "' is gone: " + path);
   auto made = std::make_shared<TileSource>(path, 4, 16u << 20);
   std::lock_guard<std::mutex> lock(mutex_);
   const CatalogEntry& e = EntryLocked(id);
-  std::shared_ptr<TileSource>& source = sources_[e.path];
-  if (!source) source = std::move(made);
+  OpenSource& open = sources_[e.path];
+  if (!open.source) {
+    open.source = std::move(made);
+    open.stamp = *stamp;
+  }
+  open.used = ++use_clock_;
+  std::shared_ptr<TileSource> source = open.source;
   source->SetExternalWriter(e.state == "building");
-  return {e, source};
+  const CatalogEntry entry = e;
+  EvictLocked();
+  return {entry, source};
 }
 
 MissionTiles MissionRegistry::Tiles(const std::string& id) {
@@ -183,7 +308,8 @@ std::optional<TileAnswer> MissionRegistry::AnswerMissionTile(const std::string& 
       const CatalogEntry& e = EntryLocked(id);
       auto it = sources_.find(e.path);
       if (it != sources_.end()) {
-        source = it->second;
+        it->second.used = ++use_clock_;
+        source = it->second.source;
         building = e.state == "building";
         source->SetExternalWriter(building);
       }
@@ -202,23 +328,36 @@ std::optional<TileAnswer> MissionRegistry::AnswerMissionTile(const std::string& 
 MissionServices MissionRegistry::Services(const std::string& id) {
   if (!catalog_) {
     if (!id.empty()) throw ApiError(404, "no mission '" + id + "'");
-    return {root_mission_, root_detections_, root_events_};
+    return {root_mission_, root_detections_, root_events_, nullptr};
   }
+  auto services = [](const std::shared_ptr<OpenMission>& m) {
+    return MissionServices{&m->mission, m->detections.get(), &m->events, m};
+  };
   auto [entry, tiles] = Entry(id);  // 404 for an unknown or unavailable id
   {
     std::lock_guard<std::mutex> lock(mutex_);
     auto it = open_.find(entry.path);
-    if (it != open_.end()) return {&it->second->mission, it->second->detections.get(), &it->second->events};
+    if (it != open_.end()) return services(it->second);
   }
   // Opened outside mutex_ (SQLite reads), one opening at a time.
   std::lock_guard<std::mutex> opening(opening_);
+  MapFileStamp stamp;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     auto it = open_.find(entry.path);
-    if (it != open_.end()) return {&it->second->mission, it->second->detections.get(), &it->second->events};
+    if (it != open_.end()) return services(it->second);
+    auto source = sources_.find(entry.path);
+    if (source == sources_.end() || source->second.source != tiles)  // closed meanwhile (changed, or evicted)
+      throw ApiError(503, "mission '" + id + "' changed while it was opened; ask again");
+    stamp = source->second.stamp;
   }
-  auto m = std::make_unique<OpenMission>();
+  // Whatever its records hold, a mission that cannot be read answers this
+  // error and is not kept: the other missions and the server go on.
+  auto m = std::make_shared<OpenMission>();
+  const std::string records_stamp = RecordsStamp(entry.path);  // before reading: a write meanwhile is seen later
   try {
+    m->tiles = tiles;
+    m->stamp = stamp;
     m->records = OpenExistingMap(entry.path, /*writable=*/false);
     m->mission.Load(*m->records);
     m->detections = std::make_unique<DetectionRegistry>(nullptr, &m->events);  // a catalogue is read-only
@@ -228,14 +367,21 @@ MissionServices MissionRegistry::Services(const std::string& id) {
     m->mission.SetLayers(tiles->Layers(), tiles->Format());
     m->mission.SetAccess(token_required_, false);
     m->followed = std::make_unique<Followed>(entry.path, *m->records, m->mission, m->events, *m->detections, *tiles);
+    m->followed->detections_stamp = records_stamp;
     m->followed->Step();  // its state as the file tells it now
   } catch (const std::exception& e) {
     throw ApiError(404, "mission '" + id + "' cannot be read: " + e.what());
   }
+  if (const int64_t n = m->detections->Unreadable(); n > 0)
+    std::fprintf(stderr,
+                 "warning: %s: %lld detection record(s) cannot be read (a number null or not finite): left out\n",
+                 entry.path.c_str(), static_cast<long long>(n));
   std::lock_guard<std::mutex> lock(mutex_);
-  std::unique_ptr<OpenMission>& open = open_[entry.path];
+  auto source = sources_.find(entry.path);
+  if (source == sources_.end() || source->second.source != tiles) return services(m);  // closed meanwhile: not kept
+  std::shared_ptr<OpenMission>& open = open_[entry.path];
   if (!open) open = std::move(m);
-  return {&open->mission, open->detections.get(), &open->events};
+  return services(open);
 }
 
 void MissionRegistry::FollowMap(const std::string& path, const TileStore& records) {
@@ -245,6 +391,7 @@ void MissionRegistry::FollowMap(const std::string& path, const TileStore& record
 
 void MissionRegistry::Follow() {
   std::vector<Followed*> follow;
+  std::vector<std::shared_ptr<OpenMission>> held;
   if (root_) follow.push_back(root_.get());
   if (catalog_) {
     try {
@@ -253,17 +400,19 @@ void MissionRegistry::Follow() {
       std::fprintf(stderr, "warning: cannot list %s: %s\n", catalog_->folder().c_str(), e.what());
     }
     // Which open missions to follow, under the lock; their files are read outside
-    // it, so tile requests do not wait on SQLite (open missions are never closed).
+    // it, so tile requests do not wait on SQLite (held here while they are read).
     std::lock_guard<std::mutex> lock(mutex_);
     for (const CatalogEntry& e : listing_) {
       auto it = open_.find(e.path);
-      if (it != open_.end() && e.available) follow.push_back(it->second->followed.get());
+      if (it == open_.end() || !e.available || !it->second || !it->second->followed) continue;
+      held.push_back(it->second);
+      follow.push_back(it->second->followed.get());
     }
   }
   for (Followed* f : follow) {
     try {
       f->Step();
-      f->detections.Refresh(f->records);  // another process's stereo-locate --map or detect
+      f->RefreshDetections();  // another process's stereo-locate --map or detect
     } catch (const std::exception& e) {
       std::fprintf(stderr, "warning: cannot follow %s: %s\n", f->path.c_str(), e.what());
     }

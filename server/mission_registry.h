@@ -8,6 +8,7 @@
 // (core/mission/map_follower) and what changes becomes live events.
 // Knows nothing of HTTP beyond ApiError. Thread-safe.
 #include <chrono>
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -33,13 +34,30 @@ struct MissionTiles {
   std::string name;       // the TileJSON's name where the map records none
 };
 
+// What a map's file was when it was opened: another file moved over it
+// (another inode), or a finished map rewritten in place, is opened again.
+struct MapFileStamp {
+  uint64_t device = 0, inode = 0;
+  int64_t size = 0, modified_ns = 0;
+  bool operator==(const MapFileStamp& o) const {
+    return device == o.device && inode == o.inode && size == o.size && modified_ns == o.modified_ns;
+  }
+};
+// The map at `path` (a folder map: its metadata.json) now; nullopt when it is gone.
+std::optional<MapFileStamp> StampOf(const std::string& path);
+
 class MissionRegistry {
  public:
+  // Past ~90 open missions the process ran out of file handles ("unable to open database file").
+  static constexpr size_t kMaxOpenMissions = 32;
+
   // One map at the root; `token_required`: writes need the server's token.
   MissionRegistry(TileSource* tiles, MissionState* mission, DetectionRegistry* detections, EventHub* events,
                   bool token_required);
   // The maps of `folder`; throws InputError unless it is a readable folder.
-  MissionRegistry(std::string folder, bool token_required);
+  // At most `max_open` missions are open at once (each holds about a dozen
+  // file handles): opening another closes the least recently used.
+  MissionRegistry(std::string folder, bool token_required, size_t max_open = kMaxOpenMissions);
   ~MissionRegistry();
 
   // Missions under /missions/{id}/ (a folder) rather than one at the root.
@@ -70,16 +88,30 @@ class MissionRegistry {
  private:
   struct Followed;
   // A catalogue mission's records, opened at its first API request and kept
-  // while serving (open event streams read its hub).
+  // until its file changes or it is the least recently used of too many
+  // (open event streams keep it alive until they end).
   struct OpenMission;
+  // A catalogue mission's tile source, and what its file was when opened.
+  struct OpenSource {
+    std::shared_ptr<TileSource> source;
+    MapFileStamp stamp;
+    uint64_t used = 0;  // use_clock_ at its last request
+  };
 
   // The listing's entry for id and its tile source (made when new, outside
   // mutex_); throws ApiError 404 like Tiles().
   std::pair<CatalogEntry, std::shared_ptr<TileSource>> Entry(const std::string& id);
   // The entry for id under mutex_ (held); throws like Tiles().
   const CatalogEntry& EntryLocked(const std::string& id);
+  // Closes the maps whose file changed or left the listing (called after a rescan).
+  void CloseChanged();
+  // Closes the map at `path` (mutex_ held): its source and records go, its streams end.
+  void CloseLocked(const std::string& path);
+  // Closes the least recently used maps until at most max_open_ are open (mutex_ held).
+  void EvictLocked();
 
   bool token_required_;
+  size_t max_open_ = kMaxOpenMissions;
   // One map: the caller's records; `root_` follows them when FollowMap() was called.
   TileSource* root_tiles_ = nullptr;
   MissionState* root_mission_ = nullptr;
@@ -97,8 +129,9 @@ class MissionRegistry {
   std::vector<CatalogEntry> listing_;
   std::chrono::steady_clock::time_point scanned_{};
   bool scanning_ = false;
-  std::map<std::string, std::shared_ptr<TileSource>> sources_;  // by map path
-  std::map<std::string, std::unique_ptr<OpenMission>> open_;    // by map path; never closed while serving
+  uint64_t use_clock_ = 0;                                    // counts requests, for the LRU
+  std::map<std::string, OpenSource> sources_;                 // by map path
+  std::map<std::string, std::shared_ptr<OpenMission>> open_;  // by map path; each has a source in sources_
 };
 
 }  // namespace seamap::server

@@ -9,6 +9,7 @@
 #include "core/tiles/record_json.h"
 #include "core/util/error.h"
 #include "server/api_error.h"
+#include "server/photo_preview.h"
 
 namespace seamap::server {
 namespace {
@@ -91,6 +92,8 @@ void MissionState::Load(const TileStore& store) {
   if (mission.origin) origin_ = *mission.origin;
   stored_t0_ = mission.t0;
   frames_ = std::move(frames);
+  photo_folders_.clear();
+  for (const FrameRecord& f : frames_) ++photo_folders_[PhotoFolderOf(f)];
   track_ = std::move(track);
   corrected_frames_ = static_cast<int>(
       std::count_if(frames_.begin(), frames_.end(), [](const FrameRecord& f) { return f.nav.has_value(); }));
@@ -175,6 +178,7 @@ Progress MissionState::progress() const {
 void MissionState::AddFrame(const FrameRecord& frame, const TrackPoint& point) {
   std::lock_guard<std::mutex> lock(mutex_);
   corrected_frames_ += frame.nav.has_value();
+  ++photo_folders_[PhotoFolderOf(frame)];
   if (frames_.empty() || frame.id > frames_.back().id) {
     frames_.push_back(frame);
   } else {  // a frame painted again (appending to a mission) replaces its record
@@ -182,6 +186,7 @@ void MissionState::AddFrame(const FrameRecord& frame, const TrackPoint& point) {
                                [](const FrameRecord& f, int v) { return f.id < v; });
     if (it != frames_.end() && it->id == frame.id) {
       corrected_frames_ -= it->nav.has_value();
+      --photo_folders_[PhotoFolderOf(*it)];
       *it = frame;
     } else {
       frames_.insert(it, frame);
@@ -191,6 +196,14 @@ void MissionState::AddFrame(const FrameRecord& frame, const TrackPoint& point) {
     track_.push_back(point);
     corrected_points_ += point.nav.has_value();
   }
+}
+
+std::string MissionState::PhotoFolder() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const std::pair<const std::string, int>* best = nullptr;
+  for (const auto& folder : photo_folders_)
+    if (!folder.first.empty() && (!best || folder.second > best->second)) best = &folder;
+  return best ? best->first : "";
 }
 
 nlohmann::json MissionState::StatusJson() const {

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -87,6 +88,9 @@ class MissionState {
   // Used frames whose footprint contains the point, nearest footprint centre first.
   std::vector<FrameRecord> FramesCovering(const LatLon& point, size_t limit) const;
   std::optional<FrameRecord> Frame(int id) const;
+  // The folder most frames' photos were read from (PhotoFolderOf): photos are
+  // served from there only (or --images). Empty when no frame records one.
+  std::string PhotoFolder() const;
   // Used frames whose footprint meets the bounds, in id order; at most `limit`.
   std::vector<FrameRecord> FramesMeeting(const LatLonBounds& bounds, size_t limit) const;
 
@@ -100,9 +104,10 @@ class MissionState {
   Progress progress_;
   bool token_required_ = false, writable_ = false;
   std::atomic<bool> building_{false};
-  std::vector<FrameRecord> frames_;     // in id order
-  std::vector<TrackPoint> track_;       // in seq order
-  std::vector<TrackPoint> buoy_track_;  // in seq order
+  std::vector<FrameRecord> frames_;           // in id order
+  std::map<std::string, int> photo_folders_;  // PhotoFolderOf -> frames
+  std::vector<TrackPoint> track_;             // in seq order
+  std::vector<TrackPoint> buoy_track_;        // in seq order
   std::vector<GeorefKeyframe> keyframes_;
   int corrected_frames_ = 0;   // frames with the navigation's pose beside the placed one
   nlohmann::json trajectory_;  // how the poses were estimated (MissionMetadata::trajectory), or null

@@ -128,12 +128,14 @@ void DetectionBook::LoadReadable(const TileStore& store, std::vector<int64_t>* u
 
 void DetectionBook::Load(const TileStore& store) {
   std::lock_guard<std::mutex> lock(mutex_);
-  for (const Detection& d : store.Records().Detections()) {
-    detections_[d.id] = d;
+  for (Detection& d : store.Records().Detections()) {
     stored_seq_[d.id] = d.seq;
     last_seq_ = std::max(last_seq_, d.seq);
     last_id_ = std::max(last_id_, d.id);
+    const int64_t id = d.id;
+    detections_[id] = std::move(d);  // moved: one copy of a long list in memory, not two
   }
+  unreadable_ = store.Records().SkippedDetections();
   classes_ = MissionClassTable(store);
 }
 
@@ -145,6 +147,7 @@ void DetectionBook::Refresh(const TileStore& store) {
 void DetectionBook::RefreshLocked(const TileStore& store) {
   std::map<int64_t, Detection> in_store;
   for (Detection& d : store.Records().Detections()) in_store[d.id] = std::move(d);
+  unreadable_ = store.Records().SkippedDetections();
   for (auto& [id, d] : in_store) {
     last_id_ = std::max(last_id_, id);
     auto seen = stored_seq_.find(id);
@@ -182,6 +185,21 @@ std::vector<Detection> DetectionBook::Query(const DetectionFilter& f, int64_t* l
     if (Passes(f, d)) out.push_back(d);
   if (last_seq) *last_seq = last_seq_;
   return out;
+}
+
+DetectionPage DetectionBook::QueryPage(const DetectionFilter& f, std::optional<int64_t> after_id, size_t limit) const {
+  DetectionPage page;
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (auto it = after_id ? detections_.upper_bound(*after_id) : detections_.begin(); it != detections_.end(); ++it) {
+    if (!Passes(f, it->second)) continue;
+    if (page.detections.size() >= limit) {
+      page.more = true;
+      break;
+    }
+    page.detections.push_back(it->second);
+  }
+  page.last_seq = last_seq_;
+  return page;
 }
 
 std::optional<Detection> DetectionBook::Get(int64_t id) const {

@@ -16,6 +16,7 @@
 //    batch does not hold go; confirmed and rejected ones stay.
 // Every change is written to the store and flushed before it is returned or
 // announced. Errors are DetectionErrors. Thread-safe.
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -43,6 +44,13 @@ struct PublishOptions {
 struct PublishResult {
   std::vector<int64_t> ids;  // of the batch's detections, in batch order
   int created = 0, updated = 0, unchanged = 0, deleted = 0;
+};
+
+// One page of a query (DetectionBook::QueryPage).
+struct DetectionPage {
+  std::vector<Detection> detections;  // in id order
+  bool more = false;                  // others pass after the last one
+  int64_t last_seq = 0;
 };
 
 // Compact records for the acoustic modem (docs/MODEM_RECORD.md).
@@ -73,9 +81,15 @@ class DetectionBook {
   // what another process changed.
   void Refresh(const TileStore& store);
   bool writable() const { return store_ != nullptr; }
+  // Detection records the store holds but could not read, at the last Load or
+  // Refresh (MissionRecords::SkippedDetections): left out, the rest is served.
+  int64_t unreadable() const { return unreadable_; }
 
   // The detections that pass, in id order; the last seq.
   std::vector<Detection> Query(const DetectionFilter& filter, int64_t* last_seq = nullptr) const;
+  // At most `limit` of them with an id above `after_id`: a long list read in
+  // pages, so no answer holds them all (232,362 objects made a 188 MB answer).
+  DetectionPage QueryPage(const DetectionFilter& filter, std::optional<int64_t> after_id, size_t limit) const;
   std::optional<Detection> Get(int64_t id) const;
   // An operator's mark from a GeoJSON Feature with a Point geometry.
   Detection Create(const nlohmann::json& feature);
@@ -114,6 +128,7 @@ class DetectionBook {
   bool t0_stored_ = false;
   int64_t last_seq_ = 0;
   int64_t last_id_ = 0;
+  std::atomic<int64_t> unreadable_{0};
 };
 
 // Publishes one search's found objects into the mission at `store` with a

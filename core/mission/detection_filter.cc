@@ -1,6 +1,7 @@
 #include "core/mission/detection_filter.h"
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <vector>
 
@@ -50,7 +51,9 @@ DetectionFilter ParseDetectionFilter(const std::optional<std::string>& bbox, con
   if (since) {
     const double v = ParseNumber(*since, "since");
     if (v < 0 || v != std::floor(v)) throw DetectionError::Invalid("since", "expected a change number >= 0");
-    f.since = static_cast<int64_t>(v);
+    // Past the largest seq (2^63 - 1) no change is newer: nothing. A plain
+    // cast is undefined there (1e19 became INT64_MIN: everything again).
+    f.since = v >= 9223372036854775808.0 ? std::numeric_limits<int64_t>::max() : static_cast<int64_t>(v);
   }
   if (status)
     for (const std::string& v : SplitList(*status)) {

@@ -23,6 +23,7 @@ class LayerRecords final : public MissionRecords {
   std::vector<Detection> ReadableDetections(std::vector<int64_t>* unreadable) const override {
     return mission_->ReadableDetections(unreadable);
   }
+  int64_t SkippedDetections() const override { return mission_->SkippedDetections(); }
   void PutTerrain(const TerrainBlob& t) override { mission_->PutTerrain(t); }
   std::optional<TerrainBlob> Terrain() const override { return mission_->Terrain(); }
 

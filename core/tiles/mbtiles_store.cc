@@ -2,7 +2,11 @@
 
 #include <sqlite3.h>
 
+#include <algorithm>
+#include <climits>
+#include <cmath>
 #include <filesystem>
+#include <limits>
 #include <stdexcept>
 
 #include "core/tiles/record_json.h"
@@ -112,6 +116,74 @@ std::string ColumnText(sqlite3_stmt* s, int col) {
   return text ? reinterpret_cast<const char*>(text) : "";
 }
 
+// A finite number in a column that must hold one (NULL, text or inf throw).
+double ColumnNumber(sqlite3_stmt* s, int col) {
+  const int type = sqlite3_column_type(s, col);
+  const double v = sqlite3_column_double(s, col);
+  if ((type != SQLITE_INTEGER && type != SQLITE_FLOAT) || !std::isfinite(v))
+    throw std::invalid_argument("not a finite number");
+  return v;
+}
+
+// An optional number: NULL is none, anything else must be finite.
+std::optional<double> ColumnFiniteOptional(sqlite3_stmt* s, int col) {
+  if (sqlite3_column_type(s, col) == SQLITE_NULL) return std::nullopt;
+  return ColumnNumber(s, col);
+}
+
+std::vector<int> IntListFromText(const std::string& text) {
+  std::vector<int> out;
+  if (text.empty()) return out;
+  const nlohmann::json j = nlohmann::json::parse(text);
+  if (!j.is_array()) throw std::invalid_argument("not a list");
+  for (const auto& v : j) {
+    if (!v.is_number_integer() || v.get<int64_t>() < INT_MIN || v.get<int64_t>() > INT_MAX)
+      throw std::invalid_argument("not an integer");
+    out.push_back(v.get<int>());
+  }
+  return out;
+}
+
+// Throws on a row that cannot be a detection (Detections() skips it).
+Detection ReadDetectionRow(sqlite3_stmt* s) {
+  Detection d;
+  d.id = sqlite3_column_int64(s, 0);
+  d.class_name = ColumnText(s, 1);
+  d.score = ColumnNumber(s, 2);
+  d.position = {ColumnNumber(s, 3), ColumnNumber(s, 4)};
+  if (std::abs(d.position.lat) > 90 || std::abs(d.position.lon) > 180) throw std::invalid_argument("off the globe");
+  d.note = ColumnText(s, 5);
+  d.source = ColumnText(s, 6);
+  if (sqlite3_column_type(s, 7) != SQLITE_NULL) d.frame_id = sqlite3_column_int(s, 7);
+  d.time_s = ColumnFiniteOptional(s, 8);
+  d.created = ColumnText(s, 9);
+  d.updated = ColumnText(s, 10);
+  d.seq = sqlite3_column_int64(s, 11);
+  d.model = ColumnText(s, 12);
+  if (sqlite3_column_type(s, 13) != SQLITE_NULL) d.level = sqlite3_column_int(s, 13);
+  d.levels = IntListFromText(ColumnText(s, 14));
+  const std::string box = ColumnText(s, 15);
+  if (!box.empty()) {
+    const nlohmann::json j = nlohmann::json::parse(box);
+    if (!j.is_null() && !j.is_array()) throw std::invalid_argument("box: not a list");
+    if (j.is_array())
+      for (const auto& c : j)
+        if (!c.is_array() || c.size() < 2 || !c[0].is_number() || !c[1].is_number() ||
+            !std::isfinite(c[0].get<double>()) || !std::isfinite(c[1].get<double>()))
+          throw std::invalid_argument("box: not [lon, lat] pairs");
+    d.box = BoxFromJson(j);
+  }
+  if (ColumnsSet(s, 16, 17)) d.position_m = std::array<double, 2>{ColumnNumber(s, 16), ColumnNumber(s, 17)};
+  if (ColumnsSet(s, 18, 19)) d.size_m = std::array<double, 2>{ColumnNumber(s, 18), ColumnNumber(s, 19)};
+  d.frames = IntListFromText(ColumnText(s, 20));
+  d.status = ColumnText(s, 21);
+  d.truncated = sqlite3_column_int(s, 22) != 0;
+  d.alt_class = ColumnText(s, 23);
+  d.heading_deg = ColumnFiniteOptional(s, 24);
+  d.depth_m = ColumnFiniteOptional(s, 25);
+  NormaliseDetection(&d);
+  return d;
+}
 }  // namespace
 
 MBTilesStore::MBTilesStore(const std::string& path, Mode mode) : path_(path), mode_(mode) {
@@ -425,6 +497,11 @@ std::vector<Row> MBTilesStore::ReadRows(const std::string& table, const std::vec
     return out;
   }
   OneShot q{s};
+  sqlite3_stmt* count = nullptr;  // the rows, to allocate once (a long list grows no second copy)
+  if (sqlite3_prepare_v2(db_, ("SELECT COUNT(*) FROM " + table).c_str(), -1, &count, nullptr) == SQLITE_OK &&
+      sqlite3_step(count) == SQLITE_ROW)
+    out.reserve(static_cast<size_t>(std::max<int64_t>(0, sqlite3_column_int64(count, 0))));
+  sqlite3_finalize(count);
   int rc;
   while ((rc = sqlite3_step(s)) == SQLITE_ROW) out.push_back(read_row(s));
   if (rc != SQLITE_DONE) Fail(what);
@@ -559,45 +636,31 @@ void MBTilesStore::DeleteDetection(int64_t id) {
   EndWrite();
 }
 
-namespace {
-
-// One row of the detections table (kDetectionColumns); throws on JSON it cannot read.
-Detection ReadDetectionRow(sqlite3_stmt* s) {
-  Detection d;
-  d.id = sqlite3_column_int64(s, 0);
-  d.class_name = ColumnText(s, 1);
-  d.score = sqlite3_column_double(s, 2);
-  d.position = {sqlite3_column_double(s, 3), sqlite3_column_double(s, 4)};
-  d.note = ColumnText(s, 5);
-  d.source = ColumnText(s, 6);
-  if (sqlite3_column_type(s, 7) != SQLITE_NULL) d.frame_id = sqlite3_column_int(s, 7);
-  d.time_s = ColumnOptional(s, 8);
-  d.created = ColumnText(s, 9);
-  d.updated = ColumnText(s, 10);
-  d.seq = sqlite3_column_int64(s, 11);
-  d.model = ColumnText(s, 12);
-  if (sqlite3_column_type(s, 13) != SQLITE_NULL) d.level = sqlite3_column_int(s, 13);
-  const std::string levels = ColumnText(s, 14), box = ColumnText(s, 15), frames = ColumnText(s, 20);
-  if (!levels.empty()) d.levels = nlohmann::json::parse(levels).get<std::vector<int>>();
-  if (!box.empty()) d.box = BoxFromJson(nlohmann::json::parse(box));
-  if (ColumnsSet(s, 16, 17))
-    d.position_m = std::array<double, 2>{sqlite3_column_double(s, 16), sqlite3_column_double(s, 17)};
-  if (ColumnsSet(s, 18, 19))
-    d.size_m = std::array<double, 2>{sqlite3_column_double(s, 18), sqlite3_column_double(s, 19)};
-  if (!frames.empty()) d.frames = nlohmann::json::parse(frames).get<std::vector<int>>();
-  d.status = ColumnText(s, 21);
-  d.truncated = sqlite3_column_int(s, 22) != 0;
-  d.alt_class = ColumnText(s, 23);
-  d.heading_deg = ColumnOptional(s, 24);
-  d.depth_m = ColumnOptional(s, 25);
-  NormaliseDetection(&d);
-  return d;
-}
-
-}  // namespace
-
 std::vector<Detection> MBTilesStore::Detections() const {
-  return ReadRows<Detection>("detections", kDetectionColumns, "id", "read detections", ReadDetectionRow);
+  // A row that cannot be a detection (a number NULL, not finite or off the
+  // globe, a JSON column that does not parse: a search that stored inf/NaN, a
+  // hand edit) is skipped and counted, so one bad row never makes the map
+  // unreadable for serve, export and detections-pack. Read into one vector and
+  // compacted in place: a mission of 232,362 detections holds one copy.
+  std::vector<Detection> out =
+      ReadRows<Detection>("detections", kDetectionColumns, "id", "read detections", [](sqlite3_stmt* s) {
+        try {
+          return ReadDetectionRow(s);
+        } catch (const std::exception&) {
+          Detection unreadable;  // marked by both numbers at their least, which no store writes
+          unreadable.id = unreadable.seq = std::numeric_limits<int64_t>::min();
+          return unreadable;
+        }
+      });
+  const size_t read = out.size();
+  out.erase(std::remove_if(out.begin(), out.end(),
+                           [](const Detection& d) {
+                             return d.id == std::numeric_limits<int64_t>::min() &&
+                                    d.seq == std::numeric_limits<int64_t>::min();
+                           }),
+            out.end());
+  skipped_detections_ = static_cast<int64_t>(read - out.size());
+  return out;
 }
 
 std::vector<Detection> MBTilesStore::ReadableDetections(std::vector<int64_t>* unreadable) const {

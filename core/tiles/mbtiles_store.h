@@ -5,6 +5,7 @@
 // as NULL from one opened read-only). Writes are
 // batched in a transaction that Flush() commits (and every 500 writes).
 // Checkpoints of crash-safe builds: core/tiles/mbtiles_journal.h.
+#include <atomic>
 #include <cstdint>
 #include <mutex>
 #include <string>
@@ -49,6 +50,7 @@ class MBTilesStore : public TileStore, public MissionRecords, public CheckpointS
   void DeleteDetection(int64_t id) override;
   std::vector<Detection> Detections() const override;
   std::vector<Detection> ReadableDetections(std::vector<int64_t>* unreadable) const override;
+  int64_t SkippedDetections() const override { return skipped_detections_; }
   // Table `terrain` (one row: header text, cells blob), made by the first PutTerrain.
   void PutTerrain(const TerrainBlob& terrain) override;
   std::optional<TerrainBlob> Terrain() const override;
@@ -102,6 +104,7 @@ class MBTilesStore : public TileStore, public MissionRecords, public CheckpointS
   Mode mode_;
   sqlite3* db_ = nullptr;
   mutable std::mutex mutex_;
+  mutable std::atomic<int64_t> skipped_detections_{0};  // by the last Detections()
   bool opened_ = false;
   bool in_transaction_ = false;
   int pending_writes_ = 0;

@@ -114,6 +114,9 @@ class MissionRecords {
   // go to *unreadable: what exports and packs use, so that one such record
   // does not fail the whole map.
   virtual std::vector<Detection> ReadableDetections(std::vector<int64_t>* unreadable) const;
+  // Rows the last Detections() skipped because they cannot be a detection
+  // (numbers NULL or not finite, broken JSON): one bad row leaves the rest readable.
+  virtual int64_t SkippedDetections() const { return 0; }
 
   // The height model (replaces an earlier one); none: the mission has none.
   virtual void PutTerrain(const TerrainBlob& terrain) = 0;

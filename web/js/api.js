@@ -53,6 +53,20 @@ export async function getJSON(path) {
   return response.json();
 }
 
+// A collection the server answers in pages (GET /api/detections: at most
+// 5000 features, and `next`, the URL of the following page): every page's
+// features in one. `last_seq` stays the first page's, so nothing changed
+// meanwhile is missed by the next `since`.
+export async function getCollection(path) {
+  const collection = await getJSON(path);
+  for (let page = collection; page.next;) {
+    page = await getJSON(page.next);
+    for (const feature of page.features || []) collection.features.push(feature);
+  }
+  delete collection.next;
+  return collection;
+}
+
 // POST/PATCH/DELETE with the Bearer token when one is set; null for 204.
 export async function send(method, path, body) {
   const headers = {Accept: 'application/json'};

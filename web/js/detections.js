@@ -3,7 +3,7 @@
 // zooms to the object, confirming or rejecting a recogniser's detection, and
 // adding, editing, moving and deleting operator marks.
 
-import {getJSON, missionUrl, send} from './api.js';
+import {getCollection, missionUrl, send} from './api.js';
 import {classColour} from './class_colour.js';
 import {$, el, escapeHtml, toast} from './dom.js';
 import {formatLatLon, formatMetres, formatTime} from './geo.js';
@@ -47,7 +47,7 @@ export class Detections {
   }
 
   async load() {
-    const collection = await getJSON('/api/detections');
+    const collection = await getCollection('/api/detections');
     this.lastSeq = collection.last_seq || 0;
     const seen = new Set();
     for (const feature of collection.features || []) {

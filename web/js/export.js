@@ -1,6 +1,6 @@
 // Track and detections as GeoJSON or CSV downloads (fresh from the server).
 
-import {getJSON} from './api.js';
+import {getCollection, getJSON} from './api.js';
 import {download, toast} from './dom.js';
 
 const csvField = value => {
@@ -38,7 +38,7 @@ export async function exportData(what, format) {
       if (format === 'csv') download(`${stem()}-track.csv`, trackCsv(feature), 'text/csv');
       else download(`${stem()}-track.geojson`, JSON.stringify(feature), 'application/geo+json');
     } else {
-      const collection = await getJSON('/api/detections');
+      const collection = await getCollection('/api/detections');
       if (format === 'csv') download(`${stem()}-detections.csv`, detectionsCsv(collection), 'text/csv');
       else download(`${stem()}-detections.geojson`, JSON.stringify(collection), 'application/geo+json');
     }

@@ -194,8 +194,9 @@ StereoLocation StereoLocate::Run() {
     const std::optional<VehiclePose> pose = series.PoseAt(*o.time_s);
     if (!pose)
       throw InputError(trajectory->where, 0, "--time",
-                       cv::format("%.3f s is outside the trajectory's times (%.3f to %.3f s)", *o.time_s,
-                                  series.first_time_s(), series.last_time_s()));
+                       cv::format("%.3f s is outside the %s times (%.3f to %.3f s)", *o.time_s,
+                                  o.nav_path ? "navigation's" : "mission's trajectory's", series.first_time_s(),
+                                  series.last_time_s()));
     vehicle.emplace(*pose, *trajectory->frame);
   }
 

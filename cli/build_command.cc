@@ -39,6 +39,8 @@ const char* kHelp =
     "  --overwrite         replace an existing map\n"
     "  --quiet             no progress bar\n"
     "  --report FILE       write the run's figures as JSON (frames, seconds, tiles, bytes, peak RSS)\n"
+    "  --trajectory-out F  write the trajectory the frames were placed with (refined with --refine-nav) to F,\n"
+    "                      in seamap trajectory's CSV form\n"
     "  --refine-nav        refine the navigation from the photos first (seamap trajectory --mode refine),\n"
     "                      then paint with the refined poses; the mission keeps the navigation's beside them\n"
     "  --terrain           a true orthophoto: estimate the seabed's shape from the photos (after --refine-nav\n"
@@ -124,6 +126,8 @@ int RunBuild(int argc, char** argv, int first) {
   options.poses.quiet = quiet;
   options.command = CommandLine(argc, argv, first);
   const std::optional<std::string> report = args.Get("report");
+  const std::optional<std::string> trajectory_out = args.Get("trajectory-out");
+  if (trajectory_out) CheckTrajectoryOut(*trajectory_out);
   HookUpDetector(LiveDetectArgs(args), &options);  // the model is checked before the map is opened
   args.RejectUnknown();
 
@@ -167,6 +171,7 @@ int RunBuild(int argc, char** argv, int first) {
                             {"hole_share", surface.hole_share}};
     WriteReport(*report, figures);
   }
+  if (trajectory_out) WriteTrajectoryOut(*mission.store(), *trajectory_out);
   if (mission.stats().frames_used == 0) {
     std::fprintf(stderr, "seamap build: error: no frame could be used\n");
     return 1;

@@ -1,10 +1,13 @@
 #include "cli/build_setup.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 
 #include "cli/detect_setup.h"
+#include "core/controllers/mission_trajectory_io.h"
 #include "core/enhance/enhance_chain.h"
+#include "core/mission/mission_trajectory.h"
 #include "core/mosaic/survey_channels.h"
 #include "core/nav/nav_reader.h"
 #include "core/util/error.h"
@@ -84,6 +87,19 @@ void HookUpDetector(std::shared_ptr<const YoloModelInfo> model, MissionBuildOpti
   options->finish_detector = [](LiveDetector& detector, TileStore& store, const LiveDetector::Found& publish) {
     FinishLiveDetector(detector, store, publish);
   };
+}
+
+void CheckTrajectoryOut(const std::string& path) {
+  const fs::path parent = fs::path(path).parent_path();
+  std::error_code ec;
+  if (path.empty() || fs::is_directory(path, ec) || (!parent.empty() && !fs::is_directory(parent, ec)))
+    throw InputError(path, 0, "--trajectory-out", "expected a file in an existing folder (trajectory.csv)");
+}
+
+void WriteTrajectoryOut(const TileStore& store, const std::string& path) {
+  const size_t rows = WriteMissionTrajectory(store, path, "--trajectory-out");
+  std::printf("trajectory (%s): %zu frames -> %s\n", TrajectorySourceName(MissionTrajectory::Read(store).placed()),
+              rows, path.c_str());
 }
 
 }  // namespace seamap::cli

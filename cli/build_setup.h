@@ -39,4 +39,10 @@ MissionBuildOptions MissionOptions(BuildInputs in);
 // (`model` null: none).
 void HookUpDetector(std::shared_ptr<const YoloModelInfo> model, MissionBuildOptions* options);
 
+// --trajectory-out FILE: refused before the build when its folder does not
+// exist; written from the finished mission (the poses the frames were placed
+// with, core/controllers/mission_trajectory_io.h) with a line on stdout.
+void CheckTrajectoryOut(const std::string& path);
+void WriteTrajectoryOut(const TileStore& store, const std::string& path);
+
 }  // namespace seamap::cli

@@ -19,6 +19,8 @@ const char* kUsage =
 Georeferences SLAM keyframes with the GPS fixes of a buoy towed on a tether.
   --keyframes FILE    TUM trajectory: 'timestamp tx ty tz qx qy qz qw' a line, camera-to-world;
                       repeat for sub-maps (SLAM resets): each gets its own transform
+  --map MAP           instead of --keyframes: the mission's trajectory (the poses its frames were
+                      placed with, e.g. replay --nav-mode vo's), its local frame as the SLAM frame
   --buoy FILE         CSV time_s,lat,lon (or easting,northing,zone); optional sigma_m, hdop, fix_quality
   --tether-length M   tether length, metres
   --depth M           constant vehicle depth, metres      --depth-csv FILE   CSV time_s,depth_m
@@ -46,7 +48,9 @@ Exit 2 for bad input (naming file and line), too few taut keyframes, or degenera
 BuoyGeorefOptions ParseInputs(Args& args) {
   BuoyGeorefOptions in;
   in.keyframe_files = args.GetAll("keyframes");
-  if (in.keyframe_files.empty()) throw InputError("", 0, "--keyframes", "is required: a TUM trajectory file");
+  in.map_path = args.GetOr("map", "");
+  if (in.keyframe_files.empty() && in.map_path.empty())
+    throw InputError("", 0, "--keyframes", "is required: a TUM trajectory file (or --map MAP: a mission's trajectory)");
   in.buoy_file = args.Require("buoy");
   in.tether_length_m = args.GetDouble("tether-length", NAN);
   if (std::isnan(in.tether_length_m))

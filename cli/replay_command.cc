@@ -53,6 +53,8 @@ const char* kHelp =
     "  --nav-mode vo|ekf   run the navigation filter online as frames arrive and paint with its pose\n"
     "                      (vo: visual odometry + depth, navigation positions only for the first fix;\n"
     "                      ekf: also the navigation's positions, gated); the mission keeps both tracks\n"
+    "  --trajectory-out F  at the end, write the trajectory the frames were placed with (the filter's with\n"
+    "                      --nav-mode) to F, in seamap trajectory's CSV form\n"
     "  --detect            search tiles for objects as they are finished (--detect-model FILE: its\n"
     "                      ONNX model, default data/models/seabed_objects.onnx)\n"
     "  --quiet             no progress line\n";
@@ -320,6 +322,8 @@ int RunReplay(int argc, char** argv, int first) {
   if (auto dem = args.Get("terrain-file")) in.config.terrain = TerrainSettings{false, *dem};
   const GeorefOverlays overlays = ReadGeorefOverlays(args);  // before the map is touched
   const auto detect_model = LiveDetectArgs(args);            // checked before the map is opened
+  const std::optional<std::string> trajectory_out = args.Get("trajectory-out");
+  if (trajectory_out) CheckTrajectoryOut(*trajectory_out);
   args.RejectUnknown();
 
   std::unique_ptr<FrameFeed> feed = OpenFeed(watch, args, in, speed, idle_timeout);
@@ -352,7 +356,15 @@ int RunReplay(int argc, char** argv, int first) {
               speed > 0 ? (std::to_string(speed).substr(0, 4) + "x").c_str() : "full speed", out.c_str());
   std::fflush(stdout);
 
-  const int exit_code = ReplayFeed(build, *feed, live, quiet, interrupted);
+  int exit_code = ReplayFeed(build, *feed, live, quiet, interrupted);
+  if (trajectory_out) {  // what the frames were placed with, stopped or not
+    try {
+      WriteTrajectoryOut(*build.store(), *trajectory_out);
+    } catch (const InputError& e) {
+      std::fprintf(stderr, "seamap replay: %s\n", e.what());
+      if (exit_code == 0) exit_code = 2;
+    }
+  }
   if (!exit_when_done && !interrupted) {
     std::printf("still serving %s (Ctrl-C to stop)\n", url.c_str());
     std::fflush(stdout);

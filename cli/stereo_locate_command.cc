@@ -25,13 +25,22 @@ found: false (exit 0) when the object is not recognised.
                      world_from_camera per pair, sigma_m, sigma_deg): holds the joint solution to it
   --min-inliers N    found rule: inliers per pair (default 12)
   --max-features N   SIFT keypoints per image (default 4000)
-where the object is on the Earth (with --nav and --time):
-  --nav FILE         the vehicle's navigation, as seamap build reads it
-  --time T           when the first pair used was taken, in the navigation's clock (s)
+where the object is on the Earth (a trajectory: --nav, or --map alone):
+  --nav FILE         the vehicle's navigation, as seamap build reads it (a trajectory.csv too)
+  --map MAP          the mission: its trajectory (the poses its frames were placed with, refined or
+                     estimated where they were) unless --nav is given; the object is stored in it as a
+                     detection (source "stereo", class = the model's name, heading and depth),
+                     replacing its earlier location
+  --time T           when the first pair used was taken, in the trajectory's clock (s)
   --rig forward|down the left camera looks along the bow (default) or down, image top to the bow
   --rig-offset X,Y,Z the left camera in the vehicle's frame, m (x forward, y starboard, z down)
-  --map MAP          also store the object in the mission as a detection (source "stereo",
-                     class = the model's name, heading and depth), replacing its earlier location
+a dive (a trajectory and no --time): every pair of DIR is located on its own at its own time, placed
+on the trajectory (a pair outside its times is reported and skipped); --out gets every sighting
+(the pose file's fields, geo) and a summary (objects: sightings, mean position, spread)
+  --pair-times FILE  each pair's time: a CSV with image (the pair's NAME or an image file) and time_s;
+                     without it, from the pair's name: a UTC stamp YYYYMMDD_HHMMSS[_mmm] or seconds
+                     (NAME_12.500, t12.5, 12.5s)
+  --quiet            no progress bar
 )";
 
 RigMount ReadRigMount(Args& args) {
@@ -48,10 +57,40 @@ RigMount ReadRigMount(Args& args) {
   return mount;
 }
 
+// Every pair of a dive: a line per sighting, the summary, the mission's objects.
+int RunDive(StereoLocate& locator, const StereoLocateOptions& options) {
+  const StereoDive dive = locator.RunDive();
+  std::printf("dive: '%s' on %s\n", dive.model_name.c_str(), dive.trajectory.c_str());
+  for (const StereoSighting& s : dive.sightings) {
+    if (!s.skipped.empty())
+      std::printf("  %s: skipped, %s\n", s.pair.c_str(), s.skipped.c_str());
+    else if (!s.placed)
+      std::printf("  %s at %.3f s: not found (%s)\n", s.pair.c_str(), *s.time_s, s.result.reason.c_str());
+    else
+      std::printf("  %s at %.3f s: object at %.7f %.7f, %.3f m deep, heading %.2f deg (points sigma %.2f mm)\n",
+                  s.pair.c_str(), *s.time_s, s.placed->position.lat, s.placed->position.lon, s.placed->depth_m,
+                  s.placed->heading_deg, 1000 * s.result.point_sigma_m);
+  }
+  const nlohmann::json& sum = dive.summary;
+  std::printf("%d pairs: %d found, %d not found, %d outside the trajectory's times\n", sum["pairs"].get<int>(),
+              sum["found"].get<int>(), sum["not_found"].get<int>(), sum["skipped"].get<int>());
+  for (const auto& object : sum["objects"])
+    std::printf("object at %.7f %.7f, %.3f m deep: %d sightings, spread %.1f mm RMS (max %.1f mm)\n",
+                object["lat"].get<double>(), object["lon"].get<double>(), object["depth_m"].get<double>(),
+                object["sightings"].get<int>(), 1000 * object["spread_rms_m"].get<double>(),
+                1000 * object["spread_max_m"].get<double>());
+  if (options.map_path) {
+    const std::vector<long long> ids = locator.StoreDetections(dive);
+    std::printf("stored %zu object(s) as detections in %s\n", ids.size(), options.map_path->c_str());
+  }
+  std::printf("-> %s\n", options.out.c_str());
+  return 0;
+}
+
 }  // namespace
 
 int RunStereoLocate(int argc, char** argv, int first) {
-  Args args(argc, argv, first, {"help", "no-tie-points"});
+  Args args(argc, argv, first, {"help", "no-tie-points", "quiet"});
   if (args.Flag("help")) {
     std::fputs(kUsage, stdout);
     return 0;
@@ -73,6 +112,8 @@ int RunStereoLocate(int argc, char** argv, int first) {
   options.nav_path = args.Get("nav");
   options.map_path = args.Get("map");
   if (args.Get("time")) options.time_s = args.GetDouble("time", 0);
+  options.pair_times_path = args.Get("pair-times");
+  options.quiet = args.Flag("quiet");
   options.mount = ReadRigMount(args);
   args.RejectUnknown();
   options.Check();
@@ -80,6 +121,7 @@ int RunStereoLocate(int argc, char** argv, int first) {
     throw InputError("", 0, args.positionals()[0], "unexpected argument; see seamap stereo-locate --help");
 
   StereoLocate locator(options);
+  if (options.Dive()) return RunDive(locator, options);
   const StereoLocation located = locator.Run();
   const LocateResult& result = located.result;
   if (const auto& placed = located.placed) {

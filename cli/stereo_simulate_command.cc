@@ -25,6 +25,10 @@ stereo-locate --motion).
   --offset M       first approach pair within M of the object's axis (default 1)
   --supersample S  S x S samples per pixel (default 2)
   --motion-noise M,DEG  navigation noise per axis in motion.json (default 0.001,0.01)
+  --dive N         also a dive: N passes over the object, a pair each (dive/dive_SSSS.SSS_left.png:
+                   named by its time), the vehicle's trajectory dive/nav.csv (origin 43.1,131.9, seabed
+                   30 m deep), one more pair after it ends, and truth/dive.json (the object on the
+                   Earth); for stereo-locate --pairs DIR/dive --nav DIR/dive/nav.csv (default 0)
 )";
 
 }  // namespace
@@ -46,6 +50,7 @@ int RunSimulateStereo(int argc, char** argv, int first) {
   o.render.blur_sigma_px = args.GetDouble("blur", o.render.blur_sigma_px);
   o.render.supersample = args.GetInt("supersample", o.render.supersample);
   o.approach_offset_m = args.GetDouble("offset", o.approach_offset_m);
+  o.dive_sightings = args.GetInt("dive", 0);
   if (const auto noise = args.Get("motion-noise")) {
     char tail = 0;
     if (std::sscanf(noise->c_str(), "%lf,%lf%c", &o.motion_sigma_m, &o.motion_sigma_deg, &tail) != 2)
@@ -55,8 +60,10 @@ int RunSimulateStereo(int argc, char** argv, int first) {
   if (!args.positionals().empty())
     throw InputError("", 0, args.positionals()[0], "unexpected argument; see seamap simulate-stereo --help");
   const StereoSurveySummary s = SimulateStereoSurvey(o);
-  std::printf("simulated %zu overview and %zu approach pairs (%s), %.1f s -> %s\n", s.overview.size(),
-              s.approach.size(), s.layout.c_str(), s.seconds, o.out_dir.c_str());
+  std::printf("simulated %zu overview and %zu approach pairs%s (%s), %.1f s -> %s\n", s.overview.size(),
+              s.approach.size(),
+              o.dive_sightings ? (", a dive of " + std::to_string(o.dive_sightings) + " sightings").c_str() : "",
+              s.layout.c_str(), s.seconds, o.out_dir.c_str());
   return 0;
 }
 

@@ -92,6 +92,13 @@ void AddMissionApi(httplib::Server& s, const std::string& prefix, int prefix_gro
             SendJson(res, TrackFeature(m.mission->BuoyTrackFrom(from), source, m.mission->BuoyTrackSize(), false));
             return;
           }
+          if (source == TrackSource::kRefined && m.mission->PlacedTrajectory() != TrajectorySource::kRefined)
+            throw ApiError(404, std::string("source 'refined': this mission's trajectory was not refined (its frames "
+                                            "were placed with the ") +
+                                    (m.mission->PlacedTrajectory() == TrajectorySource::kNav
+                                         ? "navigation as given"
+                                         : "navigation filter's estimate, source 'estimated'") +
+                                    "; build --refine-nav refines it)");
           SendJson(res, TrackFeature(m.mission->TrackFrom(from), source, m.mission->TrackSize(),
                                      m.mission->TrajectoryCorrected()));
         }));

@@ -260,6 +260,12 @@ bool MissionState::TrajectoryCorrected() const {
   return corrected_frames_ > 0 || corrected_points_ > 0;
 }
 
+TrajectorySource MissionState::PlacedTrajectory() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return PlacedTrajectorySource(trajectory_.is_null() ? std::nullopt : std::optional<nlohmann::json>(trajectory_),
+                                corrected_frames_ > 0 || corrected_points_ > 0);
+}
+
 std::vector<TrackPoint> MissionState::TrackFrom(int first_seq) const {
   std::lock_guard<std::mutex> lock(mutex_);
   auto it = std::lower_bound(track_.begin(), track_.end(), first_seq,

@@ -17,6 +17,7 @@
 
 #include "core/geo/web_mercator.h"
 
+#include "core/mission/mission_trajectory.h"
 #include "core/tiles/tile_store.h"
 #include "server/terrain_query.h"
 
@@ -73,6 +74,8 @@ class MissionState {
   // Some frames were placed with a corrected pose (a refined or filtered
   // trajectory), the navigation's kept beside it.
   bool TrajectoryCorrected() const;
+  // What the frames were placed with (core/mission/mission_trajectory.h): refined, estimated or nav.
+  TrajectorySource PlacedTrajectory() const;
   // Track points with seq >= first_seq.
   std::vector<TrackPoint> TrackFrom(int first_seq) const;
   int TrackSize() const;

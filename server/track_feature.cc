@@ -8,11 +8,23 @@ TrackSource ParseTrackSource(const std::optional<std::string>& text) {
   if (!text || *text == "estimated") return TrackSource::kEstimated;
   if (*text == "nav") return TrackSource::kNav;
   if (*text == "buoy") return TrackSource::kBuoy;
-  throw ApiError(400, "parameter 'source': expected 'estimated', 'nav' or 'buoy', got '" + *text + "'");
+  if (*text == "refined") return TrackSource::kRefined;
+  throw ApiError(
+      400, "parameter 'source': expected 'estimated', 'refined', 'nav' or 'buoy', got '" + text->substr(0, 100) + "'");
 }
 
 const char* TrackSourceName(TrackSource source) {
-  return source == TrackSource::kNav ? "nav" : source == TrackSource::kBuoy ? "buoy" : "estimated";
+  switch (source) {
+    case TrackSource::kNav:
+      return "nav";
+    case TrackSource::kBuoy:
+      return "buoy";
+    case TrackSource::kRefined:
+      return "refined";
+    case TrackSource::kEstimated:
+      break;
+  }
+  return "estimated";
 }
 
 LatLon TrackPosition(const TrackPoint& point, TrackSource source) {

@@ -1,9 +1,11 @@
 #pragma once
 // The vehicle's track as GET /api/track answers it, from either source: the
 // estimated track (the positions the frames were placed at, corrected where
-// the trajectory was) or the navigation's (its original positions where the
-// trajectory was corrected, the same positions elsewhere); or the GPS buoy's
-// track (its fixes, given to seamap serve --buoy) beside the vehicle's.
+// the trajectory was: the best the mission has), the refined one (the same
+// positions, only where the trajectory was refined) or the navigation's (its
+// original positions where the trajectory was corrected, the same positions
+// elsewhere); or the GPS buoy's track (its fixes, given to seamap serve
+// --buoy) beside the vehicle's.
 #include <optional>
 #include <string>
 #include <vector>
@@ -14,9 +16,9 @@
 
 namespace seamap::server {
 
-enum class TrackSource { kEstimated, kNav, kBuoy };
+enum class TrackSource { kEstimated, kRefined, kNav, kBuoy };
 
-// The `source` parameter: absent or "estimated", "nav" or "buoy"; anything else is
+// The `source` parameter: absent or "estimated", "refined", "nav" or "buoy"; anything else is
 // ApiError 400 naming the parameter.
 TrackSource ParseTrackSource(const std::optional<std::string>& text);
 const char* TrackSourceName(TrackSource source);

@@ -5,7 +5,9 @@
 #include <cstdio>
 #include <fstream>
 
+#include "core/controllers/mission_trajectory_io.h"
 #include "core/geo/local_frame.h"
+#include "core/geo/rotation.h"
 #include "core/georef/buoy_track.h"
 #include "core/georef/depth_profile.h"
 #include "core/georef/georef_inputs.h"
@@ -15,6 +17,7 @@
 #include "core/georef/seabed_altitude.h"
 #include "core/georef/tum_trajectory.h"
 #include "core/nav/nav_values.h"
+#include "core/tiles/tile_store.h"
 #include "core/util/error.h"
 
 namespace seamap {
@@ -99,7 +102,10 @@ std::string Summary(const SubmapGeoref& s) {
 }  // namespace
 
 void BuoyGeorefOptions::Check() const {
-  if (keyframe_files.empty()) throw InputError("", 0, "--keyframes", "is required: a TUM trajectory file");
+  if (keyframe_files.empty() && map_path.empty())
+    throw InputError("", 0, "--keyframes", "is required: a TUM trajectory file (or --map MAP: a mission's trajectory)");
+  if (!keyframe_files.empty() && !map_path.empty())
+    throw InputError("", 0, "--map", "and --keyframes: give one trajectory to georeference");
   if (!(tether_length_m > 0)) throw InputError("", 0, "--tether-length", "expected a positive length in metres");
   if (depth_m.has_value() == !depth_file.empty())
     throw InputError("", 0, "--depth", "give either --depth METRES or --depth-csv FILE (exactly one)");
@@ -126,6 +132,11 @@ BuoyGeorefResult BuoyGeoref::Run() {
   const BuoyGeorefOptions& in = options_;
   std::vector<std::vector<Keyframe>> keyframes;
   for (const auto& file : in.keyframe_files) keyframes.push_back(ReadTumTrajectory(file));
+  std::vector<std::string> sources = in.keyframe_files;
+  if (!in.map_path.empty()) {
+    keyframes.push_back(MissionKeyframes(*OpenExistingMap(in.map_path, /*writable=*/false), in.map_path));
+    sources.push_back(in.map_path);
+  }
   const BuoyLog buoy_log = ReadBuoyLog(in.buoy_file);
   std::vector<std::string> warnings = buoy_log.warnings;
   for (const auto& r : buoy_log.rejected) std::fprintf(stderr, "skipped: %s\n", r.Message().c_str());
@@ -155,7 +166,7 @@ BuoyGeorefResult BuoyGeoref::Run() {
 
   std::vector<SubmapGeoref> submaps;
   for (size_t i = 0; i < keyframes.size(); ++i)
-    submaps.push_back(GeoreferenceSubmap(in.keyframe_files[i], keyframes[i], buoy, depth, options));
+    submaps.push_back(GeoreferenceSubmap(sources[i], keyframes[i], buoy, depth, options));
 
   for (const auto& s : submaps) {
     for (const auto& r : s.resets) warnings.push_back(s.source + ":" + std::to_string(r.line) + ": " + r.why);

@@ -15,7 +15,11 @@
 namespace seamap {
 
 struct BuoyGeorefOptions {
-  std::vector<std::string> keyframe_files;  // TUM trajectories, one per sub-map
+  std::vector<std::string> keyframe_files;  // TUM trajectories, one per sub-map, or ...
+  // ... a mission (--map): the trajectory its frames were placed with, in its
+  // local frame (east, north, up), as one sub-map's keyframes
+  // (core/controllers/mission_trajectory_io.h).
+  std::string map_path;
   std::string buoy_file;
   double tether_length_m = 0;
   std::optional<double> depth_m;   // constant depth, or ...

@@ -1,11 +1,21 @@
 #pragma once
 // The camera's pose in the object's frame from stereo pairs, and with the
-// vehicle's navigation where the object is on the Earth: what `seamap
+// vehicle's trajectory where the object is on the Earth: what `seamap
 // stereo-locate` runs (docs/STEREO.md). Writes the pose file; stores the
 // placed object in a mission as a detection (source "stereo") on request.
+//
+// The trajectory is a navigation file (--nav) or the mission's own (--map
+// alone: the poses its frames were placed with, refined or estimated where
+// they were; core/mission/mission_trajectory.h). With --time, the first N
+// pairs are located jointly at that time; without it (a dive), every pair is
+// located on its own at its own time (--pair-times or its name,
+// core/stereo/pair_times.h), each sighting placed and stored.
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "core/stereo/object_georef.h"
 #include "core/stereo/object_locator.h"
@@ -19,14 +29,36 @@ struct StereoLocateOptions {
   int views = 1;                    // the first N pairs of pairs_dir (sorted by name), jointly
   std::string method = "features";  // or "icp" (the baseline)
   LocateOptions locate;             // the features method's found rule, tie points, rig motion, SIFT
-  // Where the object is on the Earth: the navigation and when the first pair
-  // used was taken (in its clock), and the rig on the vehicle.
+  // Where the object is on the Earth: the navigation (else the mission's
+  // trajectory) and when the first pair used was taken (in its clock), and
+  // the rig on the vehicle.
   std::optional<std::string> nav_path;
   std::optional<double> time_s;
   RigMount mount;
-  std::optional<std::string> map_path;  // the mission the object is stored in (needs nav_path)
-  // InputError naming the option that does not fit (--views, --method, --map, --nav or --time).
+  std::optional<std::string> map_path;  // the mission the object is stored in; its trajectory without nav_path
+  // A dive (no time_s): each pair's time from this table (else its name).
+  std::optional<std::string> pair_times_path;
+  bool quiet = false;  // no progress bar
+  // Every pair on its own at its own time: a trajectory and no --time.
+  bool Dive() const { return !time_s && (nav_path || map_path); }
+  // InputError naming the option that does not fit (--views, --method, --map, --nav, --time, --pair-times, --motion).
   void Check() const;
+};
+
+// One pair of a dive: located (or not) at its time, or skipped.
+struct StereoSighting {
+  std::string pair;
+  std::optional<double> time_s;
+  std::string time_from;  // "--pair-times" or "name"
+  std::string skipped;    // why it was not searched (outside the trajectory's times); empty otherwise
+  LocateResult result;
+  std::optional<PlacedObject> placed;  // found
+};
+
+struct StereoDive {
+  std::string model_name, trajectory;  // trajectory: what the poses came from, for the user
+  std::vector<StereoSighting> sightings;
+  nlohmann::json summary;  // pairs, found, not_found, skipped, mean position and spread of the found
 };
 
 struct StereoLocation {
@@ -43,6 +75,14 @@ class StereoLocate {
   // writes options.out. InputError naming what does not fit; a warning on
   // stderr when the model was built with another rig. Not found is a result.
   StereoLocation Run();
+  // A dive (options.Dive()): every pair of pairs_dir located on its own at its
+  // time, placed on the trajectory; writes options.out (sightings + summary).
+  // A pair without a time is an InputError naming it; one outside the
+  // trajectory's times is skipped with the reason.
+  StereoDive RunDive();
+  // With map_path: stores every placed sighting (one detection per object:
+  // sightings within 10 cm of each other are the same one); returns the ids.
+  std::vector<long long> StoreDetections(const StereoDive& dive);
   // With map_path: stores the placed object as a detection, replacing its
   // earlier location (found again within 10 cm, same model file: the same
   // detection, its review kept); returns its id.
@@ -50,6 +90,11 @@ class StereoLocate {
 
  private:
   StereoLocateOptions options_;
+  // The vehicle's trajectory, about the mission's origin when there is a map.
+  struct Trajectory;
+  std::unique_ptr<Trajectory> OpenTrajectory();
+  Detection SightingDetection(const PlacedObject& placed, double time_s) const;
+
   std::unique_ptr<TileStore> store_;  // map_path, opened by Run
 };
 

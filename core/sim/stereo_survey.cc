@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "core/geo/local_frame.h"
 #include "core/util/error.h"
 
 namespace seamap {
@@ -38,6 +39,64 @@ void WritePair(const StereoImages& images, const fs::path& dir, const std::strin
   }
 }
 
+// The scene's frame on the Earth: x east, y north, z up from the seabed at dive_seabed_depth_m.
+// The vehicle's navigation point is the left camera (its rig looks down, image top to the bow).
+void SimulateDive(const StereoSurveyOptions& o, const StereoScene& scene, const StereoCalibration& rig,
+                  const StereoSurveySummary& summary, const fs::path& out, uint64_t* noise_seed) {
+  std::mt19937_64 rng(o.seed * 15485863 + 11);
+  const auto uniform = [&](double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); };
+  const LocalFrame earth(LatLon{o.dive_origin_lat, o.dive_origin_lon});
+  const double top = scene.top_z_m;
+  struct Leg {
+    double time_s, x, y, z, heading;  // mid-leg: the pair's pose (left camera), heading from x towards y
+  };
+  // The compass heading of a down-looking camera's bow (image top, -y) and the body on the Earth.
+  const auto compass = [](double heading) { return std::fmod(-heading * 180 / M_PI + 720, 360.0); };
+  std::vector<Leg> legs;
+  double t = 20;
+  for (int k = 0; k <= o.dive_sightings; ++k) {  // the last one: after the navigation ends
+    const double angle = uniform(0, 2 * M_PI), offset = uniform(0, 0.8);
+    // Whole milliseconds: the pair's name holds its time exactly.
+    legs.push_back({std::round((t + uniform(0, 5)) * 1000) / 1000, offset * std::cos(angle), offset * std::sin(angle),
+                    top + uniform(3.2, 4.0), uniform(-0.6, 0.6)});
+    t = legs.back().time_s + 30;
+  }
+  fs::create_directories(out / "dive");
+  std::ofstream nav(out / "dive" / "nav.csv");
+  nav << "time_s,lat,lon,depth_m,altitude_m,heading_deg,pitch_deg,roll_deg\n";
+  nlohmann::json sightings = nlohmann::json::array();
+  for (size_t k = 0; k < legs.size(); ++k) {
+    const Leg& leg = legs[k];
+    const Eigen::Vector2d bow(-std::sin(leg.heading), std::cos(leg.heading));  // the image's top on the seabed
+    const Rigid pose = DownLookingCamera(leg.x, leg.y, leg.z, leg.heading);
+    const std::string name = cv::format("dive_%08.3f", leg.time_s);
+    WritePair(RenderStereoPair(scene, rig, pose, o.render, ++*noise_seed), out / "dive", name);
+    sightings.push_back({{"pair", name}, {"time_s", leg.time_s}, {"in_navigation", k + 1 < legs.size()}});
+    if (k + 1 == legs.size()) break;          // the navigation has ended
+    for (int step = -5; step <= 5; ++step) {  // 0.5 m/s along the bow, straight and level
+      const Eigen::Vector2d at = Eigen::Vector2d(leg.x, leg.y) + 0.5 * step * bow;
+      const LatLon ll = earth.ToLatLon({at.x(), at.y()});
+      nav << cv::format("%.3f,%.10f,%.10f,%.4f,%.4f,%.4f,0,0\n", leg.time_s + step, ll.lat, ll.lon,
+                        o.dive_seabed_depth_m - leg.z, leg.z, compass(leg.heading));
+    }
+  }
+  // The object's frame: the model's, the first overview pair's left camera.
+  const Rigid& model = summary.overview.begin()->second;
+  const Eigen::Vector3d p = model.translation(), x_axis = model.linear().col(0);
+  const LatLon object = earth.ToLatLon({p.x(), p.y()});
+  const nlohmann::json truth = {
+      {"origin", {o.dive_origin_lat, o.dive_origin_lon}},
+      {"seabed_depth_m", o.dive_seabed_depth_m},
+      {"object",
+       {{"lat", object.lat},
+        {"lon", object.lon},
+        {"position_m", {p.x(), p.y()}},
+        {"depth_m", o.dive_seabed_depth_m - p.z()},
+        {"heading_deg", std::fmod(std::atan2(x_axis.x(), x_axis.y()) * 180 / M_PI + 360, 360.0)}}},
+      {"sightings", sightings}};
+  std::ofstream(out / "truth" / "dive.json") << truth.dump(2) << "\n";
+}
+
 }  // namespace
 
 void StereoSurveyOptions::Check() const {
@@ -45,6 +104,7 @@ void StereoSurveyOptions::Check() const {
   if (views < 1 || views > 20) throw InputError("", 0, "--views", "expected 1 to 20 pairs");
   if (!(object_texture >= 0 && object_texture <= 2)) throw InputError("", 0, "--texture", "expected 0-2");
   if (!(approach_offset_m >= 0 && approach_offset_m <= 2)) throw InputError("", 0, "--offset", "expected 0-2 m");
+  if (dive_sightings < 0 || dive_sightings > 50) throw InputError("", 0, "--dive", "expected 0 to 50 sightings");
   if (!(motion_sigma_m >= 0 && motion_sigma_m <= 1 && motion_sigma_deg >= 0 && motion_sigma_deg <= 10))
     throw InputError("", 0, "--motion-noise", "expected 0-1 m and 0-10 degrees");
   render.Check();
@@ -69,7 +129,7 @@ StereoSurveySummary SimulateStereoSurvey(const StereoSurveyOptions& options) {
   const fs::path out(options.out_dir);
   if (fs::exists(out) && !fs::is_empty(out) && !options.force)
     throw InputError(options.out_dir, 0, "--out", "folder is not empty (use --force to replace)");
-  for (const char* sub : {"overview", "approach", "empty", "truth"}) fs::remove_all(out / sub);
+  for (const char* sub : {"overview", "approach", "empty", "dive", "truth"}) fs::remove_all(out / sub);
   fs::create_directories(out / "truth");
 
   StereoSceneOptions scene_options;
@@ -156,6 +216,7 @@ StereoSurveySummary SimulateStereoSurvey(const StereoSurveyOptions& options) {
     drawing << cv::format("%s_%d,%.6f,%.6f,%.6f,%.4f,%.4f,%.4f,%.4f\n", name.c_str(), ++index, p.x(), p.y(), p.z(), l.x,
                           l.y, r.x, r.y);
   }
+  if (options.dive_sightings > 0) SimulateDive(options, scene, rig, summary, out, &noise_seed);
   nlohmann::json info = {{"format", "seamap-stereo-scene"},
                          {"seed", options.seed},
                          {"views", options.views},

@@ -5,6 +5,15 @@
 // pairs 3.0-4.2 m above it (headings up to 45 deg apart, offsets up to 1 m,
 // 0.3-0.8 m between pairs) to locate it, one pair without the object, and
 // the exact truth (truth/poses.json, truth/check_points.csv).
+//
+// With dive_sightings N: a dive on the Earth (dive/, `stereo-locate --pairs
+// dive/ --nav dive/nav.csv`): the vehicle (its navigation point is the left
+// camera) passes over the object N times on straight 0.5 m/s legs, and a pair
+// is taken mid-leg (named dive_SSSS.SSS: its time in seconds); one more pair,
+// over the object after the navigation ends, must be skipped. dive/nav.csv is
+// the vehicle's exact trajectory (1 s steps, linear within a leg, so its
+// interpolation is exact at the pairs' times); truth/dive.json the object's
+// frame (the model's: the first overview pair's left camera) on the Earth.
 #include <cstdint>
 #include <map>
 #include <string>
@@ -24,6 +33,8 @@ struct StereoSurveyOptions {
   double approach_offset_m = 1;  // the approach's first pair lies within this of the object's axis
   // motion.json: the approach poses as navigation would measure them, this noisy per axis.
   double motion_sigma_m = 0.001, motion_sigma_deg = 0.01;
+  int dive_sightings = 0;  // 0: no dive
+  double dive_origin_lat = 43.1, dive_origin_lon = 131.9, dive_seabed_depth_m = 30;
   StereoRenderOptions render;
   void Check() const;
 };

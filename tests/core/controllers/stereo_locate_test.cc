@@ -36,16 +36,35 @@ TEST(StereoLocateOptionsTest, CheckNamesTheOptionThatDoesNotFit) {
   o.method = "sonar";
   EXPECT_EQ(FieldOfError(o), "--method");
   o = Valid();
-  o.map_path = "map.mbtiles";  // where the vehicle was: unknown
-  EXPECT_EQ(FieldOfError(o), "--map");
-  o = Valid();
-  o.nav_path = "nav.csv";
+  o.time_s = 12;  // when, but on no trajectory
   EXPECT_EQ(FieldOfError(o), "--time");
-  o = Valid();
-  o.time_s = 12;
-  EXPECT_EQ(FieldOfError(o), "--nav");
   o.nav_path = "nav.csv", o.map_path = "map.mbtiles";
   EXPECT_EQ(FieldOfError(o), "");
+  o.nav_path.reset();  // the mission's own trajectory
+  EXPECT_EQ(FieldOfError(o), "");
+  o.pair_times_path = "times.csv";  // --time places the first pair; a table places every pair
+  EXPECT_EQ(FieldOfError(o), "--pair-times");
+}
+
+// A trajectory without --time is a dive: every pair on its own at its own time.
+TEST(StereoLocateOptionsTest, ADiveLocatesPairsOneByOne) {
+  StereoLocateOptions o = Valid();
+  o.map_path = "map.mbtiles";  // the mission's trajectory
+  EXPECT_TRUE(o.Dive());
+  EXPECT_EQ(FieldOfError(o), "");
+  o.pair_times_path = "times.csv";
+  EXPECT_EQ(FieldOfError(o), "");
+  o.views = 3;
+  EXPECT_EQ(FieldOfError(o), "--views");
+  o = Valid();
+  o.nav_path = "nav.csv";
+  EXPECT_TRUE(o.Dive());
+  o.locate.motion.world_from_camera["ap_001"] = Rigid::Identity();
+  EXPECT_EQ(FieldOfError(o), "--motion");
+  o = Valid();
+  EXPECT_FALSE(o.Dive());
+  o.pair_times_path = "times.csv";  // no trajectory to read the times on
+  EXPECT_EQ(FieldOfError(o), "--pair-times");
 }
 
 TEST(StereoLocateTest, RunChecksTheOptionsThenNamesAMissingCalibration) {

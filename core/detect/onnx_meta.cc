@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/util/error.h"
+#include "core/util/input_file.h"
 
 namespace seamap {
 namespace {
@@ -293,6 +294,7 @@ std::vector<std::string> ParseClassNames(const std::string& text, const std::str
 }
 
 std::vector<std::string> ReadClassesFile(const std::string& path) {
+  RegularFileBytes(path, "classes file", "--classes", int64_t{16} << 20);  // not /dev/zero, not a FIFO
   std::ifstream in(path);
   if (!in) throw InputError(path, 0, "--classes", "cannot read the classes file");
   std::vector<std::string> names;

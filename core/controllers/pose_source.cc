@@ -233,22 +233,29 @@ nlohmann::json PoseSource::Filter(std::vector<FrameSpec>* frames_in, std::vector
   ThreadPool pool(options_.threads);
   TrajectoryEstimator estimator(camera_, options);
   ProgressBar progress("frames", static_cast<long>(frames.size()), !options_.quiet);
-  std::deque<std::future<std::optional<FrameFeatures>>> ahead;
+  struct Read {
+    std::optional<FrameFeatures> features;
+    std::string problem;  // why there are none
+  };
+  std::deque<std::future<Read>> ahead;
+  std::vector<std::string> problems;  // "image: why", the first few
   size_t next = 0;
   const size_t depth = 4 * static_cast<size_t>(pool.size());
   const auto start = std::chrono::steady_clock::now();
   int unreadable = 0;
   for (size_t i = 0; i < frames.size(); ++i) {
     for (; next < frames.size() && next < i + depth; ++next)
-      ahead.push_back(pool.Submit([&, next]() -> std::optional<FrameFeatures> {
-        std::string problem;
-        const cv::Mat image = ReadGuardedImage(frames[next].image_path, &problem, options_.max_image_pixels);
-        if (image.empty()) return std::nullopt;
-        return DetectFeatures(image, camera_, options.vo.features);
+      ahead.push_back(pool.Submit([&, next]() -> Read {
+        Read read;
+        const cv::Mat image = ReadGuardedImage(frames[next].image_path, &read.problem, options_.max_image_pixels);
+        if (!image.empty()) read.features = DetectFeatures(image, camera_, options.vo.features);
+        return read;
       }));
-    const std::optional<FrameFeatures> features = ahead.front().get();
+    const Read read = ahead.front().get();
     ahead.pop_front();
+    const std::optional<FrameFeatures>& features = read.features;
     unreadable += !features;
+    if (!features && problems.size() < 5) problems.push_back(frames[i].image.substr(0, 100) + ": " + read.problem);
     const VehiclePose pose = estimator.Add(features ? &*features : nullptr, *frames[i].time_s, frames[i].pose);
     frames[i].nav_pose = frames[i].pose;
     frames[i].pose = pose;
@@ -260,6 +267,9 @@ nlohmann::json PoseSource::Filter(std::vector<FrameSpec>* frames_in, std::vector
     progress.Update(static_cast<long>(i + 1));
   }
   progress.Finish();
+  for (const std::string& problem : problems) std::fprintf(stderr, "%s: %s\n", name().c_str(), problem.c_str());
+  if (unreadable > static_cast<int>(problems.size()))
+    std::fprintf(stderr, "%s: %d more frames unread\n", name().c_str(), unreadable - static_cast<int>(problems.size()));
   nlohmann::json gaps = nlohmann::json::array();
   for (const auto& [time_s, gap_s] : estimator.gaps()) {
     if (gaps.size() == 5)

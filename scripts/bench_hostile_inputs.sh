@@ -82,6 +82,16 @@ py "png(f'{d}/photo/frame_000004.png', 24000, 18000, 18000)"
 # shellcheck disable=SC2046
 run_case "trajectory vo, a PNG of 24000x18000" "image too large" \
   "$seamap" trajectory --mode vo $(inputs) --out "$out/case.csv"
+stereo="$out/stereo"
+if [[ ! -f "$stereo/object.json" ]]; then
+  "$seamap" simulate-stereo --out "$stereo" --seed 1 --views 1 --supersample 1 >/dev/null
+  "$seamap" stereo-model --calib "$stereo/stereo.yaml" --pairs "$stereo/overview" --out "$stereo/object.json" >/dev/null
+fi
+rm -rf "$out/case" && mkdir -p "$out/case/photo" && cp "$stereo"/approach/* "$out/case/photo/"
+py "png(glob.glob(f'{d}/photo/*_left.png')[0], 24000, 18000, 18000)"
+run_case "stereo-locate, a PNG of 24000x18000" "error" \
+  "$seamap" stereo-locate --calib "$stereo/stereo.yaml" --model "$stereo/object.json" --pairs "$out/case/photo" \
+  --out "$out/pose.json"
 
 # Row 10: counts against the file's size; no /dev/zero.
 printf 'ply\nformat binary_little_endian 1.0\nelement vertex 150000000\nproperty float x\nproperty float y\nproperty float z\nend_header\n' >"$out/big.ply"

@@ -94,10 +94,12 @@ SeabedSurface ReadSeabedSurface(const std::string& path, const LocalFrame& frame
 }
 
 SeabedSurface EstimateSeabedSurface(const LocalFrame& frame, const CameraModel& camera,
-                                    const std::vector<FrameSpec>& frames, int threads, bool show_progress) {
+                                    const std::vector<FrameSpec>& frames, int threads, bool show_progress,
+                                    int64_t max_image_pixels) {
   (void)frame;  // the frames' poses are in its local metres already
   TerrainOptions options;
   options.threads = threads;
+  options.max_image_pixels = max_image_pixels;
   TerrainReport report;
   ProgressBar bar("frames triangulated", static_cast<long>(frames.size()), show_progress);
   HeightGrid grid =

@@ -8,13 +8,16 @@
 #include <random>
 
 #include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #include "core/camera/frame_projector.h"
 #include "core/trajectory/frame_features.h"
 #include "core/trajectory/pair_registration.h"
+#include "core/trajectory/seabed_terrain.h"
 #include "core/trajectory/trajectory_estimator.h"
 #include "core/trajectory/velocity_filter.h"
 #include "core/util/error.h"
+#include "tests/testing/temp_dir.h"
 
 namespace seamap {
 namespace {
@@ -123,6 +126,27 @@ TEST(TrajectoryEstimator, RestartsAtTheNavigationAcrossAGapAndSaysSo) {
   } catch (const InputError& e) {
     EXPECT_EQ(e.field(), "max_gap_s");
   }
+}
+
+// Row 9: the seabed estimate (build --terrain) reads photos with the build's limit too.
+TEST(EstimateSeabedTerrain, ReadsPhotosWithTheBuildsImageLimit) {
+  testing::TempDir dir;
+  const std::string path = (dir / "big.png").string();
+  ASSERT_TRUE(cv::imwrite(path, cv::Mat(1500, 2000, CV_8U, cv::Scalar(0))));
+  FrameSpec frame;
+  frame.image = "big.png";
+  frame.image_path = path;
+  frame.pose.altitude_m = 2;
+  TerrainOptions options;
+  options.max_image_pixels = 1'000'000;
+  TerrainReport report;
+  EXPECT_TRUE(
+      EstimateSeabedTerrain({frame, frame}, CameraFromFocalLength(8, 12.9, 640, 480), options, &report).empty());
+  ASSERT_FALSE(report.problems.empty());
+  EXPECT_NE(
+      report.problems[0].find("big.png: image too large: its header says 2000x1500 pixels, over the limit of 1000000"),
+      std::string::npos)
+      << report.problems[0];
 }
 
 }  // namespace

@@ -124,6 +124,7 @@ int RunBuild(int argc, char** argv, int first) {
   }
   options.poses.feature_enhance = ReadFeatureEnhance(args);
   options.poses.quiet = quiet;
+  options.poses.max_image_pixels = options.config.frames.max_image_pixels;  // guards refine's reads too
   options.command = CommandLine(argc, argv, first);
   const std::optional<std::string> report = args.Get("report");
   const std::optional<std::string> trajectory_out = args.Get("trajectory-out");

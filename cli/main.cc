@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <new>
 #include <string>
 
 #include "cli/commands.h"
@@ -73,6 +74,11 @@ int main(int argc, char** argv) {
     if (command == "detections-pack") return RunDetectionsPack(argc, argv, 2);
   } catch (const seamap::InputError& e) {
     std::fprintf(stderr, "seamap %s: error: %s\n", command.c_str(), e.what());
+    return 2;
+  } catch (const std::bad_alloc&) {
+    // The readers check declared counts against file sizes; this is the last line.
+    std::fprintf(stderr, "seamap %s: error: out of memory: an input asks for more than this machine holds\n",
+                 command.c_str());
     return 2;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "seamap %s: failed: %s\n", command.c_str(), e.what());

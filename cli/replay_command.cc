@@ -149,6 +149,7 @@ std::optional<std::string> ReadSurveyFolder(Args& args) {
 // --nav-mode vo|ekf: the navigation filter online (nav, or none: the navigation as given).
 PoseSourceOptions ReadNavMode(Args& args, const BuildInputs& in) {
   PoseSourceOptions poses;
+  poses.max_image_pixels = in.config.frames.max_image_pixels;  // guards the filter's reads too
   if (auto mode = args.Get("nav-mode"); mode && *mode != "nav") {
     poses.mode = PoseMode::kFilter;
     poses.filter =

@@ -78,6 +78,7 @@ int RunTrajectory(int argc, char** argv, int first) {
   if (mode != "refine") poses.filter = EstimatorOptionsFrom(mode, options, "--mode");
   poses.feature_enhance = feature_enhance;
   poses.threads = threads;
+  poses.max_image_pixels = config.frames.max_image_pixels;
   poses.quiet = quiet;
   std::vector<std::string> flags;
   PoseSource source(camera, poses);

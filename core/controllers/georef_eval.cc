@@ -28,6 +28,19 @@ Eigen::Matrix3d Rotation(const nlohmann::json& values) {
   return r;
 }
 
+// Refuses a value no survey could hold (1e308 would make every RMSE inf):
+// InputError naming the file, line and column.
+void RequireWithin(const std::string& path, const std::vector<Row>& rows, const std::string& column, double lowest,
+                   double highest) {
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const double v = rows[i].at(column);
+    if (!(v >= lowest && v <= highest))
+      throw InputError(path, 0, column,
+                       "row " + std::to_string(i + 1) + ": " + FormatNumber(v) + " is out of range, expected " +
+                           FormatNumber(lowest) + " to " + FormatNumber(highest));
+  }
+}
+
 double Rms(const std::vector<double>& v) {
   double sq = 0;
   for (double x : v) sq += x * x;
@@ -42,6 +55,18 @@ GeorefEvaluation EvaluateGeoref(const GeorefEvalOptions& o) {
   const LocalFrame frame(origin);
   const auto nav = ReadCsvNumbers(o.nav_path, {"time_s", "lat", "lon", "depth_m", "heading_deg", "good"});
   auto truth = ReadCsvNumbers(o.truth_dir + "/truth.csv", {"time_s", "x_m", "y_m", "depth_m", "heading_deg"});
+  if (nav.empty()) throw InputError(o.nav_path, 0, "", "no keyframes: the file has a header and no rows");
+  if (truth.empty()) throw InputError(o.truth_dir + "/truth.csv", 0, "", "no rows after the header");
+  // Bounds far beyond any survey, tight enough that the errors stay finite.
+  constexpr double kMaxMetres = 1e7, kMaxDepthM = 12000, kMaxHeadingDeg = 3600;
+  RequireWithin(o.nav_path, nav, "lat", -90, 90);
+  RequireWithin(o.nav_path, nav, "lon", -180, 180);
+  RequireWithin(o.nav_path, nav, "depth_m", -kMaxDepthM, kMaxDepthM);
+  RequireWithin(o.nav_path, nav, "heading_deg", -kMaxHeadingDeg, kMaxHeadingDeg);
+  for (const char* column : {"x_m", "y_m"})
+    RequireWithin(o.truth_dir + "/truth.csv", truth, column, -kMaxMetres, kMaxMetres);
+  RequireWithin(o.truth_dir + "/truth.csv", truth, "depth_m", -kMaxDepthM, kMaxDepthM);
+  RequireWithin(o.truth_dir + "/truth.csv", truth, "heading_deg", -kMaxHeadingDeg, kMaxHeadingDeg);
   std::sort(truth.begin(), truth.end(), [](const Row& a, const Row& b) { return a.at("time_s") < b.at("time_s"); });
 
   std::vector<double> horizontal, good, vertical, heading;

@@ -69,7 +69,7 @@ bool MissionBuild::Open() {
   const auto estimate_surface = [&] {
     if (observer_.on_note) observer_.on_note("estimating the seabed's shape from the photos");
     surface_ = EstimateSeabedSurface(options_.frame, options_.camera, frames, config.terrain, config.threads,
-                                     !options_.poses.quiet);
+                                     !options_.poses.quiet, config.frames.max_image_pixels);
   };
   // On the navigation's poses it comes before the map is created, so photos
   // that give no seabed leave no map behind; refined poses are placed once

@@ -14,6 +14,18 @@
 #include "core/util/thread_pool.h"
 
 namespace seamap {
+namespace {
+
+// Whether refine moved a frame from its navigation pose (beyond rounding).
+bool Moved(const VehiclePose& nav, const VehiclePose& refined) {
+  const auto differ = [](double a, double b) { return !(std::fabs(a - b) <= 1e-9 * std::max(1.0, std::fabs(a))); };
+  return differ(nav.east_m, refined.east_m) || differ(nav.north_m, refined.north_m) ||
+         differ(nav.depth_m, refined.depth_m) || differ(nav.altitude_m, refined.altitude_m) ||
+         std::fabs(std::remainder(nav.heading_deg - refined.heading_deg, 360.0)) > 1e-9 ||
+         differ(nav.pitch_deg, refined.pitch_deg) || differ(nav.roll_deg, refined.roll_deg);
+}
+
+}  // namespace
 
 void PoseSourceOptions::Check() const {
   feature_enhance.Check();
@@ -33,6 +45,7 @@ EstimatorOptions EstimatorOptionsFrom(const std::string& mode, const RefineOptio
 
 PoseSource::PoseSource(const CameraModel& camera, PoseSourceOptions options)
     : camera_(camera), options_(std::move(options)) {
+  options_.refine.max_image_pixels = options_.max_image_pixels;
   options_.Check();
   if (options_.mode == PoseMode::kFilter) live_ = std::make_unique<TrajectoryEstimator>(camera_, options_.filter);
 }
@@ -67,7 +80,7 @@ nlohmann::json PoseSource::ChooseEnhancement(const std::vector<FrameSpec>& frame
   std::vector<cv::Mat> probe;
   for (size_t i = 0; i < frames.size() && static_cast<int>(probe.size()) < o.probe_frames; ++i) {
     std::string problem;
-    cv::Mat image = ReadGuardedImage(frames[i].image_path, &problem);
+    cv::Mat image = ReadGuardedImage(frames[i].image_path, &problem, options_.max_image_pixels);
     if (!image.empty()) probe.push_back(image);
   }
   FeatureOptions& features =
@@ -88,7 +101,7 @@ cv::Mat PoseSource::Place(FrameSpec* frame) {
   if (!frame->time_s)
     throw InputError(frame->image_path, frame->nav_line, "time_s", "the navigation filter needs the frames' times");
   std::string problem;  // a frame without an image is placed by the filter's prediction
-  cv::Mat image = ReadGuardedImage(frame->image_path, &problem);
+  cv::Mat image = ReadGuardedImage(frame->image_path, &problem, options_.max_image_pixels);
   std::optional<FrameFeatures> features;
   // The replay's filter has always detected with the default feature settings.
   if (!image.empty()) features = DetectFeatures(image, camera_, VoOptions{}.features);
@@ -117,9 +130,14 @@ nlohmann::json PoseSource::Refine(std::vector<FrameSpec>* frames, std::vector<st
       },
       &seabed_points_);
   if (pairs) pairs->Finish();
+  int corrected = 0;
   for (size_t i = 0; i < frames->size(); ++i) {
     FrameSpec& f = (*frames)[i];
-    f.nav_pose = f.pose;
+    // Only a pose refine moved is a correction; the others stay the navigation's.
+    if (Moved(f.pose, refined[i].pose)) {
+      f.nav_pose = f.pose;
+      ++corrected;
+    }
     f.pose = refined[i].pose;
   }
   nlohmann::json failures = nlohmann::json::object();
@@ -131,6 +149,22 @@ nlohmann::json PoseSource::Refine(std::vector<FrameSpec>* frames, std::vector<st
                report.registered_along, report.pairs_along, report.registered_cross, report.pairs_cross,
                report.median_inliers, report.rejected_by_graph, report.residual_before_mm, report.residual_after_mm,
                report.nav_only, report.seconds_features, report.seconds_pairs, report.seconds_solve);
+  // Why frames gave no features, the first few by name (a survey of black frames says so once).
+  int problems = 0, still = 0;
+  for (size_t i = 0; i < refined.size(); ++i) {
+    still += refined[i].still_photos;
+    if (refined[i].problem.empty()) continue;
+    if (++problems <= 5)
+      std::fprintf(stderr, "refine: %s: %s\n", (*frames)[i].image.substr(0, 100).c_str(), refined[i].problem.c_str());
+  }
+  if (problems > 5) std::fprintf(stderr, "refine: %d more frames without features\n", problems - 5);
+  if (still)
+    std::fprintf(stderr,
+                 "refine: %d frames are the same photo as a neighbour (identical frames, or no parallax while the "
+                 "navigation moved: a frozen camera?); their pairs were refused\n",
+                 still);
+  std::fprintf(stderr, "refine: poses corrected in %d of %zu frames; the others keep the navigation's\n", corrected,
+               frames->size());
   if (report.bundle)
     std::fprintf(stderr,
                  "refine: bundle adjustment of %d seabed points (%d observations, %d dropped), reprojection RMS "
@@ -145,9 +179,22 @@ nlohmann::json PoseSource::Refine(std::vector<FrameSpec>* frames, std::vector<st
       nav_only_images.insert((*frames)[i].image);
     }
   if (flags)
-    for (size_t i = 0; i < frames->size(); ++i)
-      if (nav_only_images.count((*frames)[i].image)) (*flags)[i] = "nav_only";
+    for (size_t i = 0; i < frames->size(); ++i) {
+      std::vector<std::string> words;
+      if (nav_only_images.count((*frames)[i].image)) words.push_back("nav_only");
+      const std::string& problem = refined[i].problem;
+      if (problem.rfind("no texture", 0) == 0)
+        words.push_back("no_texture");
+      else if (problem.rfind("missing image", 0) == 0 || problem.rfind("not a regular file", 0) == 0 ||
+               problem.rfind("image too large", 0) == 0 || problem.rfind("unreadable image", 0) == 0)
+        words.push_back("no_image");
+      if (refined[i].still_photos) words.push_back("identical_photos");
+      std::string& flag = (*flags)[i];
+      for (const auto& w : words) flag += (flag.empty() ? "" : ";") + w;
+    }
   return {{"frames", report.frames},
+          {"corrected_frames", corrected},
+          {"identical_photo_frames", still},
           {"frames_without_features", report.frames_without_features},
           {"pairs_along_track", report.pairs_along},
           {"pairs_cross_line", report.pairs_cross},
@@ -186,37 +233,64 @@ nlohmann::json PoseSource::Filter(std::vector<FrameSpec>* frames_in, std::vector
   ThreadPool pool(options_.threads);
   TrajectoryEstimator estimator(camera_, options);
   ProgressBar progress("frames", static_cast<long>(frames.size()), !options_.quiet);
-  std::deque<std::future<std::optional<FrameFeatures>>> ahead;
+  struct Read {
+    std::optional<FrameFeatures> features;
+    std::string problem;  // why there are none
+  };
+  std::deque<std::future<Read>> ahead;
+  std::vector<std::string> problems;  // "image: why", the first few
   size_t next = 0;
   const size_t depth = 4 * static_cast<size_t>(pool.size());
   const auto start = std::chrono::steady_clock::now();
   int unreadable = 0;
   for (size_t i = 0; i < frames.size(); ++i) {
     for (; next < frames.size() && next < i + depth; ++next)
-      ahead.push_back(pool.Submit([&, next]() -> std::optional<FrameFeatures> {
-        std::string problem;
-        const cv::Mat image = ReadGuardedImage(frames[next].image_path, &problem);
-        if (image.empty()) return std::nullopt;
-        return DetectFeatures(image, camera_, options.vo.features);
+      ahead.push_back(pool.Submit([&, next]() -> Read {
+        Read read;
+        const cv::Mat image = ReadGuardedImage(frames[next].image_path, &read.problem, options_.max_image_pixels);
+        if (!image.empty()) read.features = DetectFeatures(image, camera_, options.vo.features);
+        return read;
       }));
-    const std::optional<FrameFeatures> features = ahead.front().get();
+    const Read read = ahead.front().get();
     ahead.pop_front();
+    const std::optional<FrameFeatures>& features = read.features;
     unreadable += !features;
+    if (!features && problems.size() < 5) problems.push_back(frames[i].image.substr(0, 100) + ": " + read.problem);
     const VehiclePose pose = estimator.Add(features ? &*features : nullptr, *frames[i].time_s, frames[i].pose);
     frames[i].nav_pose = frames[i].pose;
     frames[i].pose = pose;
-    if (flags && !features) (*flags)[i] = "no_image";
+    if (flags) {
+      std::string& flag = (*flags)[i];
+      flag = features ? "" : "no_image";
+      if (!estimator.last_flags().empty()) flag += (flag.empty() ? "" : ";") + estimator.last_flags();
+    }
     progress.Update(static_cast<long>(i + 1));
   }
   progress.Finish();
+  for (const std::string& problem : problems) std::fprintf(stderr, "%s: %s\n", name().c_str(), problem.c_str());
+  if (unreadable > static_cast<int>(problems.size()))
+    std::fprintf(stderr, "%s: %d more frames unread\n", name().c_str(), unreadable - static_cast<int>(problems.size()));
+  nlohmann::json gaps = nlohmann::json::array();
+  for (const auto& [time_s, gap_s] : estimator.gaps()) {
+    if (gaps.size() == 5)
+      std::fprintf(stderr, "%s: %zu more restarts after gaps\n", name().c_str(), estimator.gaps().size() - 5);
+    if (gaps.size() < 5)
+      std::fprintf(stderr,
+                   "%s: the navigation's time jumps by %.6g s before the frame at time_s %.10g (limit %.6g s): the "
+                   "filter restarted there from the navigation\n",
+                   name().c_str(), gap_s, time_s, options.max_gap_s);
+    gaps.push_back({{"time_s", time_s}, {"gap_s", gap_s}});
+  }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const auto& vo = estimator.vo_counts();
   const auto& filter = estimator.filter_counts();
   std::fprintf(stderr,
                "%s: %d VO measurements (%d homography, %d essential, %d hover), %d pairs failed, %d low-texture "
-               "frames; filter took %d, gated %d VO updates (mean NIS %.2f), %d re-acquisitions; %.1f frames/s\n",
+               "frames, %d identical to the last; filter took %d, gated %d VO updates (mean NIS %.2f), %d "
+               "re-acquisitions; %.1f frames/s\n",
                options.mode == EstimatorMode::kVo ? "vo" : "ekf", vo.measurements, vo.homography, vo.essential,
-               vo.hover, vo.failed_pairs, vo.low_texture, filter.velocity_accepted, filter.velocity_rejected,
+               vo.hover, vo.failed_pairs, vo.low_texture, vo.identical, filter.velocity_accepted,
+               filter.velocity_rejected,
                filter.velocity_accepted ? filter.velocity_nis_sum / filter.velocity_accepted : 0.0,
                filter.reacquisitions, frames.size() / std::max(seconds, 1e-9));
   return {{"frames", frames.size()},
@@ -228,6 +302,7 @@ nlohmann::json PoseSource::Filter(std::vector<FrameSpec>* frames_in, std::vector
           {"failed_pairs", vo.failed_pairs},
           {"low_texture_frames", vo.low_texture},
           {"missing_altitude", vo.missing_altitude},
+          {"identical_frames", vo.identical},
           {"velocity_accepted", filter.velocity_accepted},
           {"velocity_rejected", filter.velocity_rejected},
           {"mean_vo_nis", filter.velocity_accepted ? filter.velocity_nis_sum / filter.velocity_accepted : 0.0},
@@ -235,6 +310,8 @@ nlohmann::json PoseSource::Filter(std::vector<FrameSpec>* frames_in, std::vector
           {"position_accepted", filter.position_accepted},
           {"position_rejected", filter.position_rejected},
           {"reacquisitions", filter.reacquisitions},
+          {"restarts_after_gap", gaps},
+          {"max_gap_s", options.max_gap_s},
           {"seconds", seconds},
           {"frames_per_s", frames.size() / std::max(seconds, 1e-9)}};
 }

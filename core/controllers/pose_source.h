@@ -17,6 +17,7 @@
 #include <opencv2/core.hpp>
 
 #include "core/camera/camera_model.h"
+#include "core/image/image_header.h"
 #include "core/nav/frame_list.h"
 #include "core/terrain/seabed_point.h"
 #include "core/trajectory/feature_enhancement.h"
@@ -34,7 +35,9 @@ struct PoseSourceOptions {
   // Seed 004's chain in front of the features of kFilter and kRefine (a
   // whole survey: PlaceSurvey); off by default.
   FeatureEnhanceOptions feature_enhance;
-  int threads = 0;     // feature detection of a whole survey (0: one per core)
+  int threads = 0;  // feature detection of a whole survey (0: one per core)
+  // Photos whose header claims more pixels are not decoded (the build's max_image_pixels).
+  int64_t max_image_pixels = kDefaultMaxImagePixels;
   bool quiet = false;  // no progress bars
   void Check() const;
 };
@@ -55,8 +58,14 @@ class PoseSource {
   // The whole survey at once (build --refine-nav, seamap trajectory): places
   // every frame, with a progress bar and a summary line on stderr. Returns
   // the run's report as JSON (null for the navigation); `flags` gets, frame
-  // by frame, "" or why the frame kept the navigation's pose ("nav_only":
-  // refine found no pair for it, "no_image": the filter could not read it).
+  // by frame, "" or ';'-separated words: refine's "nav_only" (no pair placed
+  // it), with "no_image" (unreadable or refused: too large), "no_texture"
+  // (uniform), "identical_photos" (a pair refused as one photo twice: a
+  // frozen camera); the filter's "no_image", "low_texture" (no visual
+  // odometry from it: the position is the filter's prediction),
+  // "restart_after_gap". A frame refine left where the navigation put it
+  // keeps no separate navigation pose (FrameSpec::nav_pose): the mission
+  // does not count it as corrected.
   nlohmann::json PlaceSurvey(std::vector<FrameSpec>* frames, std::vector<std::string>* flags = nullptr);
 
   // One frame as it arrives (replay --nav-mode): places it where the filter

@@ -95,10 +95,11 @@ SeabedSurface ReadSeabedSurface(const std::string& path, const LocalFrame& frame
 
 SeabedSurface EstimateSeabedSurface(const LocalFrame& frame, const CameraModel& camera,
                                     const std::vector<FrameSpec>& frames, const TerrainSettings& settings, int threads,
-                                    bool show_progress) {
+                                    bool show_progress, int64_t max_image_pixels) {
   (void)frame;  // the frames' poses are in its local metres already
   TerrainOptions options;
   options.threads = threads;
+  options.max_image_pixels = max_image_pixels;
   if (settings.max_relief_m != 0) options.tracks.max_relief_m = settings.max_relief_m;
   if (settings.cell_m != 0) options.fit.cell_m = settings.cell_m;
   if (settings.max_sigma_m != 0) options.fit.max_sigma_m = settings.max_sigma_m;

@@ -8,6 +8,7 @@
 
 #include "core/camera/camera_model.h"
 #include "core/geo/local_frame.h"
+#include "core/image/image_header.h"
 #include "core/mosaic/build_config.h"
 #include "core/nav/frame_list.h"
 #include "core/terrain/height_grid.h"
@@ -37,9 +38,10 @@ SeabedSurface ReadSeabedSurface(const std::string& path, const LocalFrame& frame
 
 // The seabed estimated from the photos of `frames` (poses placed: refined
 // first with --refine-nav). InputError naming --terrain.
+// Photos whose header claims more than max_image_pixels are not decoded.
 SeabedSurface EstimateSeabedSurface(const LocalFrame& frame, const CameraModel& camera,
                                     const std::vector<FrameSpec>& frames, const TerrainSettings& settings, int threads,
-                                    bool show_progress);
+                                    bool show_progress, int64_t max_image_pixels = kDefaultMaxImagePixels);
 
 // The share of footprint samples without a height (see SeabedSurface::hole_share).
 double HoleShare(const HeightGrid& grid, const CameraModel& camera, const std::vector<FrameSpec>& frames);

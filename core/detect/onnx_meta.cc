@@ -1,7 +1,6 @@
 #include "core/detect/onnx_meta.h"
 
 #include <cctype>
-#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -11,6 +10,7 @@
 #include "core/detect/onnx_check.h"
 #include "core/detect/protobuf_wire.h"
 #include "core/util/error.h"
+#include "core/util/input_file.h"
 
 namespace seamap {
 namespace {
@@ -104,17 +104,7 @@ std::string Trim(const std::string& s) {
 // larger file is refused before it is read.
 std::string ReadBoundedFile(const std::string& path, int64_t max_bytes, const std::string& field,
                             const std::string& what) {
-  std::error_code ec;
-  const auto status = std::filesystem::status(path, ec);
-  if (ec || !std::filesystem::exists(status)) throw InputError(path, 0, field, "no such " + what);
-  if (!std::filesystem::is_regular_file(status))
-    throw InputError(path, 0, field, "the " + what + " is not a regular file (a device, FIFO or folder)");
-  const auto size = std::filesystem::file_size(path, ec);
-  if (ec) throw InputError(path, 0, field, "cannot read the " + what);
-  if (size > static_cast<uintmax_t>(max_bytes))
-    throw InputError(path, 0, field,
-                     "the " + what + " holds " + std::to_string(size) + " bytes; at most " + std::to_string(max_bytes) +
-                         " are read");
+  const int64_t size = RegularFileBytes(path, what, field, max_bytes);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, 0, field, "cannot read the " + what);
   std::string bytes(static_cast<size_t>(size), '\0');

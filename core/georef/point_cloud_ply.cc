@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "core/util/error.h"
+#include "core/util/input_file.h"
 
 namespace seamap {
 namespace {
@@ -125,6 +126,7 @@ PointCloud MakePointCloud(const std::vector<Eigen::Vector3d>& points, PointCloud
 }
 
 PointCloud ReadPly(const std::string& path) {
+  RegularFileBytes(path, "point cloud");  // /dev/zero or a FIFO would never end
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, 0, "", "cannot open the point cloud");
   const std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -146,6 +148,7 @@ PointCloud ReadPly(const std::string& path) {
   std::string line;
   if (!next_line(&line) || line != "ply") throw InputError(path, 1, "", "not a PLY file (first line is not 'ply')");
   long vertex_count = -1;
+  int vertex_line = 0;
   bool in_vertex = false, have_format = false, ended = false;
   while (next_line(&line)) {
     std::istringstream words(line);
@@ -180,6 +183,7 @@ PointCloud ReadPly(const std::string& path) {
           throw InputError(path, line_number, "element",
                            "the vertex element must come first (and once); found it after another element");
         vertex_count = count;
+        vertex_line = line_number;
         in_vertex = true;
       } else {
         if (vertex_count < 0)
@@ -215,6 +219,19 @@ PointCloud ReadPly(const std::string& path) {
 
   pos = std::min(pos, data.size());
   const size_t n = cloud.vertex_properties.size();
+  // The count is checked against the bytes that follow before anything is
+  // allocated: a 117-byte header may declare 1.5e8 vertices. Binary records
+  // have a fixed size; an ASCII value takes at least a digit and a separator.
+  const size_t left = data.size() - pos;
+  size_t record = 0;
+  for (const auto& p : cloud.vertex_properties) record += TypeSizes().at(p.type);
+  const bool ascii = cloud.format == PointCloud::Format::kAscii;
+  const size_t least = ascii ? 2 * n : record;
+  if (static_cast<unsigned long>(vertex_count) > left / least)
+    throw InputError(path, vertex_line, "vertex",
+                     "declares " + std::to_string(vertex_count) + " vertices, but the " + std::to_string(left) +
+                         " bytes after the header hold at most " + std::to_string(left / least) + " (" +
+                         (ascii ? "at least 2 bytes a value" : std::to_string(record) + " bytes a vertex") + ")");
   cloud.values.resize(static_cast<size_t>(vertex_count) * n);
   if (cloud.format == PointCloud::Format::kAscii) {
     for (long v = 0; v < vertex_count; ++v) {
@@ -235,8 +252,6 @@ PointCloud ReadPly(const std::string& path) {
     cloud.tail_data = pos < data.size() ? data.substr(pos) : "";
   } else {
     const bool swap = (cloud.format == PointCloud::Format::kBinaryLittleEndian) != HostIsLittleEndian();
-    size_t record = 0;
-    for (const auto& p : cloud.vertex_properties) record += TypeSizes().at(p.type);
     if (data.size() - pos < record * vertex_count)
       throw InputError(path, 0, "vertex",
                        "file ends inside the vertex data: " + std::to_string(vertex_count) + " vertices of " +

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "core/util/error.h"
+#include "core/util/input_file.h"
 
 namespace seamap {
 namespace {
@@ -16,6 +17,7 @@ const char* kFields[8] = {"timestamp", "tx", "ty", "tz", "qx", "qy", "qz", "qw"}
 }  // namespace
 
 std::vector<Keyframe> ReadTumTrajectory(const std::string& path) {
+  RegularFileBytes(path, "keyframe file");  // /dev/zero or a FIFO would never end
   std::ifstream in(path);
   if (!in) throw InputError(path, 0, "", "cannot open the keyframe file");
   std::vector<Keyframe> keyframes;

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "core/util/error.h"
+#include "core/util/input_file.h"
 
 namespace seamap {
 
@@ -38,6 +39,8 @@ std::vector<TextLine> ReadTextLines(const std::string& path) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec))
     throw InputError(path, 0, "", "is a folder, expected a navigation text file");
+  // /dev/zero or a FIFO would never end (a missing file is reported by the open below).
+  if (std::filesystem::exists(path, ec)) RegularFileBytes(path, "text file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, 0, "", std::string("cannot open file: ") + std::strerror(errno));
   std::ostringstream buffer;

@@ -9,10 +9,12 @@
 #include <opencv2/calib3d.hpp>
 
 #include "core/util/error.h"
+#include "core/util/input_file.h"
 
 namespace seamap {
 
 std::vector<ObjectFramePoint> ReadObjectFramePoints(const std::string& path) {
+  RegularFileBytes(path, "points file", "--object-frame");  // not /dev/zero, not a FIFO
   std::ifstream in(path);
   if (!in) throw InputError(path, 0, "--object-frame", "cannot open the points file");
   std::string line;

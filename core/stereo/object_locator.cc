@@ -58,15 +58,16 @@ RigMotion ReadRigMotion(const std::string& path) {
   if (!j.is_object() || !j.contains("world_from_camera") || !j["world_from_camera"].is_object())
     throw InputError(path, 0, "world_from_camera", "expected an object of 4x4 poses by pair name");
   for (const auto& [pair, pose] : j["world_from_camera"].items())
-    motion.world_from_camera[pair] = RigidFromJson(pose, path, "world_from_camera." + pair);
-  const auto positive = [&](const char* key, double* value) {
+    motion.world_from_camera[pair] =
+        RigidFromJson(pose, path, "world_from_camera." + (pair.size() > 80 ? pair.substr(0, 80) + "..." : pair));
+  const auto positive = [&](const char* key, double most, double* value) {
     if (!j.contains(key)) return;
-    if (!j[key].is_number() || !(j[key].get<double>() > 0))
-      throw InputError(path, 0, key, "expected a positive number");
+    if (!j[key].is_number() || !(j[key].get<double>() > 0 && j[key].get<double>() <= most))
+      throw InputError(path, 0, key, "expected a positive number, at most " + std::to_string(static_cast<int>(most)));
     *value = j[key].get<double>();
   };
-  positive("sigma_m", &motion.sigma_m);
-  positive("sigma_deg", &motion.sigma_deg);
+  positive("sigma_m", 1000, &motion.sigma_m);
+  positive("sigma_deg", 180, &motion.sigma_deg);
   return motion;
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 
 #include <Eigen/Dense>
 
@@ -16,6 +17,16 @@ nlohmann::json RigidToJson(const Rigid& a_from_b) {
   for (int r = 0; r < 4; ++r) rows.push_back({m(r, 0), m(r, 1), m(r, 2), m(r, 3)});
   return rows;
 }
+
+namespace {
+
+std::string ShortNumber(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6g", v);
+  return text;
+}
+
+}  // namespace
 
 Rigid RigidFromJson(const nlohmann::json& value, const std::string& source, const std::string& field) {
   const auto fail = [&](const std::string& why) { throw InputError(source, 0, field, why); };
@@ -33,6 +44,13 @@ Rigid RigidFromJson(const nlohmann::json& value, const std::string& source, cons
   const Eigen::Matrix3d rot = m.topLeftCorner<3, 3>();
   if ((rot.transpose() * rot - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-6 || rot.determinant() < 0)
     fail("the rotation part is not a rotation (orthonormal, determinant +1)");
+  // Metres in any fixed frame (UTM included); 1e300 would reach the joint
+  // solution as inf and still be "found".
+  constexpr double kMaxTranslationM = 1e7;
+  for (int r = 0; r < 3; ++r)
+    if (!(std::abs(m(r, 3)) <= kMaxTranslationM))
+      fail("translation " + std::string("xyz").substr(r, 1) + " = " + ShortNumber(m(r, 3)) +
+           " m is out of range, expected at most 1e7 m from the frame's origin");
   Rigid t = Rigid::Identity();
   t.linear() = rot;
   t.translation() = m.topRightCorner<3, 1>();

@@ -15,7 +15,8 @@ using Rigid = Eigen::Isometry3d;
 // [[r00, r01, r02, t0], ..., [0, 0, 0, 1]]
 nlohmann::json RigidToJson(const Rigid& a_from_b);
 // Throws InputError(source, 0, field, ...) unless a 4x4 matrix whose rotation
-// is orthonormal (within 1e-6) with determinant +1 and last row 0 0 0 1.
+// is orthonormal (within 1e-6) with determinant +1 and last row 0 0 0 1,
+// and whose translation is within 1e7 m of the origin on each axis.
 Rigid RigidFromJson(const nlohmann::json& value, const std::string& source, const std::string& field);
 
 // (rotation vector, translation) <-> transform.

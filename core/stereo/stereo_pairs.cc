@@ -65,6 +65,15 @@ LoadedPair LoadStereoPair(const PairFiles& files, cv::Size expected_size, const 
   pair.name = files.name;
   for (const auto& [path, image] : {std::pair{&files.left, &pair.left}, std::pair{&files.right, &pair.right}}) {
     std::string problem;
+    // The size the header claims is checked before decoding: a 24000x18000
+    // PNG of a few KB would take 1.3 GB to find it is not the rig's size.
+    const auto header = ReadImageHeader(*path, &problem);
+    if (!header) throw InputError(*path, 0, "", "cannot read the image: " + problem);
+    if (header->width > 0 && (header->width != expected_size.width || header->height != expected_size.height))
+      throw InputError(*path, 0, "",
+                       cv::format("image is %lldx%lld but %s is for %dx%d images; not decoded",
+                                  static_cast<long long>(header->width), static_cast<long long>(header->height),
+                                  calibration_path.c_str(), expected_size.width, expected_size.height));
     const cv::Mat m = ReadGuardedImage(*path, &problem);
     if (m.empty()) throw InputError(*path, 0, "", "cannot read the image: " + problem);
     if (m.size() != expected_size)

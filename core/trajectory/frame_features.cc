@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstring>
 
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
@@ -16,6 +18,29 @@ void FeatureOptions::Check() const {
   if (max_side_px < 200) throw InputError("", 0, "max_side_px", "expected at least 200 pixels");
   if (!(clahe_clip > 0)) throw InputError("", 0, "clahe_clip", "expected a number > 0");
   if (!(contrast_threshold > 0)) throw InputError("", 0, "contrast_threshold", "expected a number > 0");
+}
+
+std::optional<std::string> WhyNoTexture(const cv::Mat& image) {
+  if (image.empty()) return std::string("no texture: an empty image");
+  cv::Scalar mean, deviation;
+  cv::meanStdDev(ToGray8(image), mean, deviation);
+  if (deviation[0] >= 1.0) return std::nullopt;
+  char text[160];
+  std::snprintf(text, sizeof text,
+                "no texture: the image is uniform (grey level %.1f, standard deviation %.2f of 255; all black?)",
+                mean[0], deviation[0]);
+  return std::string(text);
+}
+
+bool SameFeatures(const FrameFeatures& a, const FrameFeatures& b) {
+  if (a.ideal_px.size() != b.ideal_px.size() || a.descriptors.size() != b.descriptors.size() ||
+      a.descriptors.type() != b.descriptors.type())
+    return false;
+  if (!std::equal(a.ideal_px.begin(), a.ideal_px.end(), b.ideal_px.begin())) return false;
+  for (int r = 0; r < a.descriptors.rows; ++r)
+    if (std::memcmp(a.descriptors.ptr(r), b.descriptors.ptr(r), a.descriptors.cols * a.descriptors.elemSize()) != 0)
+      return false;
+  return true;
 }
 
 double WorkingScale(const CameraModel& camera, int max_side_px) {

@@ -5,6 +5,8 @@
 // most `max_side_px` (a 4000x2600 ROV still is searched at 1600x1040), and
 // returned in ideal (undistorted) full-resolution pixels, so every later
 // step works in the camera model's own pinhole coordinates.
+#include <optional>
+#include <string>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -36,6 +38,16 @@ struct FrameFeatures {
   bool relaxed = false;               // the relaxed detector was needed
   size_t Bytes() const { return ideal_px.size() * sizeof(cv::Point2f) + descriptors.total(); }
 };
+
+// Why a decoded frame cannot give features, before any are looked for, or
+// nullopt: "no texture" when it is uniform (all black, all white: under 1
+// grey level of standard deviation), where CLAHE would only amplify noise.
+std::optional<std::string> WhyNoTexture(const cv::Mat& image);
+
+// Whether two frames' features are the same, point for point and bit for
+// bit: a camera that froze and repeats its last photo (no real camera
+// takes the same photo twice: its sensor's noise differs).
+bool SameFeatures(const FrameFeatures& a, const FrameFeatures& b);
 
 // The working scale for a camera (1 or less).
 double WorkingScale(const CameraModel& camera, int max_side_px);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <random>
 #include <unordered_map>
 
@@ -11,9 +12,15 @@
 
 #include "core/trajectory/ground_offsets.h"
 #include "core/util/error.h"
+#include "core/util/statistics.h"
 
 namespace seamap {
 namespace {
+
+// A pair whose matched keypoints moved less than this (median, pixels) while
+// the navigation moved more than kMovedGroundPx ground pixels is two copies of one photo.
+constexpr double kStillPhotoPx = 0.02;
+constexpr double kMovedGroundPx = 20;
 
 struct Match {
   int p, q;  // keypoint of frame i, of frame j
@@ -151,6 +158,10 @@ PairRegistration RegisterPair(const RegistrationFrame& fi, const RegistrationFra
     out.reason = "too few keypoints";
     return out;
   }
+  if (SameFeatures(a, b)) {
+    out.reason = "identical frames (the same photo twice: a frozen camera?)";
+    return out;
+  }
   std::mt19937 rng(static_cast<uint32_t>(seed));
   const double ground_px = std::max(fi.ground_px_m, fj.ground_px_m);
   const double threshold = options.inlier_ground_px * ground_px;
@@ -259,6 +270,21 @@ PairRegistration RegisterPair(const RegistrationFrame& fi, const RegistrationFra
     hull_points.emplace_back(static_cast<float>(p[k].x), static_cast<float>(p[k].y));
   }
   out.rms_m = std::sqrt(sum_sq / inliers.size());
+  // The photos did not move while the navigation says the vehicle did: a
+  // camera repeating its last photo (re-encoded, or with its noise), not a
+  // measurement of the motion. Real keypoints of two exposures differ by
+  // their noise, a few tenths of a pixel; these differ by nothing.
+  std::vector<double> moved_px;
+  for (int k : inliers) moved_px.push_back(cv::norm(a.ideal_px[matched[k].first] - b.ideal_px[matched[k].second]));
+  const double baseline_m = std::hypot(baseline.x, baseline.y);
+  if (Median(moved_px) < kStillPhotoPx && baseline_m > kMovedGroundPx * ground_px) {
+    char text[160];
+    std::snprintf(text, sizeof text,
+                  "no parallax: the photos did not move while the navigation moved (median %.3f px for %.3f m)",
+                  Median(moved_px), baseline_m);
+    out.reason = text;
+    return out;
+  }
   const double sigma = std::max(out.rms_m, 0.3 * ground_px);
   out.covariance = sigma * sigma * jtj.inverse();
 

@@ -25,8 +25,8 @@ double Since(Clock::time_point t) {
 
 // A frame's features from its image; empty with *problem when unusable.
 FrameFeatures FeaturesFromImage(const FrameSpec& f, const CameraModel& camera, const FeatureOptions& options,
-                                std::string* problem) {
-  const cv::Mat image = ReadGuardedImage(f.image_path, problem);
+                                int64_t max_image_pixels, std::string* problem) {
+  const cv::Mat image = ReadGuardedImage(f.image_path, problem, max_image_pixels);
   if (image.empty()) return {};
   if (std::abs(image.cols * camera.height - image.rows * camera.width) > std::max(image.cols, camera.width)) {
     *problem = "image is " + std::to_string(image.cols) + "x" + std::to_string(image.rows) + ", not the camera's shape";
@@ -163,8 +163,9 @@ HeightGrid EstimateSeabedTerrain(const std::vector<FrameSpec>& frames, const Cam
       auto p = std::make_unique<Pending>();
       Pending* raw = p.get();
       const FrameSpec* f = &frames[next++];
-      p->features = pool.Submit(
-          [f, raw, &camera, &options] { return FeaturesFromImage(*f, camera, options.features, &raw->problem); });
+      p->features = pool.Submit([f, raw, &camera, &options] {
+        return FeaturesFromImage(*f, camera, options.features, options.max_image_pixels, &raw->problem);
+      });
       pending.push_back(std::move(p));
     }
   };

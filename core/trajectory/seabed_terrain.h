@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/camera/camera_model.h"
+#include "core/image/image_header.h"
 #include "core/nav/frame_list.h"
 #include "core/terrain/height_fit.h"
 #include "core/terrain/height_grid.h"
@@ -24,7 +25,9 @@ struct TerrainOptions {
   TrackOptions tracks;
   HeightFitOptions fit;  // fit.gsd_m 0: the camera's at the median altitude
   int threads = 0;       // feature detection; 0: one per core
-  void Check() const;    // InputError naming the option
+  // Photos whose header claims more pixels are not decoded (the build's max_image_pixels).
+  int64_t max_image_pixels = kDefaultMaxImagePixels;
+  void Check() const;  // InputError naming the option
 };
 
 struct TerrainReport {

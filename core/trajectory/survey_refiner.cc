@@ -48,14 +48,18 @@ CandidateFrame Candidate(const FrameSpec& f, double time_s, const CameraModel& c
 }
 
 Prepared Prepare(const FrameSpec& f, const CandidateFrame& candidate, const CameraModel& camera,
-                 const FeatureOptions& options) {
+                 const FeatureOptions& options, int64_t max_image_pixels) {
   Prepared p;
   if (!candidate.usable) {
     p.problem = "the camera does not see the seabed in this attitude";
     return p;
   }
-  const cv::Mat image = ReadGuardedImage(f.image_path, &p.problem);
+  const cv::Mat image = ReadGuardedImage(f.image_path, &p.problem, max_image_pixels);
   if (image.empty()) return p;
+  if (auto why = WhyNoTexture(image)) {
+    p.problem = *why;
+    return p;
+  }
   if (std::abs(image.cols * camera.height - image.rows * camera.width) > std::max(image.cols, camera.width)) {
     p.problem =
         "image is " + std::to_string(image.cols) + "x" + std::to_string(image.rows) + ", not the camera's shape";
@@ -170,8 +174,9 @@ std::vector<RefinedFrame> RefineSurvey(const std::vector<FrameSpec>& frames, con
     {
       std::vector<std::future<Prepared>> jobs;
       for (int i = begin; i < end; ++i)
-        jobs.push_back(
-            pool.Submit([&, i] { return Prepare(frames[i], candidate_frames[i], camera, options.features); }));
+        jobs.push_back(pool.Submit([&, i] {
+          return Prepare(frames[i], candidate_frames[i], camera, options.features, options.max_image_pixels);
+        }));
       for (int i = begin; i < end; ++i) {
         prepared[i] = jobs[i - begin].get();
         prepared[i].registration.features = &prepared[i].features;
@@ -215,12 +220,15 @@ std::vector<RefinedFrame> RefineSurvey(const std::vector<FrameSpec>& frames, con
   std::vector<int> constraint_candidate;
   std::vector<double> inliers;
   std::map<std::string, int> failures;
+  std::vector<bool> still_photos(frames.size(), false);
   for (size_t k = 0; k < candidates.size(); ++k) {
     if (!tried[k]) continue;
     (candidates[k].along_track ? r.pairs_along : r.pairs_cross)++;
     const PairRegistration& g = registered[k];
     if (!g.accepted) {
       ++failures[g.reason.substr(0, g.reason.find(" ("))];
+      if (g.reason.rfind("identical frames", 0) == 0 || g.reason.rfind("no parallax", 0) == 0)
+        still_photos[candidates[k].i] = still_photos[candidates[k].j] = true;
       continue;
     }
     (candidates[k].along_track ? r.registered_along : r.registered_cross)++;
@@ -277,6 +285,7 @@ std::vector<RefinedFrame> RefineSurvey(const std::vector<FrameSpec>& frames, con
     out[i].pose.north_m = solved.poses[i].north_m;
     out[i].pose.heading_deg = solved.poses[i].heading_rad / kDegToRad;
     out[i].nav_only = solved.nav_only[i];
+    out[i].still_photos = still_photos[i];
     out[i].problem = prepared[i].problem;
   }
 

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "core/camera/camera_model.h"
+#include "core/image/image_header.h"
 #include "core/nav/frame_list.h"
 #include "core/terrain/seabed_point.h"
 #include "core/trajectory/frame_features.h"
@@ -40,6 +41,8 @@ struct RefineOptions {
   double min_overlap = 0.3;  // predicted overlap for a cross pair
   int max_cross_per_frame = 4;
   int threads = 0;  // 0: one per core
+  // Frames whose header claims more pixels are not decoded (the build's max_image_pixels).
+  int64_t max_image_pixels = kDefaultMaxImagePixels;
   FeatureOptions features;
   RegistrationOptions registration;
   // kBundle only:
@@ -74,7 +77,10 @@ struct RefineReport {
 struct RefinedFrame {
   VehiclePose pose;       // refined east, north, heading (kBundle also depth, pitch, roll); the rest as navigated
   bool nav_only = false;  // no registered pair placed it
-  std::string problem;    // why it has no features, when it has none
+  // A pair with it was refused as two copies of one photo (identical
+  // frames, or no parallax while the navigation moved): a frozen camera.
+  bool still_photos = false;
+  std::string problem;  // why it has no features, when it has none
 };
 
 // frames: in acquisition order, with their navigation poses and times.

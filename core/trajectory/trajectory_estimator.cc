@@ -24,6 +24,7 @@ EstimatorMode ParseEstimatorMode(const std::string& text, const std::string& opt
 
 void EstimatorOptions::Check() const {
   if (!(nav_sigma_m > 0) || !std::isfinite(nav_sigma_m)) throw InputError("", 0, "--nav-noise", "expected metres > 0");
+  if (!(max_gap_s > 0) || !std::isfinite(max_gap_s)) throw InputError("", 0, "max_gap_s", "expected seconds > 0");
   vo.Check();
   filter.Check();
 }
@@ -38,8 +39,17 @@ TrajectoryEstimator::TrajectoryEstimator(const CameraModel& camera, const Estima
 
 VehiclePose TrajectoryEstimator::Add(const FrameFeatures* features, double time_s, const VehiclePose& nav) {
   ++frames_;
+  last_flags_.clear();
   const Attitude attitude = AttitudeOf(nav);
-  if (!filter_.started()) {
+  const bool gap = filter_.started() && time_s - filter_.time_s() > options_.max_gap_s;
+  if (gap) {
+    // Across a gap nothing is known of the motion: start again from the
+    // navigation (and a fresh visual odometry reference), as at the first frame.
+    gaps_.emplace_back(time_s, time_s - filter_.time_s());
+    last_flags_ = "restart_after_gap";
+    vo_.Restart();
+  }
+  if (!filter_.started() || gap) {
     filter_.Start(time_s, nav.north_m, nav.east_m, nav.depth_m, options_.nav_sigma_m);
   } else if (time_s > filter_.time_s()) {
     // The attitude between two frames, interpolated (heading on the circle).
@@ -54,7 +64,12 @@ VehiclePose TrajectoryEstimator::Add(const FrameFeatures* features, double time_
   last_time_s_ = time_s;
   last_attitude_ = attitude;
   if (features) {
+    const int low_texture = vo_.counts().low_texture, identical = vo_.counts().identical;
     if (auto m = vo_.Add(*features, time_s, nav)) filter_.UpdateVelocity(m->body_velocity_mps, m->covariance);
+    if (vo_.counts().identical > identical)
+      last_flags_ += (last_flags_.empty() ? "" : ";") + std::string("identical_photos");
+    if (vo_.counts().low_texture > low_texture)
+      last_flags_ += (last_flags_.empty() ? "" : ";") + std::string("low_texture");
   }
   if (std::isfinite(nav.depth_m)) filter_.UpdateDepth(nav.depth_m);
   if (options_.mode == EstimatorMode::kEkf && frames_ > 1)

@@ -8,6 +8,8 @@
 // vehicle with no DVL or USBL.
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "core/camera/camera_model.h"
 #include "core/camera/vehicle_pose.h"
@@ -26,6 +28,10 @@ struct EstimatorOptions {
   VoOptions vo;
   VelocityFilterOptions filter;
   double nav_sigma_m = 0.05;  // the first fix's sigma, and ekf positions'
+  // Frames further apart than this in time (a gap in the survey, or a clock
+  // that jumped by a year) restart the filter at the navigation's pose
+  // instead of predicting across the gap step by step.
+  double max_gap_s = 60;
   void Check() const;
 };
 
@@ -39,6 +45,14 @@ class TrajectoryEstimator {
   // depth, the navigation's altitude and attitude.
   VehiclePose Add(const FrameFeatures* features, double time_s, const VehiclePose& nav);
 
+  // What happened to the last frame Add placed, for the trajectory's flags
+  // (';'-separated, "" when nothing): "restart_after_gap" (the filter
+  // restarted there), "low_texture" (visual odometry could not use it),
+  // "identical_photos" (the same photo as the last one: a frozen camera).
+  const std::string& last_flags() const { return last_flags_; }
+  // The gaps the filter restarted across: the frame's time and the gap, seconds.
+  const std::vector<std::pair<double, double>>& gaps() const { return gaps_; }
+
   const VisualOdometry::Counts& vo_counts() const { return vo_.counts(); }
   const VelocityFilter::Counts& filter_counts() const { return filter_.counts(); }
   int frames() const { return frames_; }
@@ -51,6 +65,8 @@ class TrajectoryEstimator {
   int frames_ = 0;
   double last_time_s_ = 0;
   Attitude last_attitude_;
+  std::string last_flags_;
+  std::vector<std::pair<double, double>> gaps_;
 };
 
 }  // namespace seamap

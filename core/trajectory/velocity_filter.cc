@@ -93,13 +93,13 @@ void VelocityFilter::Start(double time_s, double north_m, double east_m, double 
   RequireFinite("depth_m", depth_m);
   RequirePositive("position_sigma_m", position_sigma_m);
   RequirePositive("velocity_sigma_mps", velocity_sigma_mps);
+  if (!started_) counts_ = Counts();  // a restart keeps counting
   started_ = true;
   time_s_ = time_s;
   x_ << north_m, east_m, depth_m, 0, 0, 0;
   const double sp2 = position_sigma_m * position_sigma_m;
   const double sv2 = velocity_sigma_mps * velocity_sigma_mps;
   p_ = State(sp2, sp2, options_.depth_sigma_m * options_.depth_sigma_m, sv2, sv2, sv2).asDiagonal();
-  counts_ = Counts();
   last_nis_ = 0;
   velocity_rejections_.clear();
   position_rejections_.clear();
@@ -114,6 +114,11 @@ void VelocityFilter::PredictTo(double time_s, const AttitudeAt& attitude) {
   Require(time_s >= time_s_, "time_s", "a time >= the filter's " + Text(time_s_), time_s);  // also rejects NaN
   if (time_s == time_s_) return;
   const double span_s = time_s - time_s_;
+  // Step by step across a day would take minutes (and overflow the count
+  // across 1e10 s): callers restart the filter across gaps (trajectory_estimator.h).
+  constexpr double kMaxSpanS = 86400;
+  Require(span_s <= kMaxSpanS, "time_s", "at most " + Text(kMaxSpanS) + " s after the filter's " + Text(time_s_),
+          time_s);
   // The tolerance keeps a span of exactly max_step_s, give or take rounding, in one step.
   const int steps = std::max(1, static_cast<int>(std::ceil(span_s / options_.max_step_s - 1e-9)));
   const double step_s = span_s / steps;

@@ -73,11 +73,12 @@ class VelocityFilter {
   explicit VelocityFilter(const VelocityFilterOptions& options);
 
   // First fix: position with its sigma, depth with depth_sigma_m, velocity 0
-  // with velocity_sigma_mps on each axis. May be called again to restart.
+  // with velocity_sigma_mps on each axis. May be called again to restart
+  // (the counts go on).
   void Start(double time_s, double north_m, double east_m, double depth_m, double position_sigma_m,
              double velocity_sigma_mps = 0.5);
 
-  // Predicts to time_s (>= time_s(), else InputError) in equal steps of at most
+  // Predicts to time_s (>= time_s() and at most a day later, else InputError) in equal steps of at most
   // max_step_s, with the attitude at each step's midpoint: a start-of-step
   // attitude lags in turns. Before Start(), this and the updates throw
   // std::logic_error.

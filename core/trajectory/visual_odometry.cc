@@ -62,6 +62,14 @@ std::optional<VoMeasurement> VisualOdometry::Add(const FrameFeatures& features, 
     if (interval > options_.max_interval_s) reference_.reset();  // too long without a frame to measure
     return std::nullopt;
   }
+  if (SameFeatures(features, ref.features)) {  // a frozen camera repeating its photo: no motion measured
+    ++counts_.identical;
+    if (interval > options_.max_interval_s) {  // the same photo, taken now: the next one is measured from here
+      ref.time_s = time_s;
+      ref.nav = nav;
+    }
+    return std::nullopt;
+  }
 
   // Matches by Lowe's ratio.
   cv::Mat current;

@@ -64,9 +64,12 @@ class VisualOdometry {
     int failed_pairs = 0;      // both models failed: no measurement
     int low_texture = 0;       // frames with too few keypoints or matches
     int missing_altitude = 0;  // no usable altitude: no measurement
+    int identical = 0;         // the same photo as the reference, bit for bit (a frozen camera): no measurement
   };
   const Counts& counts() const { return counts_; }
   const ModelSwitch& models() const { return models_; }
+  // Forgets the reference frame: the next frame starts afresh (after a gap in time).
+  void Restart() { reference_.reset(); }
 
  private:
   struct Reference {

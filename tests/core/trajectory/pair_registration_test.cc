@@ -34,7 +34,7 @@ struct Scene {
       const cv::Point2d a = RotateClockwise(points[k] - position, -heading_rad);  // G = t + Rot(psi) a
       if (std::fabs(a.x) > 0.5 || std::fabs(a.y) > 0.4) continue;
       r.offsets.push_back(a + cv::Point2d(jitter(rng), jitter(rng)));
-      f.ideal_px.push_back({0, 0});
+      f.ideal_px.emplace_back(static_cast<float>(a.x / 0.003), static_cast<float>(a.y / 0.003));  // 3 mm pixels
       seen.push_back(k);
     }
     f.descriptors = cv::Mat(static_cast<int>(seen.size()), 128, CV_8U);

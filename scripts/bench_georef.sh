@@ -50,14 +50,15 @@ variations=(
   "clock_offset_3s|15|$issue --clock-offset 3"
 )
 
-georef() {  # survey dir, tether length, method -> "rmse predicted bound" (or "fail rc")
+georef() {  # survey dir, tether length, method -> "rmse predicted bound model_bound" (or nan)
   local s="$1" rc=0
   "$seamap" georef --keyframes "$s/keyframes.txt" --buoy "$s/buoy.csv" --tether-length "$2" --depth-csv "$s/depth.csv" \
     --method "$3" --out "$s/nav_$3.csv" --report "$s/report_$3.json" --quiet >/dev/null 2>&1 || rc=$?
-  if [ "$rc" != 0 ]; then echo "nan nan nan"; return; fi
+  if [ "$rc" != 0 ]; then echo "nan nan nan nan"; return; fi
   "$seamap" georef-eval --nav "$s/nav_$3.csv" --truth "$s" --json "$s/eval_$3.json" >/dev/null 2>&1
   python3 -c 'import json,sys; e,r=json.load(open(sys.argv[1])),json.load(open(sys.argv[2]));
-print(e["rmse_m"], r.get("predicted_rmse_m", 0), r.get("gps_bound_rmse_m", 0))' "$s/eval_$3.json" "$s/report_$3.json"
+print(e["rmse_m"], r.get("predicted_rmse_m", 0), r.get("gps_bound_rmse_m", 0),
+      r.get("tether_model", {}).get("model_bound_rmse_m", 0))' "$s/eval_$3.json" "$s/report_$3.json"
 }
 
 if [ "$seeds" = stress ]; then
@@ -155,18 +156,19 @@ by = {}
 for r in rows:
     by.setdefault(r[0], []).append([float(x) for x in r[2:]])
 def med(v): return st.median(v) if v else float("nan")
-print(f"{'variation':24s} runs | tether median/worst | predicted median | bound median | worst tether/bound | umeyama median/worst | triangle median/worst | calib sqrt(E a^2/E p^2) | a/p in 0.67-1.5")
+print(f"{'variation':24s} runs | tether median/worst | predicted median | bound median | median/bound | model bound median | median/model bound | worst tether/bound | umeyama median/worst | triangle median/worst | calib sqrt(E a^2/E p^2) | a/p in 0.67-1.5")
 all_a, all_p, inside, total = [], [], 0, 0
 for name, v in by.items():
     ok = [x for x in v if not math.isnan(x[0])]
-    a = [x[0] for x in ok]; p = [x[1] for x in ok]; b = [x[2] for x in ok]
-    u = [x[3] for x in v if not math.isnan(x[3])]; t = [x[6] for x in v if not math.isnan(x[6])]
+    a = [x[0] for x in ok]; p = [x[1] for x in ok]; b = [x[2] for x in ok]; mb = [x[3] for x in ok]
+    u = [x[4] for x in v if not math.isnan(x[4])]; t = [x[8] for x in v if not math.isnan(x[8])]
     ratio = [x[0] / x[2] for x in ok if x[2] > 0]
     cal = math.sqrt(sum(x * x for x in a) / max(sum(x * x for x in p), 1e-12)) if a else float("nan")
     ins = sum(1 for x, y in zip(a, p) if y > 0 and 0.67 <= x / y <= 1.5)
     inside += ins; total += len(a); all_a += a; all_p += p
     fails = len(v) - len(ok)
     print(f"{name:24s} {len(v):3d}{'' if not fails else f' ({fails} refused)'} | {med(a):.3f} / {max(a) if a else float('nan'):.3f} | {med(p):.3f} | {med(b):.3f} |"
+          f" {med(a) / med(b):.2f} | {med(mb):.3f} | {med(a) / med(mb) if med(mb) > 0 else float('nan'):.2f} |"
           f" {max(ratio) if ratio else float('nan'):.2f} | {med(u):.3f} / {max(u) if u else float('nan'):.3f} ({len(v)-len(u)} refused) |"
           f" {med(t):.3f} / {max(t) if t else float('nan'):.3f} | {cal:.2f} | {ins}/{len(a)}")
 cal = math.sqrt(sum(x * x for x in all_a) / sum(x * x for x in all_p))

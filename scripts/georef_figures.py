@@ -234,7 +234,7 @@ def rmse_against_sigma(seamap, out, seeds):
         ax.line(points, colour, width=2, dash=dash)
         ax.dots(points, colour, r=3)
     svg.add(f'<text x="80" y="24" font-size="14">RMSE against GPS sigma, RMS of {seeds} surveys each</text>')
-    legend(svg, 330, 250, [("paper's triangle", '#e63946', 'line'), ('umeyama (before issue 31)', '#f4a261', 'line'),
+    legend(svg, 95, 185, [("paper's triangle", '#e63946', 'line'), ('umeyama (before issue 31)', '#f4a261', 'line'),
                            ('seamap (tether)', '#2a9d3a', 'line'), ('tether predicted', '#2a9d3a', 'dash'),
                            ('bound (GPS only)', '#555', 'dash')])
     svg.save(os.path.join(out, 'georef_rmse.svg'))

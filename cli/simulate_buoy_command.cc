@@ -14,6 +14,7 @@ Simulates a vehicle towing a GPS buoy: keyframes.txt (TUM, SLAM frame), buoy.csv
 cloud.ply (SLAM frame), and the truth: truth.csv, truth.json, cloud_truth.ply.
   --out DIR               output folder (must be empty unless --force)    --force
   --seed N                random seed (default 1)       --origin LAT,LON (default 51.0563,13.6190)
+  --gps-seed N            the fixes' noise, dropouts and multipath from seed N: the same survey, other GPS errors
 vehicle and tether:
   --pattern P             lawnmower | line | hover | circles | spiral | transect (default lawnmower)
   --lines N               survey lines (default 6)      --line-length M (120)   --line-spacing M (15)
@@ -50,6 +51,9 @@ int RunSimulateBuoy(int argc, char** argv, int first) {
   o.out_dir = args.Require("out");
   o.force = args.Flag("force");
   o.seed = SeedArg(args);
+  const int gps_seed = args.GetInt("gps-seed", 0);
+  if (gps_seed < 0) throw InputError("", 0, "--gps-seed", "expected a non-negative whole number");
+  o.gps_seed = static_cast<uint64_t>(gps_seed);
   if (auto origin = args.Get("origin")) {
     const LatLonArg ll = ParseLatLon(*origin, "--origin");
     o.origin = {ll.lat, ll.lon};

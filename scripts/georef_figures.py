@@ -4,13 +4,15 @@
   scripts/georef_figures.py SEAMAP_BINARY OUT_DIR [SEEDS]
 
 georef_plan.svg: plan view of one survey (GPS sigma 1.5 m, seed 1): the true
-path, the buoy's fixes, the keyframes georeferenced by umeyama (filled where
-used in the fit, hollow where dropped) and the paper's triangle.
+path, the buoy's fixes, the keyframes georeferenced by `--method tether`
+(the default; filled where the model's tether is taut, hollow where slack)
+and the paper's triangle.
 georef_residuals.svg: histograms of the along- and cross-track errors of the
-umeyama keyframes of that survey.
-georef_rmse.svg: RMSE over all keyframes against GPS sigma for both methods,
-mean over SEEDS surveys (default 10), with the bound of the spec's section 4
-(report.json's predicted_rmse_m).
+tether keyframes of that survey.
+georef_rmse.svg: RMSE over all keyframes against GPS sigma for tether,
+umeyama (the default before issue 31) and the triangle, mean over SEEDS
+surveys (default 10), with the GPS-only bound of the spec's section 4
+(report.json's gps_bound_rmse_m) and tether's predicted_rmse_m.
 """
 import csv
 import json
@@ -156,7 +158,7 @@ def plan_and_residuals(seamap, out):
     run(seamap, 'simulate-buoy', '--out', survey, '--force', '--gps-sigma', 1.5, '--seed', 1, '--cloud-points', 0)
     truth = read_csv(os.path.join(survey, 'truth.csv'))
     fixes = read_csv(os.path.join(survey, 'buoy.csv'))
-    nav, _, ev = georef(seamap, survey, 'umeyama', out, 'plan_umeyama')
+    nav, _, ev = georef(seamap, survey, 'tether', out, 'plan_tether')
     tri_nav, tri_report, tri_ev = georef(seamap, survey, 'triangle', out, 'plan_triangle')
     local = Local(truth)
     path = [(float(r['x_m']), float(r['y_m'])) for r in truth]
@@ -176,11 +178,11 @@ def plan_and_residuals(seamap, out):
     ax.dots([p for p, good in keyframes if good], '#2a9d3a', r=1.4)
     if all(vertices):
         ax.line(vertices + vertices[:1], '#e63946', width=1.5, dash='5 3')
-    svg.add(f'<text x="70" y="24" font-size="14">Plan view, GPS sigma 1.5 m, seed 1: umeyama RMSE '
+    svg.add(f'<text x="70" y="24" font-size="14">Plan view, GPS sigma 1.5 m, seed 1: tether RMSE '
             f'{ev["rmse_m"] * 100:.1f} cm over {ev["keyframes"]} keyframes, the triangle '
             f'{tri_ev["rmse_m"] * 100:.0f} cm</text>')
     legend(svg, 640, 60, [('true path', '#222', 'line'), ('buoy GPS fixes', '#c77dff', 'dot'),
-                          ('keyframes used in the fit', '#2a9d3a', 'dot'), ('keyframes dropped', '#999', 'ring'),
+                          ('keyframes, taut tether', '#2a9d3a', 'dot'), ('keyframes, slack', '#999', 'ring'),
                           ("paper's triangle", '#e63946', 'dash')])
     svg.save(os.path.join(out, 'georef_plan.svg'))
 
@@ -215,25 +217,31 @@ def rmse_against_sigma(seamap, out, seeds):
         for seed in range(1, seeds + 1):
             run(seamap, 'simulate-buoy', '--out', survey, '--force', '--gps-sigma', sigma, '--seed', seed,
                 '--cloud-points', 0)
-            _, report, ev = georef(seamap, survey, 'umeyama', out, 'u')
+            _, report, ev = georef(seamap, survey, 'tether', out, 'w')
+            _, _, ume = georef(seamap, survey, 'umeyama', out, 'u')
             _, _, tri = georef(seamap, survey, 'triangle', out, 't')
-            rows.setdefault(sigma, []).append((ev['rmse_m'], tri['rmse_m'], report['predicted_rmse_m']))
-            print(f'sigma {sigma} seed {seed}: umeyama {ev["rmse_m"]:.3f} m, triangle {tri["rmse_m"]:.3f} m',
-                  file=sys.stderr)
-    mean = {s: [statistics.mean(r[k] for r in rows[s]) for k in range(3)] for s in sigmas}
+            rows.setdefault(sigma, []).append((ev['rmse_m'], tri['rmse_m'], report['gps_bound_rmse_m'],
+                                               ume['rmse_m'], report['predicted_rmse_m']))
+            print(f'sigma {sigma} seed {seed}: tether {ev["rmse_m"]:.3f} m, umeyama {ume["rmse_m"]:.3f} m,'
+                  f' triangle {tri["rmse_m"]:.3f} m', file=sys.stderr)
+    # RMS over the seeds (the error estimate predicts an RMS)
+    mean = {s: [math.sqrt(statistics.mean(r[k] ** 2 for r in rows[s])) for k in range(5)] for s in sigmas}
     svg = Svg(640, 460)
     ax = Axes(svg, (80, 40, 520, 360), (0, 3), (0.01, 30), 'GPS sigma (m)', 'RMSE over all keyframes (m)', logy=True)
-    for k, colour, dash in ((1, '#e63946', None), (0, '#2a9d3a', None), (2, '#555', '4 3')):
+    for k, colour, dash in ((1, '#e63946', None), (3, '#f4a261', None), (0, '#2a9d3a', None), (2, '#555', '4 3'),
+                            (4, '#2a9d3a', '2 3')):
         points = [(s, mean[s][k]) for s in sigmas]
         ax.line(points, colour, width=2, dash=dash)
         ax.dots(points, colour, r=3)
-    svg.add(f'<text x="80" y="24" font-size="14">RMSE against GPS sigma, mean of {seeds} surveys each</text>')
-    legend(svg, 360, 300, [("paper's triangle", '#e63946', 'line'), ('seamap (umeyama)', '#2a9d3a', 'line'),
+    svg.add(f'<text x="80" y="24" font-size="14">RMSE against GPS sigma, RMS of {seeds} surveys each</text>')
+    legend(svg, 95, 185, [("paper's triangle", '#e63946', 'line'), ('umeyama (before issue 31)', '#f4a261', 'line'),
+                           ('seamap (tether)', '#2a9d3a', 'line'), ('tether predicted', '#2a9d3a', 'dash'),
                            ('bound (GPS only)', '#555', 'dash')])
     svg.save(os.path.join(out, 'georef_rmse.svg'))
     for s in sigmas:
-        u, t, b = mean[s]
-        print(f'sigma {s}: umeyama {u:.3f} m, triangle {t:.3f} m, bound {b:.3f} m, triangle/umeyama {t / u:.0f}x')
+        w, t, b, u, p = mean[s]
+        print(f'sigma {s}: tether {w:.3f} m (predicted {p:.3f}), umeyama {u:.3f} m, triangle {t:.3f} m,'
+              f' bound {b:.3f} m, tether/bound {w / b:.2f}, triangle/tether {t / w:.0f}x')
 
 
 def main():

@@ -302,6 +302,7 @@ void FitTether(const SubmapContext& c, const std::vector<Keyframe>& keyframes, S
   out->rmse_m = r.residual_rms_m;
   out->predicted_rmse_m = r.predicted_rmse_m;
   out->gps_bound_rmse_m = r.gps_bound_rmse_m;
+  out->model_bound_rmse_m = r.model_bound_rmse_m;
   out->along_track_bias_m = r.along_cross_bias_m.x();
   out->reach_factor = r.reach_factor;
   out->reach_factor_sigma = r.reach_factor_sigma;
@@ -311,6 +312,27 @@ void FitTether(const SubmapContext& c, const std::vector<Keyframe>& keyframes, S
   out->lag_estimated = r.lag_estimated;
   out->lag_s = r.lag_s;
   out->lag_sigma_s = r.lag_sigma_s;
+  {
+    std::vector<double> reach;
+    for (double x : c.reach_m)
+      if (x > 0) reach.push_back(x);
+    std::sort(reach.begin(), reach.end());
+    const double c_t = reach.empty() ? 0 : reach[reach.size() / 2];
+    const Eigen::Matrix2d& cov = r.free_reach_lag_covariance;
+    const Eigen::Vector2d along(c_t * r.free_reach_factor, speed);  // d offset / d (log k, lag)
+    out->along_track_offset_m = c_t * (r.free_reach_factor - 1) + speed * r.free_lag_s;
+    out->along_track_offset_sigma_m = std::sqrt(std::max(along.dot(cov * along), 0.0));
+    const double scale = std::sqrt(std::max(cov(0, 0) * cov(1, 1), 1e-300));
+    out->reach_lag_correlation = cov(0, 1) / scale;
+    out->reach_lag_separable = std::fabs(out->reach_lag_correlation) < 0.9;
+    out->held_bias_rmse_m = r.held_bias_rmse_m;
+    if (out->along_track_offset_sigma_m > 2 * std::max(r.predicted_rmse_m, 0.01))
+      out->warnings.push_back(
+          out->source + ": the buoy's distance behind the vehicle (tether reach, fixes' lag) is seen only to +-" +
+          Fixed(out->along_track_offset_sigma_m, 2) +
+          " m on this geometry (legs all flown one way, or a spiral): a sagging tether or a clock offset "
+          "would move the map along the track by up to that, beyond predicted_rmse_m");
+  }
   out->current_mps = r.current_mps;
   out->current_sigma_mps = r.current_covariance.diagonal().cwiseMax(0).cwiseSqrt();
   out->wake_share = r.wake_share;

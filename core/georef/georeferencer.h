@@ -51,15 +51,23 @@ struct SubmapGeoref {
   std::string gps_sigma_source;
   double fix_rate_hz = 0;
   double good_duration_s = 0;
-  double n_eff = 0;             // distinct fixes behind the good keyframes
-  double predicted_rmse_m = 0;  // expected error over all keyframes (tether: every term; else the GPS bound)
-  double gps_bound_rmse_m = 0;  // the GPS-limited error over all keyframes (the bound)
+  double n_eff = 0;               // distinct fixes behind the good keyframes
+  double predicted_rmse_m = 0;    // expected error over all keyframes (tether: every term; else the GPS bound)
+  double gps_bound_rmse_m = 0;    // the GPS-limited error over all keyframes (the bound)
+  double model_bound_rmse_m = 0;  // tether: the same with the current, reach, lag it estimates unknown
   // --method tether: the tether and buoy model fitted with the similarity.
   double reach_factor = 1, reach_factor_sigma = 0;
   bool reach_estimated = false;
   Eigen::Vector2d current_mps = Eigen::Vector2d::Zero();  // east, north, carrying the buoy
   Eigen::Vector2d current_sigma_mps = Eigen::Vector2d::Zero();
   double lag_s = 0, lag_sigma_s = 0;  // a fix stamped t shows the buoy at t - lag
+  // The buoy's extra distance behind the vehicle that the free fit's reach
+  // and lag together put it at, c_t (k - 1) + |v| lag: for a buoy in the
+  // wake the two are one shift, and only this sum is seen.
+  double along_track_offset_m = 0, along_track_offset_sigma_m = 0;
+  double reach_lag_correlation = 0;  // in the free fit
+  bool reach_lag_separable = true;   // |correlation| < 0.9
+  double held_bias_rmse_m = 0;       // tether_fit.h
   bool current_estimated = false, wake_estimated = false, lag_estimated = false;
   double wake_share = 0, wake_share_sigma = 0;
   double variance_factor = 1, correlation_factor = 1;

@@ -62,16 +62,23 @@ struct TowedFitResult {
   bool current_estimated = false;
   double lag_s = 0, lag_sigma_s = 0;  // a fix stamped t shows the buoy at t - lag
   bool lag_estimated = false;
-  Eigen::Matrix2d reach_lag_covariance = Eigen::Matrix2d::Zero();  // of (log k, tau) in the free fit
-  std::vector<bool> keyframe_taut;                                 // the model's tether at each keyframe's time
-  std::vector<double> keyframe_sigma_m;                            // predicted horizontal error (2D RMS) per keyframe
-  double predicted_rmse_m = 0;                                     // RMS of keyframe_sigma_m
-  double gps_bound_rmse_m = 0;     // the same from the taut fixes' GPS noise alone, k and a known
-  double variance_factor = 1;      // chi^2 / dof of the taut fixes (at least 1)
-  double correlation_factor = 1;   // variance of batch means over white noise's (at least 1)
-  double taut_model_sigma_m = 0;   // model noise added to taut fixes (waves, an imperfect model)
-  double slack_model_sigma_m = 0;  // and to the others
-  double residual_rms_m = 0;       // of the taut fixes kept
+  Eigen::Matrix2d reach_lag_covariance = Eigen::Matrix2d::Zero();  // of (log k, tau) in this fit
+  // The fit with every parameter free: reach and lag as the data alone see
+  // them (for a buoy in the wake both are one shift along the track).
+  double free_reach_factor = 1, free_lag_s = 0;
+  Eigen::Matrix2d free_reach_lag_covariance = Eigen::Matrix2d::Zero();  // of (log k, tau)
+  std::vector<bool> keyframe_taut;                                      // the model's tether at each keyframe's time
+  std::vector<double> keyframe_sigma_m;  // predicted horizontal error (2D RMS) per keyframe
+  double predicted_rmse_m = 0;           // RMS of keyframe_sigma_m
+  double gps_bound_rmse_m = 0;           // the same from the taut fixes' GPS noise alone, k and a known
+  double model_bound_rmse_m = 0;         // the same from every fix's GPS noise, the parameters this fit frees unknown
+  double variance_factor = 1;            // chi^2 / dof of the taut fixes (at least 1)
+  double correlation_factor = 1;         // variance of batch means over white noise's (at least 1)
+  double taut_model_sigma_m = 0;         // model noise added to taut fixes (waves, an imperfect model)
+  double slack_model_sigma_m = 0;        // and to the others
+  double residual_rms_m = 0;             // of the taut fixes kept
+  double held_bias_rmse_m = 0;           // the bias the data show in holding reach, lag, current, follower at their
+                                         // defaults (RMS over the keyframes; in predicted_rmse_m when they are held)
   int fixes = 0, taut_fixes = 0, outliers = 0, iterations = 0;
   Eigen::Vector2d along_cross_bias_m = Eigen::Vector2d::Zero();  // mean taut residual along / across towing
 };

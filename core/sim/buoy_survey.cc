@@ -234,12 +234,16 @@ BuoySurveySummary SimulateBuoySurvey(const BuoySurveyOptions& o) {
   std::mt19937_64 rng(o.seed * 0x9E3779B97F4A7C15ull + 0x62756f79);  // "buoy"
   std::normal_distribution<double> gauss(0, 1);
   std::uniform_real_distribution<double> uniform(0, 1);
+  // --gps-seed: the fixes' errors from a generator of their own, so that the
+  // same survey (path, similarity, keyframes) is drawn with other GPS errors.
+  std::mt19937_64 own_gps_rng(o.gps_seed * 0xD1B54A32D192ED03ull + 0x67707321);  // "gps!"
+  std::mt19937_64& gps_rng = o.gps_seed ? own_gps_rng : rng;
   const double h0 = heading_at(0) * kDeg;
   TowedBuoy buoy(position_at(0) - (1 - o.tether_sag) * summary.reach_m * Eigen::Vector2d(std::sin(h0), std::cos(h0)));
   const int steps_per_fix = std::max(1, static_cast<int>(std::lround(1.0 / (o.gps_rate_hz * kStepS))));
   const double fix_interval = steps_per_fix * kStepS;
   const double decay = std::exp(-fix_interval / o.gps_tau_s);
-  Eigen::Vector2d correlated(gauss(rng), gauss(rng));
+  Eigen::Vector2d correlated(gauss(gps_rng), gauss(gps_rng));
   correlated *= o.gps_correlated_m;
   // Waves and outages from a generator of their own: surveys without them stay as they were.
   std::mt19937_64 sea(o.seed * 0x2545F4914F6CDD1Dull + 0x77617665);  // "wave"
@@ -265,10 +269,10 @@ BuoySurveySummary SimulateBuoySurvey(const BuoySurveyOptions& o) {
     }
     if (k % steps_per_fix) continue;
     correlated = decay * correlated +
-                 std::sqrt(1 - decay * decay) * o.gps_correlated_m * Eigen::Vector2d(gauss(rng), gauss(rng));
+                 std::sqrt(1 - decay * decay) * o.gps_correlated_m * Eigen::Vector2d(gauss(gps_rng), gauss(gps_rng));
     Eigen::Vector2d fix = buoy.position() + Eigen::Vector2d(o.current_offset_m, 0) + correlated +
-                          o.gps_sigma_m * Eigen::Vector2d(gauss(rng), gauss(rng));
-    const double thrown = uniform(rng), angle = 2 * M_PI * uniform(rng), dropped = uniform(rng);
+                          o.gps_sigma_m * Eigen::Vector2d(gauss(gps_rng), gauss(gps_rng));
+    const double thrown = uniform(gps_rng), angle = 2 * M_PI * uniform(gps_rng), dropped = uniform(gps_rng);
     if (thrown < o.multipath_fraction) fix += o.multipath_m * Eigen::Vector2d(std::cos(angle), std::sin(angle));
     fix += 0.5 * o.wave_height_m * std::cos(2 * M_PI * t / o.wave_period_s + wave_phase) *
            Eigen::Vector2d(std::cos(wave_direction), std::sin(wave_direction));
@@ -433,6 +437,7 @@ BuoySurveySummary SimulateBuoySurvey(const BuoySurveyOptions& o) {
                         {"submaps", o.submaps},
                         {"cloud_points", o.cloud_points},
                         {"seabed_depth_m", o.seabed_depth_m}}}};
+  if (o.gps_seed) j["gps_seed"] = o.gps_seed;
   write("truth.json", j.dump(2) + "\n");
   return summary;
 }

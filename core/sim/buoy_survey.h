@@ -16,6 +16,7 @@ struct BuoySurveyOptions {
   std::string out_dir;
   bool force = false;
   uint64_t seed = 1;
+  uint64_t gps_seed = 0;  // else 0: the fixes' noise, dropouts and multipath from this seed, the survey from `seed`
   LatLon origin{51.0563, 13.6190};  // Oberwartha reservoir, the paper's lake
   // Vehicle.
   std::string pattern = "lawnmower";  // lawnmower | line | hover | circles | spiral | transect

@@ -284,8 +284,13 @@ std::vector<RefinedFrame> RefineSurvey(const std::vector<FrameSpec>& frames, con
   if (bundle) {
     start = Clock::now();
     std::vector<PairMatches> matches;
+    // Every registered pair, also those the planar graph dropped: its rigid
+    // model of the seabed is what fails over relief (pairs across slopes), not
+    // their matches, which one camera motion verified. Without them the
+    // bundle's map fell apart into blocks joined only by the drifting
+    // navigation (docs/TERRAIN.md); the reprojection's robust loss and
+    // rejection deal with wrong ones.
     for (size_t k = 0; k < constraints.size(); ++k) {
-      if (solved.pair_rejected[k]) continue;
       PairRegistration& g = registered[constraint_candidate[k]];
       matches.push_back({constraints[k].i, constraints[k].j, std::move(g.inlier_matches)});
     }

@@ -120,16 +120,22 @@ std::vector<RefinedFrame> RefineSurvey(const std::vector<FrameSpec>& frames, con
   RefineReport r;
   const int n = static_cast<int>(frames.size());
   r.frames = n;
-  const bool bundle = options.method == RefineMethod::kBundle;
+  std::vector<double> times(frames.size());
+  for (size_t i = 0; i < frames.size(); ++i)
+    times[i] = frames[i].time_s ? *frames[i].time_s : static_cast<double>(i) / 5;  // no times: 5 frames/s
+  RefineMethod method = options.method;
+  if (method == RefineMethod::kAuto) {
+    const ReliefChoice choice = ChooseRefineMethod(frames, times);
+    method = choice.method;
+    r.navigated_relief_m = choice.relief_rms_m;
+  }
+  const bool bundle = method == RefineMethod::kBundle;
   // Floors keep exact navigation from dividing by zero.
   const double nav_noise = std::max(options.nav_noise_m, 1e-3);
   const double drift = std::max(options.nav_drift_m_per_min, 0.0) / 60;
   const double heading_noise = std::max(options.heading_noise_deg, 0.01) * kDegToRad;
   RegistrationOptions registration = options.registration;
   if (bundle) registration.parallax_share = options.relief_share;
-  std::vector<double> times(frames.size());
-  for (size_t i = 0; i < frames.size(); ++i)
-    times[i] = frames[i].time_s ? *frames[i].time_s : static_cast<double>(i) / 5;  // no times: 5 frames/s
   ThreadPool pool(options.threads);
   auto tick = [&](const std::string& stage, int done, int total) {
     if (progress) progress(stage, done, total);

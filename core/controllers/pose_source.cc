@@ -167,6 +167,7 @@ nlohmann::json PoseSource::Refine(std::vector<FrameSpec>* frames, std::vector<st
            {{"points", report.points},
             {"observations", report.observations},
             {"observations_rejected", report.observations_rejected},
+            {"tracks_spread", report.tracks_spread},
             {"reprojection_before_px", report.reprojection_before_px},
             {"reprojection_after_px", report.reprojection_after_px},
             {"linear_solver", report.bundle_solver},

@@ -65,6 +65,7 @@ struct RefineReport {
   // kBundle:
   bool bundle = false;
   int points = 0, observations = 0, observations_rejected = 0;
+  int tracks_spread = 0;  // dropped: views too far apart on the level seabed (a wrong match joined two tracks)
   double reprojection_before_px = 0, reprojection_after_px = 0;  // RMS, kept observations
   double seconds_bundle = 0;
   std::string bundle_solver;

@@ -8,8 +8,9 @@ const char* kNavigationNoiseHelp =
     "  --nav-noise M       the navigation's white position noise, 1 sigma (default 0.05; config navigation.noise_m)\n"
     "  --nav-drift M_MIN   its drift rate, metres per minute (default 1; navigation.drift_m_per_min)\n"
     "  --heading-noise DEG its heading noise (default 1; navigation.heading_noise_deg)\n"
-    "  --refine-method M   refine's solve: planar (default; the 2-D pose graph) or bundle (3-D poses and\n"
-    "                      seabed points, for relief; slower, docs/TERRAIN.md)\n"
+    "  --refine-method M   refine's solve: auto (default: bundle where the navigation's depth + altitude\n"
+    "                      shows relief, else planar), planar (the 2-D pose graph) or bundle (3-D poses\n"
+    "                      and seabed points; slower, docs/TERRAIN.md)\n"
     "  --attitude-noise DEG  the pitch/roll sensor's noise for the bundle (default 0.5)\n";
 
 const char* kFeatureEnhanceHelp =
@@ -35,8 +36,11 @@ RefineOptions ReadRefineOptions(Args& args, const NavigationSettings& settings, 
       o.method = RefineMethod::kBundle;
     else if (*method == "planar")
       o.method = RefineMethod::kPlanar;
+    else if (*method == "auto")
+      o.method = RefineMethod::kAuto;
     else
-      throw InputError("", 0, "--refine-method", "expected bundle or planar, got '" + *method + "'");
+      throw InputError("", 0, "--refine-method",
+                       "expected auto, bundle or planar, got '" + method->substr(0, 100) + "'");
   }
   o.attitude_noise_deg = args.GetDouble("attitude-noise", o.attitude_noise_deg);
   o.Check();

@@ -165,6 +165,7 @@ nlohmann::json PoseSource::Refine(std::vector<FrameSpec>* frames, std::vector<st
                  still);
   std::fprintf(stderr, "refine: poses corrected in %d of %zu frames; the others keep the navigation's\n", corrected,
                frames->size());
+  if (!report.method_note.empty()) std::fprintf(stderr, "refine: %s\n", report.method_note.c_str());
   if (report.bundle)
     std::fprintf(stderr,
                  "refine: bundle adjustment of %d seabed points (%d observations, %d dropped), reprojection RMS "
@@ -192,6 +193,7 @@ nlohmann::json PoseSource::Refine(std::vector<FrameSpec>* frames, std::vector<st
       std::string& flag = (*flags)[i];
       for (const auto& w : words) flag += (flag.empty() ? "" : ";") + w;
     }
+  const nlohmann::json relief = report.navigated_relief_m ? nlohmann::json(*report.navigated_relief_m) : nullptr;
   return {{"frames", report.frames},
           {"corrected_frames", corrected},
           {"identical_photo_frames", still},
@@ -208,10 +210,13 @@ nlohmann::json PoseSource::Refine(std::vector<FrameSpec>* frames, std::vector<st
           {"nav_only", nav_only},
           {"registration_failures", failures},
           {"method", report.bundle ? "bundle" : "planar"},
+          {"navigated_relief_m", relief},
+          {"method_note", report.method_note},
           {"bundle",
            {{"points", report.points},
             {"observations", report.observations},
             {"observations_rejected", report.observations_rejected},
+            {"tracks_spread", report.tracks_spread},
             {"reprojection_before_px", report.reprojection_before_px},
             {"reprojection_after_px", report.reprojection_after_px},
             {"linear_solver", report.bundle_solver},

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <map>
 #include <memory>
 #include <optional>
 #include <unordered_map>
@@ -104,43 +103,83 @@ struct AbsoluteResidual {
   }
 };
 
-// The altimeter: the vehicle this high above the seabed below it, the seabed
-// there being the plane through nearby points evaluated at the nadir: a fixed
-// weighted sum of their heights (weights from their horizontal layout).
-struct AltitudeResidual {
-  double altitude_m, inv_sigma_m;
-  std::vector<double> weights;  // per point block, after the pose block
+// The seabed under one DVL beam: a local plane, height_up_m + slope . (east, north
+// offset from the beam's footprint as first placed); one Ceres block
+// [height, slope east, slope north] per beam and frame. Points tie into it by
+// one residual each, and the altimeter by the vehicle's height above it, so
+// that every residual holds at most one point and Ceres eliminates them all.
+using BeamBlock = std::array<double, 3>;
+
+// A tracked point near a beam's footprint lies on its plane, up to the
+// seabed's curvature over the neighbourhood (sigma).
+struct BeamPlaneResidual {
+  double anchor_east_m, anchor_north_m, inv_sigma_m;
   template <typename T>
-  bool operator()(T const* const* blocks, T* residual) const {
-    T seabed_up = T(0);
-    for (size_t m = 0; m < weights.size(); ++m) seabed_up += weights[m] * blocks[m + 1][2];
-    residual[0] = ((blocks[0][2] - seabed_up) - altitude_m) * inv_sigma_m;
+  bool operator()(const T* plane, const T* point, T* residual) const {
+    const T predicted = plane[0] + plane[1] * (point[0] - anchor_east_m) + plane[2] * (point[1] - anchor_north_m);
+    residual[0] = (point[2] - predicted) * inv_sigma_m;
     return true;
   }
 };
 
-// Weights w with sum_m w_m z_m = the least-squares plane through (offset_m, z_m)
-// at offset 0; one point (weight 1) when they do not span a plane.
-std::vector<double> NadirWeights(const std::vector<Eigen::Vector2d>& offsets) {
-  std::vector<double> w(offsets.size(), 0.0);
+// The altimeter: the mean vertical range of its beams, each cast from the
+// current pose onto its beam's plane (the beam's direction in the body frame).
+struct BeamAltitudeResidual {
+  double altitude_m, inv_sigma_m;
+  std::vector<Eigen::Vector3d> beams_body;  // unit directions, body frame (x forward, y starboard, z down)
+  std::vector<Eigen::Vector2d> anchors;     // (east, north) of each plane's anchor
+  template <typename T>
+  bool operator()(T const* const* blocks, T* residual) const {
+    const T* pose = blocks[0];
+    T r_nb[9];
+    NedFromBodyRad(pose[3], pose[4], pose[5], r_nb);
+    T range_sum = T(0);
+    for (size_t b = 0; b < beams_body.size(); ++b) {
+      const Eigen::Vector3d& v = beams_body[b];
+      const T north = r_nb[0] * v(0) + r_nb[1] * v(1) + r_nb[2] * v(2);
+      const T east = r_nb[3] * v(0) + r_nb[4] * v(1) + r_nb[5] * v(2);
+      const T up = -(r_nb[6] * v(0) + r_nb[7] * v(1) + r_nb[8] * v(2));
+      const T* plane = blocks[b + 1];
+      // pose + t (east, north, up) on the plane: t = (plane at the pose - pose up) / (up - slope . (east, north)).
+      const T below =
+          plane[0] + plane[1] * (pose[0] - anchors[b].x()) + plane[2] * (pose[1] - anchors[b].y()) - pose[2];
+      const T rate = up - plane[1] * east - plane[2] * north;
+      if (!(rate < T(-0.05))) return false;  // the beam grazes its plane
+      range_sum += -(below / rate) * up;
+    }
+    residual[0] = (range_sum / static_cast<double>(beams_body.size()) - altitude_m) * inv_sigma_m;
+    return true;
+  }
+};
+
+// The least-squares plane through (offset_m, z_m): height at offset 0 and
+// slopes; slopes 0 (the mean height) when the offsets do not span an area.
+Eigen::Vector3d FitPlane(const std::vector<Eigen::Vector2d>& offsets, const std::vector<double>& z, bool* spans) {
+  *spans = false;
+  double mean = 0;
+  for (double v : z) mean += v;
+  mean /= static_cast<double>(z.size());
   if (offsets.size() >= 4) {
     Eigen::MatrixXd a(offsets.size(), 3);
-    for (size_t m = 0; m < offsets.size(); ++m) a.row(m) << 1, offsets[m].x(), offsets[m].y();
+    Eigen::VectorXd b(offsets.size());
+    for (size_t m = 0; m < offsets.size(); ++m) {
+      a.row(m) << 1, offsets[m].x(), offsets[m].y();
+      b(m) = z[m];
+    }
     const Eigen::Matrix3d ata = a.transpose() * a;
-    // The offsets must span an area (their 2x2 covariance not near singular).
     const double n = static_cast<double>(offsets.size());
     const Eigen::Matrix2d spread = ata.block<2, 2>(1, 1) / n - ata.block<2, 1>(1, 0) * ata.block<1, 2>(0, 1) / (n * n);
     if (spread.determinant() > 1e-8) {
-      const Eigen::VectorXd row = (ata.inverse() * a.transpose()).row(0);
+      const Eigen::Vector3d plane = ata.ldlt().solve(a.transpose() * b);
       // A far extrapolation amplifies noise: only an interpolation-like plane is kept.
-      if (row.cwiseAbs().sum() < 3) {
-        for (size_t m = 0; m < offsets.size(); ++m) w[m] = row(m);
-        return w;
+      const Eigen::VectorXd row = (ata.inverse() * a.transpose()).row(0);
+      if (row.cwiseAbs().sum() < 3 && std::abs(plane(1)) < 1.5 && std::abs(plane(2)) < 1.5) {
+        *spans = true;
+        return plane;
       }
     }
   }
-  w[0] = 1;
-  return w;
+  return Eigen::Vector3d(mean, 0, 0);
 }
 
 void Require(bool ok, const char* option, const char* expected) {
@@ -195,6 +234,7 @@ void SurveyBundleOptions::Check() const {
   Require(positive(reject_px), "reject_px", "expected pixels > 0");
   Require(max_iterations >= 1, "max_iterations", "expected at least 1");
   Require(altitude_points >= 1, "altitude_points", "expected at least 1");
+  Require(positive(beam_plane_sigma_share), "beam_plane_sigma_share", "expected a number > 0");
   Require(dvl_beam_angle_deg >= 0 && dvl_beam_angle_deg < 60, "dvl_beam_angle_deg", "expected degrees in [0, 60)");
   Require(threads >= 1, "threads", "expected at least 1");
 }
@@ -262,6 +302,7 @@ SurveyBundleResult SolveSurveyBundle(const std::vector<SurveyBundleFrame>& frame
   };
   result.rms_px_before = rms_px();
 
+  std::vector<BeamBlock> beam_planes;  // the altimeter's seabed, per beam and frame (solve_once)
   auto solve_once = [&]() {
     ceres::Problem::Options problem_options;
     problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
@@ -269,6 +310,8 @@ SurveyBundleResult SolveSurveyBundle(const std::vector<SurveyBundleFrame>& frame
     ceres::Problem problem(problem_options);
     ceres::CauchyLoss reprojection_loss(options.reprojection_loss_scale);
     ceres::HuberLoss prior_loss(options.prior_loss_scale);
+    ceres::HuberLoss plane_loss(options.prior_loss_scale);
+    std::vector<double*> plane_blocks;
     std::vector<int> point_views(n_points, 0), frame_views(n_frames, 0);
     for (size_t k = 0; k < observations.size(); ++k) {
       if (result.observation_rejected[k]) continue;
@@ -317,47 +360,66 @@ SurveyBundleResult SolveSurveyBundle(const std::vector<SurveyBundleFrame>& frame
       return found;
     };
     // The altimeter's reading: the vehicle's height above the mean seabed height
-    // where its beams land (each the plane through the points nearest it), or
-    // with one vertical beam above the seabed at the nadir.
+    // where its beams land, each beam's seabed a plane block tied to the points
+    // nearest its footprint by one residual each (or, with one vertical beam,
+    // above the seabed at the nadir). Every residual holds at most one point.
+    const int beams = options.dvl_beam_angle_deg > 0 ? 4 : 1;
+    beam_planes.clear();
+    beam_planes.reserve(static_cast<size_t>(n_frames) * beams);  // Ceres holds pointers into it
     auto AddAltitude = [&](int i, const VehiclePose& nav, const auto& near_points, ceres::Problem* to,
                            ceres::LossFunction* loss) {
       const Eigen::Matrix3d r_nb =
           NedFromBodyDeg(poses[i][3] / kDegToRad, poses[i][4] / kDegToRad, poses[i][5] / kDegToRad);
       const double tilt = options.dvl_beam_angle_deg * kDegToRad;
-      const int beams = options.dvl_beam_angle_deg > 0 ? 4 : 1;
       const double radius = std::max(0.1, 0.15 * nav.altitude_m);
-      std::map<int, double> weight_of;  // point -> weight in the mean seabed height
-      double spread = 0;
+      // The planes stand in for the seabed up to its curvature over the neighbourhood.
+      const double curvature_sigma_m = std::max(0.005, options.beam_plane_sigma_share * radius);
+      BeamAltitudeResidual altitude{nav.altitude_m, 1 / options.altitude_sigma_m, {}, {}};
+      struct Beam {
+        std::vector<std::pair<double, int>> found;
+        Eigen::Vector3d plane;
+        bool spans;
+      };
+      std::vector<Beam> planned;
       for (int b = 0; b < beams; ++b) {
         const double azimuth = (45 + 90 * b) * kDegToRad;
-        const Eigen::Vector3d ray = r_nb * Eigen::Vector3d(std::cos(azimuth) * std::sin(tilt),
-                                                           std::sin(azimuth) * std::sin(tilt), std::cos(tilt));
+        const Eigen::Vector3d body(std::cos(azimuth) * std::sin(tilt), std::sin(azimuth) * std::sin(tilt),
+                                   std::cos(tilt));
+        const Eigen::Vector3d ray = r_nb * body;
         if (!(ray.z() > 0.1)) return;
         const double east = poses[i][0] + ray.y() * nav.altitude_m / ray.z();
         const double north = poses[i][1] + ray.x() * nav.altitude_m / ray.z();
-        const auto found = near_points(east, north, radius, static_cast<size_t>(options.altitude_points));
-        if (found.empty()) return;  // a beam on unknown ground: no reading to compare
+        Beam beam;
+        beam.found = near_points(east, north, radius, static_cast<size_t>(options.altitude_points));
+        if (beam.found.empty()) return;  // a beam on unknown ground: no reading to compare
         std::vector<Eigen::Vector2d> offsets;
-        for (const auto& f : found) {
+        std::vector<double> heights;
+        for (const auto& f : beam.found) {
           offsets.emplace_back(points[f.second][0] - east, points[f.second][1] - north);
-          spread = std::max(spread, f.first);
+          heights.push_back(points[f.second][2]);
         }
-        const std::vector<double> w = NadirWeights(offsets);
-        for (size_t m = 0; m < found.size(); ++m) weight_of[found[m].second] += w[m] / beams;
+        beam.plane = FitPlane(offsets, heights, &beam.spans);
+        altitude.beams_body.push_back(body);
+        altitude.anchors.emplace_back(east, north);
+        planned.push_back(std::move(beam));
       }
       std::vector<double*> blocks = {poses[i].data()};
-      std::vector<double> weights;
-      for (const auto& [point, weight] : weight_of) {
-        blocks.push_back(points[point].data());
-        weights.push_back(weight);
+      for (size_t b = 0; b < planned.size(); ++b) {
+        beam_planes.push_back({planned[b].plane(0), planned[b].plane(1), planned[b].plane(2)});
+        double* plane = beam_planes.back().data();
+        to->AddParameterBlock(plane, 3);
+        if (!planned[b].spans) to->SetManifold(plane, new ceres::SubsetManifold(3, {1, 2}));  // a level plane
+        plane_blocks.push_back(plane);
+        blocks.push_back(plane);
+        for (const auto& f : planned[b].found)
+          to->AddResidualBlock(new ceres::AutoDiffCostFunction<BeamPlaneResidual, 1, 3, 3>(new BeamPlaneResidual{
+                                   altitude.anchors[b].x(), altitude.anchors[b].y(), 1 / curvature_sigma_m}),
+                               &plane_loss, plane, points[f.second].data());
       }
-      // The planes stand in for the seabed under the beams up to their curvature over the points' spread.
-      const double slope = options.altitude_points >= 4 ? 0.1 : 0.3;  // a plane follows the slope, one point does not
-      const double sigma = std::hypot(options.altitude_sigma_m, slope * spread);
-      auto* cost = new ceres::DynamicAutoDiffCostFunction<AltitudeResidual, 4>(
-          new AltitudeResidual{nav.altitude_m, 1 / sigma, weights});
+      auto* cost = new ceres::DynamicAutoDiffCostFunction<BeamAltitudeResidual, 4>(
+          new BeamAltitudeResidual(std::move(altitude)));
       cost->AddParameterBlock(6);
-      for (size_t m = 0; m < weights.size(); ++m) cost->AddParameterBlock(3);
+      for (size_t b = 0; b < planned.size(); ++b) cost->AddParameterBlock(3);
       cost->SetNumResiduals(1);
       to->AddResidualBlock(cost, loss, blocks);
     };
@@ -388,16 +450,27 @@ SurveyBundleResult SolveSurveyBundle(const std::vector<SurveyBundleFrame>& frame
     }
     ceres::Solver::Options solver;
     ChooseLinearSolver(&solver, &result.linear_solver);
-    // No ordering given: Ceres eliminates a maximal independent set of blocks,
-    // the points but those an altitude residual ties together.
+    // Every point is eliminated (no residual holds two); poses and beam planes form the reduced system.
+    auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
+    for (int p = 0; p < n_points; ++p)
+      if (point_views[p] >= 2) ordering->AddElementToGroup(points[p].data(), 0);
+    for (int i = 0; i < n_frames; ++i) ordering->AddElementToGroup(poses[i].data(), 1);
+    for (double* plane : plane_blocks) ordering->AddElementToGroup(plane, 1);
+    solver.linear_solver_ordering = ordering;
     solver.num_threads = options.threads;
     solver.max_num_iterations = options.max_iterations;
     solver.logging_type = ceres::SILENT;
     solver.minimizer_progress_to_stdout = false;
-    solver.function_tolerance = 1e-10;
-    solver.parameter_tolerance = 1e-10;
+    // Relative cost changes under 1e-6 move the poses by well under a millimetre
+    // (measured: 24 iterations instead of 100, the same figures).
+    solver.function_tolerance = 1e-6;
+    solver.parameter_tolerance = 1e-8;
     ceres::Solver::Summary summary;
     ceres::Solve(solver, &problem, &summary);
+    result.points_solved = 0;
+    for (int p = 0; p < n_points; ++p) result.points_solved += point_views[p] >= 2;
+    result.points_eliminated =
+        summary.linear_solver_ordering_used.empty() ? 0 : summary.linear_solver_ordering_used.front();
     Solved s;
     s.initial_cost = summary.initial_cost;
     s.final_cost = summary.final_cost;

@@ -14,10 +14,14 @@
 //  - AHRS pitch and roll (absolute), depth (absolute), all under HuberLoss;
 //  - altitude, as a 4-beam DVL measures it (core/terrain/dvl_altitude.h):
 //    the vehicle's height above the mean seabed height at its four beams'
-//    footprints, each the plane through the tracked points nearest it
-//    (with dvl_beam_angle_deg 0, one vertical beam: the seabed at the nadir).
+//    footprints (with dvl_beam_angle_deg 0, one vertical beam: the seabed at
+//    the nadir). Each beam's seabed is a plane of its own (height and two
+//    slopes, one small block per beam and frame) that the tracked points
+//    nearest the footprint lie on up to the seabed's curvature, one residual
+//    per point: no residual holds two points, so all of them are eliminated.
 // Points are eliminated by the Schur complement (SPARSE_SCHUR, or
-// ITERATIVE_SCHUR without a sparse library). After a first solve,
+// ITERATIVE_SCHUR without a sparse library); poses and beam planes form the
+// reduced system, 6 + 12 unknowns a frame. After a first solve,
 // observations reprojecting further than reject_px are dropped and the
 // problem solved again.
 #include <optional>
@@ -43,9 +47,11 @@ struct SurveyBundleOptions {
   double dvl_beam_angle_deg =
       30;  // the altimeter: a 4-beam DVL (Janus beams this far off vertical); 0: one vertical beam
   // Tracked points that place the seabed under a beam: the plane through them
-  // (4 or more), else the nearest. Each point tied into an altitude residual
-  // stays out of the Schur elimination: 1 is faster, 6 more accurate.
+  // (4 or more spanning an area), else a level plane at their mean height.
   int altitude_points = 6;
+  // A point lies on its beam's plane up to this share of the neighbourhood's
+  // radius (0.15 x altitude): the seabed's curvature there (1 sigma).
+  double beam_plane_sigma_share = 0.1;
   double pixel_sigma = 0.7;            // feature position noise, ideal pixels
   double reprojection_loss_scale = 2;  // CauchyLoss on whitened reprojection residuals
   double prior_loss_scale = 3;         // HuberLoss on absolute priors
@@ -75,6 +81,8 @@ struct SurveyBundleResult {
   int iterations = 0;
   bool converged = false;
   std::string linear_solver;
+  int points_solved = 0;      // points with two kept views or more, in the last solve
+  int points_eliminated = 0;  // of those, eliminated by the Schur complement (all, by design)
 };
 
 // points_start: one starting position per point (east, north, up); every

@@ -124,16 +124,23 @@ std::vector<RefinedFrame> RefineSurvey(const std::vector<FrameSpec>& frames, con
   RefineReport r;
   const int n = static_cast<int>(frames.size());
   r.frames = n;
-  const bool bundle = options.method == RefineMethod::kBundle;
+  std::vector<double> times(frames.size());
+  for (size_t i = 0; i < frames.size(); ++i)
+    times[i] = frames[i].time_s ? *frames[i].time_s : static_cast<double>(i) / 5;  // no times: 5 frames/s
+  RefineMethod method = options.method;
+  if (method == RefineMethod::kAuto) {
+    const ReliefChoice choice = ChooseRefineMethod(frames, times);
+    method = choice.method;
+    r.navigated_relief_m = choice.relief_rms_m;
+    r.method_note = choice.note;
+  }
+  const bool bundle = method == RefineMethod::kBundle;
   // Floors keep exact navigation from dividing by zero.
   const double nav_noise = std::max(options.nav_noise_m, 1e-3);
   const double drift = std::max(options.nav_drift_m_per_min, 0.0) / 60;
   const double heading_noise = std::max(options.heading_noise_deg, 0.01) * kDegToRad;
   RegistrationOptions registration = options.registration;
   if (bundle) registration.parallax_share = options.relief_share;
-  std::vector<double> times(frames.size());
-  for (size_t i = 0; i < frames.size(); ++i)
-    times[i] = frames[i].time_s ? *frames[i].time_s : static_cast<double>(i) / 5;  // no times: 5 frames/s
   ThreadPool pool(options.threads);
   auto tick = [&](const std::string& stage, int done, int total) {
     if (progress) progress(stage, done, total);
@@ -293,8 +300,15 @@ std::vector<RefinedFrame> RefineSurvey(const std::vector<FrameSpec>& frames, con
   if (bundle) {
     start = Clock::now();
     std::vector<PairMatches> matches;
+    // The along-track pairs the planar graph dropped too: its rigid model of
+    // the seabed is what fails over relief (pairs across slopes), not their
+    // matches, which one camera motion verified, with the navigation's
+    // short-term motion as a guide. Without them the bundle's map fell apart
+    // into blocks joined only by the drifting navigation (docs/TERRAIN.md).
+    // Cross-line pairs the graph dropped stay out: found with wide searches,
+    // some are wrong, and a wrong pair joins unrelated tracks.
     for (size_t k = 0; k < constraints.size(); ++k) {
-      if (solved.pair_rejected[k]) continue;
+      if (solved.pair_rejected[k] && !constraints[k].along_track) continue;
       PairRegistration& g = registered[constraint_candidate[k]];
       matches.push_back({constraints[k].i, constraints[k].j, std::move(g.inlier_matches)});
     }
@@ -307,15 +321,26 @@ std::vector<RefinedFrame> RefineSurvey(const std::vector<FrameSpec>& frames, con
     for (int i = 0; i < n; ++i) bundle_frames[i] = {frames[i].pose, out[i].pose, times[i]};
     std::vector<Eigen::Vector3d> points_start;
     std::vector<SurveyBundleObservation> observations;
+    int tracks_spread = 0;
     for (const MatchTrack& t : tracks) {
       Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-      int hits = 0;
+      std::vector<std::pair<Eigen::Vector3d, double>> flat;  // on the level seabed, with the reach relief allows
       for (const auto& [frame, keypoint] : t.views)
         if (const auto g = FlatSeabedPoint(camera, out[frame].pose, keypoints_px[frame][keypoint])) {
           sum += *g;
-          ++hits;
+          flat.emplace_back(*g, std::max(0.1, options.relief_share * out[frame].pose.altitude_m));
         }
-      if (!hits) continue;
+      if (flat.empty()) continue;
+      // Views of one seabed point land on the level seabed within the parallax
+      // relief allows; further apart, a wrong match joined two tracks.
+      const Eigen::Vector3d mean = sum / static_cast<double>(flat.size());
+      bool spread = false;
+      for (const auto& [g, reach] : flat) spread |= (g - mean).head<2>().norm() > reach;
+      if (spread) {
+        ++tracks_spread;
+        continue;
+      }
+      const int hits = static_cast<int>(flat.size());
       const int point = static_cast<int>(points_start.size());
       points_start.push_back(sum / hits);
       for (const auto& [frame, keypoint] : t.views)
@@ -335,6 +360,7 @@ std::vector<RefinedFrame> RefineSurvey(const std::vector<FrameSpec>& frames, con
     const SurveyBundleResult adjusted = SolveSurveyBundle(bundle_frames, camera, points_start, observations, b);
     r.bundle = true;
     r.points = static_cast<int>(points_start.size());
+    r.tracks_spread = tracks_spread;
     r.observations = static_cast<int>(observations.size());
     for (bool rejected : adjusted.observation_rejected) r.observations_rejected += rejected;
     r.reprojection_before_px = adjusted.rms_px_before;

@@ -6,17 +6,19 @@
 // registrations all fail keep what the navigation says of them, tied to
 // their refined neighbours by its relative motion, and are flagged nav_only.
 //
-// Method kBundle (the default) then refines in 3-D: the planar graph's poses
+// Method kBundle then refines in 3-D: the planar graph's poses
 // start a bundle adjustment (survey_bundle.h) over every frame's full
 // pose and the seabed points tracked through the registered pairs
 // (match_tracks.h); registration looks for matches off the mean plane
 // (RegistrationOptions::parallax_share). kPlanar stops at the planar graph:
-// the fast path for a seabed known to be flat.
+// the fast path for a flat seabed. kAuto (the default) picks one of them from
+// the relief the navigation's depth + altitude shows (refine_method.h).
 //
 // Features are detected frame by frame in acquisition order and freed once
 // the last pair that needs them is registered: memory follows the survey's
 // width (frames between a frame and its last partner), not its length.
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,13 +28,12 @@
 #include "core/terrain/seabed_point.h"
 #include "core/trajectory/frame_features.h"
 #include "core/trajectory/pair_registration.h"
+#include "core/trajectory/refine_method.h"
 
 namespace seamap {
 
-enum class RefineMethod { kPlanar, kBundle };
-
 struct RefineOptions {
-  RefineMethod method = RefineMethod::kPlanar;
+  RefineMethod method = RefineMethod::kAuto;
   // The navigation's stated noise: white position noise, drift rate, heading noise.
   double nav_noise_m = 0.05;
   double nav_drift_m_per_min = 1.0;
@@ -63,9 +64,12 @@ struct RefineReport {
   double median_inliers = 0;
   double residual_before_mm = 0, residual_after_mm = 0;  // RMS disagreement of the registered pairs
   double seconds_features = 0, seconds_pairs = 0, seconds_solve = 0;
+  std::optional<double> navigated_relief_m;  // kAuto: the relief it chose by (refine_method.h)
+  std::string method_note;                   // kAuto: why it chose planar over relief, if it did
   // kBundle:
   bool bundle = false;
   int points = 0, observations = 0, observations_rejected = 0;
+  int tracks_spread = 0;  // dropped: views too far apart on the level seabed (a wrong match joined two tracks)
   double reprojection_before_px = 0, reprojection_after_px = 0;  // RMS, kept observations
   double seconds_bundle = 0;
   std::string bundle_solver;

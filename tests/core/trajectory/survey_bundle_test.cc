@@ -209,6 +209,10 @@ TEST(SurveyBundle, RecoversPosesAndPointsOfARuggedSeabed) {
     }
   EXPECT_LT(std::sqrt(height_sq / kept), 0.01);
   EXPECT_LT(std::fabs(offset), 0.02);  // depth and altitude set the datum
+
+  // The altimeter's residuals hold no point but through its beams' planes: every point is eliminated.
+  EXPECT_EQ(r.points_solved, kept);
+  EXPECT_EQ(r.points_eliminated, r.points_solved);
 }
 
 // RMS horizontal error of the poses' shape (after their mean offset), metres.

@@ -85,6 +85,6 @@ rm -rf "$out/case" "$out/case.mbtiles"
 
 # Issue 33's surfaces, one script per area (each prints the same kind of line, time beside memory).
 here="$(dirname "$0")"
-for area in model web; do
+for area in model web server inputs; do
   "$here/bench_hostile_$area.sh" "$seamap" "$out/$area"
 done

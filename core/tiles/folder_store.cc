@@ -177,8 +177,19 @@ void FolderStore::Load() {
     track_[p.seq] = p;
   });
   load(kDetectionsFile, [this](const nlohmann::json& j) {
-    Detection d = DetectionFromJson(j);
-    detections_[d.id] = d;
+    // A record that cannot be a detection (a search before issue 33 stored
+    // inf/NaN as null) is kept as it was, written back, and counted: one bad
+    // record never makes the map unreadable, and nothing is dropped.
+    try {
+      Detection d = DetectionFromJson(j);
+      if (IsFiniteDetection(d)) {
+        detections_[d.id] = d;
+        return;
+      }
+    } catch (const nlohmann::json::exception&) {
+    } catch (const std::invalid_argument&) {
+    }
+    unreadable_detections_.push_back(j);
   });
   // Tiles are the files two folders down: {z}/{x}/{y}.ext.
   int64_t count = 0;
@@ -294,6 +305,22 @@ std::vector<Detection> FolderStore::Detections() const {
   return out;
 }
 
+std::vector<Detection> FolderStore::ReadableDetections(std::vector<int64_t>* unreadable) const {
+  std::vector<Detection> out = MissionRecords::ReadableDetections(unreadable);
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (unreadable)
+    for (const auto& j : unreadable_detections_) {
+      const auto id = j.is_object() ? j.find("id") : j.end();
+      unreadable->push_back(id != j.end() && id->is_number_integer() ? id->get<int64_t>() : -1);
+    }
+  return out;
+}
+
+int64_t FolderStore::SkippedDetections() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return static_cast<int64_t>(unreadable_detections_.size());
+}
+
 void FolderStore::PutTerrain(const TerrainBlob& terrain) {
   CheckWritable();
   std::lock_guard<std::mutex> lock(mutex_);
@@ -331,6 +358,7 @@ void FolderStore::WriteJsonLocked() {
   WriteJsonFile(root_ / kTrackFile, track);
   nlohmann::json detections = nlohmann::json::array();
   for (const auto& [id, d] : detections_) detections.push_back(DetectionToJson(d));
+  for (const auto& j : unreadable_detections_) detections.push_back(j);
   WriteJsonFile(root_ / kDetectionsFile, detections);
   dirty_ = false;
 }

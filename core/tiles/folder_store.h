@@ -50,6 +50,8 @@ class FolderStore : public TileStore, public MissionRecords {
   void PutDetection(const Detection& detection) override;
   void DeleteDetection(int64_t id) override;
   std::vector<Detection> Detections() const override;
+  std::vector<Detection> ReadableDetections(std::vector<int64_t>* unreadable) const override;
+  int64_t SkippedDetections() const override;
   // terrain.bin (the cells) then terrain.json (the header), each written atomically
   // at once; the header's size and checksum tell a reader a pair that does not match.
   void PutTerrain(const TerrainBlob& terrain) override;
@@ -78,9 +80,10 @@ class FolderStore : public TileStore, public MissionRecords {
   std::atomic<int64_t> tile_count_{0};
   bool dirty_ = false;
   std::map<std::string, std::string> metadata_;
-  std::map<int, FrameRecord> frames_;        // by id: Put replaces
-  std::map<int, TrackPoint> track_;          // by seq
-  std::map<int64_t, Detection> detections_;  // by id
+  std::map<int, FrameRecord> frames_;                  // by id: Put replaces
+  std::map<int, TrackPoint> track_;                    // by seq
+  std::map<int64_t, Detection> detections_;            // by id
+  std::vector<nlohmann::json> unreadable_detections_;  // records that are no detection, kept verbatim
 };
 
 // TileJSON 3.0.0 document for MBTiles-style string metadata: "bounds",

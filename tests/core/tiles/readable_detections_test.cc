@@ -5,8 +5,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <limits>
 
+#include <nlohmann/json.hpp>
+
+#include "core/tiles/folder_store.h"
 #include "core/tiles/layer_records.h"
 #include "core/tiles/mbtiles_store.h"
 #include "tests/testing/temp_dir.h"
@@ -65,6 +69,37 @@ TEST(ReadableDetections, NonFiniteRecordsAreLeftOutAndNamed) {
     return d;
   }()));
   EXPECT_TRUE(IsFiniteDetection(Found(6)));
+}
+
+TEST(ReadableDetections, AFolderMapWithABrokenRecordOpensKeepsItAndNamesIt) {
+  testing::TempDir dir;
+  const std::filesystem::path root = dir / "map";
+  {
+    FolderStore store(root.string(), "png");
+    store.PutDetection(Found(1));
+  }  // flushed: detections.json holds one good record
+  // A search before the fix wrote a NaN box and position as nulls.
+  nlohmann::json records = nlohmann::json::parse(std::ifstream(root / "detections.json"));
+  nlohmann::json broken = records[0];
+  broken["id"] = 7;
+  broken["box"] = nlohmann::json::parse("[[null, 1]]");
+  records.push_back(broken);
+  std::ofstream(root / "detections.json") << records.dump();
+  {
+    FolderStore store(root.string(), "png", FolderStore::Mode::kReadOnly);  // used to throw
+    ASSERT_EQ(store.Detections().size(), 1u);
+    EXPECT_EQ(store.SkippedDetections(), 1);
+    std::vector<int64_t> unreadable;
+    EXPECT_EQ(store.ReadableDetections(&unreadable).size(), 1u);
+    EXPECT_EQ(unreadable, (std::vector<int64_t>{7}));
+  }
+  {
+    FolderStore store(root.string(), "png");  // written again: the broken record is not dropped
+    store.PutDetection(Found(2));
+  }
+  const nlohmann::json after = nlohmann::json::parse(std::ifstream(root / "detections.json"));
+  ASSERT_EQ(after.size(), 3u);
+  EXPECT_EQ(after[2], broken);
 }
 
 }  // namespace

@@ -9,6 +9,8 @@
 #include <cstring>
 #include <vector>
 
+#include "core/util/input_file.h"
+
 namespace seamap {
 namespace {
 
@@ -195,15 +197,6 @@ bool ReadWebp(const std::vector<unsigned char>& b, ImageHeader* h, std::string* 
   return true;
 }
 
-const char* KindOf(mode_t mode) {
-  if (S_ISFIFO(mode)) return "a FIFO";
-  if (S_ISDIR(mode)) return "a folder";
-  if (S_ISCHR(mode)) return "a character device";
-  if (S_ISBLK(mode)) return "a block device";
-  if (S_ISSOCK(mode)) return "a socket";
-  return "not a file";
-}
-
 }  // namespace
 
 std::optional<ImageHeader> ReadImageHeader(const std::string& path, std::string* problem) {
@@ -222,7 +215,7 @@ std::optional<ImageHeader> ReadImageHeader(const std::string& path, std::string*
     return std::nullopt;
   }
   if (!S_ISREG(st.st_mode)) {
-    *problem = std::string("not a regular file: ") + KindOf(st.st_mode) + ", skipped unread";
+    *problem = std::string("not a regular file: ") + FileKindOf(st.st_mode) + ", skipped unread";
     return std::nullopt;
   }
   ImageHeader h;

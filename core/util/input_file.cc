@@ -8,9 +8,8 @@
 #include "core/util/error.h"
 
 namespace seamap {
-namespace {
 
-const char* KindOf(mode_t mode) {
+const char* FileKindOf(mode_t mode) {
   if (S_ISFIFO(mode)) return "a FIFO";
   if (S_ISDIR(mode)) return "a folder";
   if (S_ISCHR(mode)) return "a character device";
@@ -18,8 +17,6 @@ const char* KindOf(mode_t mode) {
   if (S_ISSOCK(mode)) return "a socket";
   return "not a file";
 }
-
-}  // namespace
 
 int64_t RegularFileBytes(const std::string& path, const std::string& what, const std::string& field,
                          int64_t max_bytes) {
@@ -29,7 +26,7 @@ int64_t RegularFileBytes(const std::string& path, const std::string& what, const
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0)
     throw failure(errno == ENOENT || errno == ENOTDIR ? std::string("no such file") : std::strerror(errno));
-  if (!S_ISREG(st.st_mode)) throw failure(std::string("not a regular file (") + KindOf(st.st_mode) + ")");
+  if (!S_ISREG(st.st_mode)) throw failure(std::string("not a regular file (") + FileKindOf(st.st_mode) + ")");
   const int64_t bytes = st.st_size;
   if (max_bytes > 0 && bytes > max_bytes)
     throw failure(std::to_string(bytes) + " bytes, over the limit of " + std::to_string(max_bytes));

@@ -63,6 +63,13 @@ int RunInfo(int argc, char** argv, int first) {
                 frames.size());
   else
     std::printf("nav:       trajectory not corrected (frames placed at the navigation's poses)\n");
+  if (mission.trajectory && mission.trajectory->contains("flagged_frames")) {
+    std::string text;  // frames the refinement could not use, by why (their names: the map's seamap_trajectory)
+    for (const auto& [why, entry] : (*mission.trajectory)["flagged_frames"].items())
+      if (entry.is_object() && entry.value("frames", 0) > 0)
+        text += (text.empty() ? "" : ", ") + why + " " + std::to_string(entry.value("frames", 0));
+    if (!text.empty()) std::printf("flagged:   %s\n", text.c_str());
+  }
   const MapBuildState state = ReadBuildState(path, *store);
   std::string state_text = state.state.empty() ? "-" : state.state;
   if (state.state == "building" && state.writer_pid)

@@ -179,23 +179,35 @@ nlohmann::json PoseSource::Refine(std::vector<FrameSpec>* frames, std::vector<st
       nav_only.push_back((*frames)[i].image);
       nav_only_images.insert((*frames)[i].image);
     }
-  if (flags)
-    for (size_t i = 0; i < frames->size(); ++i) {
-      std::vector<std::string> words;
-      if (nav_only_images.count((*frames)[i].image)) words.push_back("nav_only");
-      const std::string& problem = refined[i].problem;
-      if (problem.rfind("no texture", 0) == 0)
-        words.push_back("no_texture");
-      else if (problem.rfind("missing image", 0) == 0 || problem.rfind("not a regular file", 0) == 0 ||
-               problem.rfind("image too large", 0) == 0 || problem.rfind("unreadable image", 0) == 0)
-        words.push_back("no_image");
-      if (refined[i].still_photos) words.push_back("identical_photos");
-      std::string& flag = (*flags)[i];
-      for (const auto& w : words) flag += (flag.empty() ? "" : ";") + w;
+  // Frames refine could not use, by why: one by one in the CSV (`flags`),
+  // counted with their first names in the report the mission keeps.
+  nlohmann::json flagged = nlohmann::json::object();
+  constexpr size_t kNamesPerFlag = 1000;
+  for (size_t i = 0; i < frames->size(); ++i) {
+    std::vector<std::string> words;
+    if (nav_only_images.count((*frames)[i].image)) words.push_back("nav_only");
+    const std::string& problem = refined[i].problem;
+    if (problem.rfind("no texture", 0) == 0)
+      words.push_back("no_texture");
+    else if (problem.rfind("missing image", 0) == 0 || problem.rfind("not a regular file", 0) == 0 ||
+             problem.rfind("image too large", 0) == 0 || problem.rfind("unreadable image", 0) == 0)
+      words.push_back("no_image");
+    if (refined[i].still_photos) words.push_back("identical_photos");
+    for (const auto& w : words) {
+      if (w == "nav_only") continue;  // the mission's frames say which: no navigation pose beside theirs
+      nlohmann::json& entry = flagged[w];
+      if (entry.is_null()) entry = {{"frames", 0}, {"images", nlohmann::json::array()}};
+      entry["frames"] = entry["frames"].get<int>() + 1;
+      if (entry["images"].size() < kNamesPerFlag) entry["images"].push_back((*frames)[i].image);
     }
+    if (!flags) continue;
+    std::string& flag = (*flags)[i];
+    for (const auto& w : words) flag += (flag.empty() ? "" : ";") + w;
+  }
   const nlohmann::json relief = report.navigated_relief_m ? nlohmann::json(*report.navigated_relief_m) : nullptr;
   return {{"frames", report.frames},
           {"corrected_frames", corrected},
+          {"flagged_frames", flagged},
           {"identical_photo_frames", still},
           {"frames_without_features", report.frames_without_features},
           {"pairs_along_track", report.pairs_along},

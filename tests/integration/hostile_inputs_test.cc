@@ -240,6 +240,7 @@ TEST(HostileInputs, RefineOnAFrozenCameraCorrectsNothingAndSaysSo) {
   ASSERT_EQ(Seamap("build --refine-nav" + c.Inputs() + " --out " + c.Path("m.mbtiles"), &log), 0) << log;
   ASSERT_EQ(Seamap("info " + c.Path("m.mbtiles"), &log), 0) << log;
   EXPECT_TRUE(Has(log, "trajectory not corrected")) << log;
+  EXPECT_TRUE(Has(log, "flagged:   identical_photos 24")) << log;
 }
 
 TEST(HostileInputs, RefineOnBlackPhotosNamesTheCause) {

@@ -1,8 +1,9 @@
 #pragma once
 // What the planar pose graph (pose_graph.cc) and the bundle adjustment
 // (survey_bundle.cc) both weigh the navigation with: the stated-noise
-// floors, angle wrapping for automatic differentiation, and the absolute
-// position prior on a pose block whose first two entries are east, north.
+// floors, angle wrapping for automatic differentiation, and the relative and
+// absolute position priors on a pose block whose first two entries are east,
+// north.
 #include <cmath>
 
 namespace seamap {
@@ -28,6 +29,21 @@ struct NavPositionResidual {
   bool operator()(const T* pose, T* residual) const {
     residual[0] = (pose[0] - east_m) * inv_sigma_m;
     residual[1] = (pose[1] - north_m) * inv_sigma_m;
+    return true;
+  }
+};
+
+// Consecutive frames move as the navigation says, up to its noise and drift;
+// kHeading: the heading's index in the pose block (2 planar, 3 in the bundle).
+template <int kHeading>
+struct NavRelativeResidual {
+  double d_east_m, d_north_m, d_heading_rad, inv_sigma_m, inv_sigma_heading_rad;
+
+  template <typename T>
+  bool operator()(const T* a, const T* b, T* residual) const {
+    residual[0] = ((b[0] - a[0]) - d_east_m) * inv_sigma_m;
+    residual[1] = ((b[1] - a[1]) - d_north_m) * inv_sigma_m;
+    residual[2] = WrapAngle((b[kHeading] - a[kHeading]) - d_heading_rad) * inv_sigma_heading_rad;
     return true;
   }
 };

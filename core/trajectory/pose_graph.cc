@@ -41,20 +41,6 @@ struct PairResidual {
   }
 };
 
-// Consecutive frames move as the navigation says, up to its noise and drift over dt.
-struct NavRelativeResidual {
-  double d_east_m, d_north_m, d_heading_rad;
-  double inv_sigma_m, inv_sigma_heading_rad;
-
-  template <typename T>
-  bool operator()(const T* pose_a, const T* pose_b, T* residual) const {
-    residual[0] = ((pose_b[0] - pose_a[0]) - d_east_m) * inv_sigma_m;
-    residual[1] = ((pose_b[1] - pose_a[1]) - d_north_m) * inv_sigma_m;
-    residual[2] = WrapAngle((pose_b[2] - pose_a[2]) - d_heading_rad) * inv_sigma_heading_rad;
-    return true;
-  }
-};
-
 // A separate block from the position so that a compass glitch does not down-weight the fix.
 struct NavHeadingResidual {
   double heading_rad, inv_sigma_rad;
@@ -200,10 +186,10 @@ SolveOutcome SolveOnce(const std::vector<PlanarPose>& nav, const std::vector<dou
     if (i + 1 == nav.size()) continue;
     const double dt_s = time_s[i + 1] - time_s[i];
     const double sigma_rel_m = std::sqrt(2 * sigma_n_m * sigma_n_m + std::pow(rho_m_per_s * dt_s, 2));
-    auto* relative = new NavRelativeResidual{nav[i + 1].east_m - nav[i].east_m, nav[i + 1].north_m - nav[i].north_m,
-                                             nav[i + 1].heading_rad - nav[i].heading_rad, 1 / sigma_rel_m,
-                                             1 / (std::sqrt(2.0) * sigma_psi_rad)};
-    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<NavRelativeResidual, 3, 3, 3>(relative), nullptr,
+    auto* relative = new NavRelativeResidual<2>{nav[i + 1].east_m - nav[i].east_m, nav[i + 1].north_m - nav[i].north_m,
+                                                nav[i + 1].heading_rad - nav[i].heading_rad, 1 / sigma_rel_m,
+                                                1 / (std::sqrt(2.0) * sigma_psi_rad)};
+    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<NavRelativeResidual<2>, 3, 3, 3>(relative), nullptr,
                              (*blocks)[i].data(), (*blocks)[i + 1].data());
   }
 

@@ -78,18 +78,6 @@ struct ReprojectionResidual {
   }
 };
 
-// Consecutive frames move as the navigation says, up to its noise and drift.
-struct NavRelativeResidual {
-  double d_east_m, d_north_m, d_heading_rad, inv_sigma_m, inv_sigma_heading_rad;
-  template <typename T>
-  bool operator()(const T* a, const T* b, T* residual) const {
-    residual[0] = ((b[0] - a[0]) - d_east_m) * inv_sigma_m;
-    residual[1] = ((b[1] - a[1]) - d_north_m) * inv_sigma_m;
-    residual[2] = WrapAngle((b[3] - a[3]) - d_heading_rad) * inv_sigma_heading_rad;
-    return true;
-  }
-};
-
 // One component of the pose against an absolute measurement (angles wrapped).
 struct AbsoluteResidual {
   int index;
@@ -443,7 +431,7 @@ SurveyBundleResult SolveSurveyBundle(const std::vector<SurveyBundleFrame>& frame
       const VehiclePose& next = frames[i + 1].nav;
       const double dt_s = frames[i + 1].time_s - frames[i].time_s;
       problem.AddResidualBlock(
-          new ceres::AutoDiffCostFunction<NavRelativeResidual, 3, 6, 6>(new NavRelativeResidual{
+          new ceres::AutoDiffCostFunction<NavRelativeResidual<3>, 3, 6, 6>(new NavRelativeResidual<3>{
               next.east_m - nav.east_m, next.north_m - nav.north_m, (next.heading_deg - nav.heading_deg) * kDegToRad,
               1 / std::sqrt(2 * sigma_n * sigma_n + std::pow(rho * dt_s, 2)), 1 / (std::sqrt(2.0) * sigma_psi)}),
           nullptr, poses[i].data(), poses[i + 1].data());

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <mutex>
 #include <set>
@@ -53,6 +54,10 @@ const char* kHelp =
     "  --nav-mode vo|ekf   run the navigation filter online as frames arrive and paint with its pose\n"
     "                      (vo: visual odometry + depth, navigation positions only for the first fix;\n"
     "                      ekf: also the navigation's positions, gated); the mission keeps both tracks\n"
+    "  --refine-nav        refine the navigation from the photos as frames arrive (a worker registers them\n"
+    "                      across passes and loops) and paint again what moved; at the end the whole dive\n"
+    "                      is refined as build --refine-nav refines it and the map painted again (takes\n"
+    "                      build's --nav-noise, --nav-drift, --heading-noise, --refine-method, ...)\n"
     "  --trajectory-out F  at the end, write the trajectory the frames were placed with (the filter's with\n"
     "                      --nav-mode) to F, in seamap trajectory's CSV form\n"
     "  --detect            search tiles for objects as they are finished (--detect-model FILE: its\n"
@@ -158,6 +163,15 @@ PoseSourceOptions ReadNavMode(Args& args, const BuildInputs& in) {
   return poses;
 }
 
+// --refine-nav (or the config's navigation.refine): refinement as frames
+// arrive, with build --refine-nav's options; whether it was asked for.
+bool ReadLiveRefine(Args& args, const BuildInputs& in, PoseSourceOptions* poses) {
+  const bool refine = args.Flag("refine-nav") || in.config.navigation.refine;
+  poses->refine = ReadRefineOptions(args, in.config.navigation, in.config.threads);
+  poses->feature_enhance = ReadFeatureEnhance(args);
+  return refine;
+}
+
 // The feed of frames: the recorded survey at its pace, or the watched folder.
 std::unique_ptr<FrameFeed> OpenFeed(const std::optional<std::string>& watch, Args& args, const BuildInputs& in,
                                     double speed, double idle_timeout) {
@@ -191,6 +205,10 @@ class LiveMission {
       events.Publish("track", server::TrackPointJson(point).dump());
     };
     o.on_progress = [this](const BuildStats& s) { PublishProgress(s, "building", false); };
+    // replay --refine-nav: the console reloads the tracks (the repainted tiles came as `tile` events).
+    o.on_trajectory_corrected = [this](int frames, bool final) {
+      events.Publish("trajectory", nlohmann::json{{"frames_corrected", frames}, {"final", final}}.dump());
+    };
     if (detect_model)  // what is found so far goes through the registry (SSE `detection` events)
       o.on_objects_found = [this, model = detect_model](const std::vector<RecognisedObject>& objects) {
         std::vector<Detection> batch;
@@ -234,9 +252,13 @@ class LiveMission {
     mission.SetProgress(p);
     events.Publish("progress", mission.StatusJson().dump());
     if (!quiet_) {
-      std::fprintf(stderr, "\rreplay: %d%s frames, %lld tile writes, %.1f frames/s   ", p.frames_done,
+      std::string lag;  // replay --refine-nav: how far the refinement is behind the frames
+      if (const auto l = refine_lag ? refine_lag() : std::nullopt)
+        lag = ", refine " + std::to_string(l->frames_behind) + " frames behind (" +
+              std::to_string(l->seconds_behind).substr(0, 4) + " s)";
+      std::fprintf(stderr, "\rreplay: %d%s frames, %lld tile writes, %.1f frames/s%s   ", p.frames_done,
                    p.frames_total ? (" / " + std::to_string(p.frames_total)).c_str() : "",
-                   static_cast<long long>(p.tiles_written), p.frames_per_s);
+                   static_cast<long long>(p.tiles_written), p.frames_per_s, lag.c_str());
       std::fflush(stderr);
     }
   }
@@ -245,6 +267,7 @@ class LiveMission {
 
   server::EventHub events;
   server::MissionState mission;
+  std::function<std::optional<LiveRefinerLag>()> refine_lag;  // replay --refine-nav
   std::unique_ptr<server::TileSource> tiles;
   std::unique_ptr<server::DetectionRegistry> detections;
 
@@ -253,6 +276,15 @@ class LiveMission {
   const FrameFeed* feed_;
   Clock::time_point start_ = Clock::now(), last_progress_ = start_ - std::chrono::seconds(1);
 };
+
+// replay --refine-nav: what the live refinement did, and how far behind the frames it ran.
+void ConcludeLiveRefine(const MissionBuild& build, LiveMission& live) {
+  const auto lag = build.refine_lag();
+  if (!lag) return;
+  live.mission.Load(*build.store());  // the refined records and the refine report
+  std::printf("refine live: %d solves, %d cross-pass pairs, %d frames painted again; lag at most %.1f s\n", lag->solves,
+              lag->cross_pairs, lag->frames_repainted, lag->worst_seconds);
+}
 
 // Runs the feed through the build; its end (complete, stopped, failed) told
 // to the map, the server and the terminal. Returns the exit code so far.
@@ -280,6 +312,7 @@ int ReplayFeed(MissionBuild& build, FrameFeed& feed, LiveMission& live, bool qui
   const BuildStats& s = build.stats();
   std::printf("replay %s: frames used %d, rejected %zu; %lld tile writes\n", complete ? "complete" : "stopped",
               s.frames_used, s.rejections.size(), static_cast<long long>(s.tiles_written));
+  ConcludeLiveRefine(build, live);
   for (const auto& r : s.rejections) std::fprintf(stderr, "skipped: %s\n", r.Message().c_str());
   std::fflush(stdout);
   if (exit_code == 0 && !complete) exit_code = 130;  // stopped by Ctrl-C before the end
@@ -289,7 +322,7 @@ int ReplayFeed(MissionBuild& build, FrameFeed& feed, LiveMission& live, bool qui
 }  // namespace
 
 int RunReplay(int argc, char** argv, int first) {
-  Args args(argc, argv, first, {"append", "overwrite", "quiet", "exit-when-done", "detect", "help"});
+  Args args(argc, argv, first, {"append", "overwrite", "quiet", "exit-when-done", "detect", "refine-nav", "help"});
   if (args.Flag("help")) {
     std::printf("%s%s%s", kHelp, kGeorefOverlayHelp, kServerOptionsHelp);
     return 0;
@@ -319,7 +352,8 @@ int RunReplay(int argc, char** argv, int first) {
   BuildInputs in = ReadBuildInputs(args);
   server::ServerOptions options = ReadServerOptions(args, in.config.server, in.config_source);
   options.photo_dir = args.GetOr("images", "");
-  const PoseSourceOptions poses = ReadNavMode(args, in);
+  PoseSourceOptions poses = ReadNavMode(args, in);
+  const bool refine_live = ReadLiveRefine(args, in, &poses);
   if (auto dem = args.Get("terrain-file")) in.config.terrain = TerrainSettings{false, *dem};
   const GeorefOverlays overlays = ReadGeorefOverlays(args);  // before the map is touched
   const auto detect_model = LiveDetectArgs(args);            // checked before the map is opened
@@ -340,9 +374,11 @@ int RunReplay(int argc, char** argv, int first) {
   build_options.append = append, build_options.overwrite = overwrite;
   build_options.live = true;
   build_options.poses = poses;
+  build_options.refine_live = refine_live;
   HookUpDetector(detect_model, &build_options);
   LiveMission live(quiet, feed.get());
   MissionBuild build(std::move(build_options), live.Observer(detect_model));
+  live.refine_lag = [&build] { return build.refine_lag(); };
   build.Open();
   for (const auto& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   live.Attach(build, overlays);

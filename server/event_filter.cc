@@ -11,7 +11,7 @@
 namespace seamap::server {
 namespace {
 
-const std::set<std::string> kTypes = {"tile", "pose", "track", "detection", "progress"};
+const std::set<std::string> kTypes = {"tile", "pose", "track", "detection", "progress", "trajectory"};
 
 std::vector<std::string> SplitCommas(const std::string& text) {
   std::vector<std::string> parts;

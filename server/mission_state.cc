@@ -195,6 +195,13 @@ void MissionState::AddFrame(const FrameRecord& frame, const TrackPoint& point) {
   if (track_.empty() || point.seq > track_.back().seq) {
     track_.push_back(point);
     corrected_points_ += point.nav.has_value();
+  } else {  // a frame painted again at a corrected pose (replay --refine-nav) replaces its point
+    auto it = std::lower_bound(track_.begin(), track_.end(), point.seq,
+                               [](const TrackPoint& p, int seq) { return p.seq < seq; });
+    if (it != track_.end() && it->seq == point.seq) {
+      corrected_points_ += static_cast<int>(point.nav.has_value()) - static_cast<int>(it->nav.has_value());
+      *it = point;
+    }
   }
 }
 

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "core/camera/frame_projector.h"
 #include "core/enhance/enhance_chain.h"
 #include "core/mission/mission_metadata.h"
 #include "core/mission/relief_layer.h"
@@ -18,7 +19,11 @@ void MissionBuildOptions::Check() const {
   if (out.empty()) throw InputError("", 0, "--out", "names no map");
   if (live && resume) throw InputError(out, 0, "--resume", "a live build keeps no checkpoints to resume from");
   if (live && poses.mode == PoseMode::kRefine)
-    throw InputError("", 0, "--refine-nav", "needs the whole survey; a live build places frames as they come");
+    throw std::logic_error("MissionBuildOptions: a live build refines with refine_live, not PoseMode::kRefine");
+  if (refine_live && !live) throw std::logic_error("MissionBuildOptions: refine_live is for live builds");
+  if (refine_live && append)
+    throw InputError(out, 0, "--append", "replay --refine-nav paints the whole mission again; give a new map");
+  if (refine_live) poses.refine.Check();
   if (live && config.terrain.estimate)
     throw InputError(config_source, 0, "terrain",
                      "estimating the seabed needs the whole survey; a live build takes a height model's file");
@@ -50,6 +55,7 @@ const BuildStats* MissionBuild::enhanced_stats() const {
 bool MissionBuild::Open() {
   BuildConfig& config = options_.config;
   std::vector<FrameSpec>& frames = options_.survey.frames;
+  offline_config_ = config;
   if (options_.live) {  // a live map: publish tiles every few frames (a build batches 25 for speed)
     config.buffer.batch_frames = std::min(config.buffer.batch_frames, 5);
     config.buffer.live_tiles = true;
@@ -167,6 +173,7 @@ void MissionBuild::WriteLiveMetadata() {
   mission.layers = layers_;
   mission.state = "building";
   if (poses_.mode() != PoseMode::kNavigation) mission.trajectory = nlohmann::json{{"mode", poses_.name()}};
+  if (options_.refine_live) mission.trajectory = nlohmann::json{{"mode", "refine"}, {"live", true}};
   mission.origin = options_.frame.origin();
   WriteMissionMetadata(&store, mission);
   store.Flush();
@@ -186,6 +193,32 @@ void MissionBuild::Start() {
   enhance_.surface = surface_.grid;  // both layers paint onto the same seabed
   BuildHooks hooks = both_ ? BuildHooks{} : enhance_;
   hooks.on_frame = observer_.on_frame_placed;
+  if (options_.refine_live) {
+    repaint_.config = offline_config_;
+    repaint_.camera = options_.camera;
+    repaint_.frame = options_.frame;
+    repaint_.plan = *plan_;
+    repaint_.hooks.surface = surface_.grid;
+    repaint_.hooks.preprocess = both_ ? nullptr : enhance_.preprocess;
+    hooks.on_frame = [this](const FrameRecord& record, const TrackPoint& point) {
+      {  // which frames the worker may correct: those recorded as painted
+        std::lock_guard<std::mutex> lock(recorded_mutex_);
+        if (record.id >= 0) {
+          if (static_cast<size_t>(record.id) >= recorded_.size()) recorded_.resize(record.id + 1, 0);
+          recorded_[record.id] = record.status == "used";
+        }
+      }
+      if (observer_.on_frame_placed) observer_.on_frame_placed(record, point);
+    };
+    LiveRefinerOptions live;
+    live.refine = options_.poses.refine;
+    live.refine.max_image_pixels = config.frames.max_image_pixels;
+    live.base_pixel_m = MetersPerPixel(plan_->latitude, plan_->base_zoom, config.map.tile_size);
+    refiner_ = std::make_unique<LiveRefiner>(
+        options_.camera, live,
+        [this](const std::vector<FrameSpec>& placed, const std::vector<int>& moved,
+               const std::vector<VehiclePose>& before) { Repaint(placed, moved, before); });
+  }
   hooks.surface = surface_.grid;
   TileStore* raw_store = output_.store.get();
   if (options_.start_detector) {
@@ -237,6 +270,13 @@ void MissionBuild::Run(FrameFeed& feed) {
       const cv::Mat decoded = poses_.Place(&frame);  // the filter's read, painted from too
       builder_->Push(frame, decoded);
       if (enhanced_) enhanced_->Push(frame, decoded);
+      if (options_.refine_live) {  // refined from the navigation, as build --refine-nav refines
+        FrameSpec nav = frame;
+        if (nav.nav_pose) nav.pose = *nav.nav_pose;
+        nav.nav_pose.reset();
+        live_frames_.push_back(nav);
+        refiner_->Add(nav, frame.pose);
+      }
     }
     if (observer_.on_progress) observer_.on_progress(builder_->stats());
   }
@@ -244,10 +284,107 @@ void MissionBuild::Run(FrameFeed& feed) {
 }
 
 void MissionBuild::Finish() {
+  if (refiner_) refiner_->Stop();  // its last repaint done; the final solve follows
   if (enhanced_) enhanced_->Finish();
   builder_->Finish();  // last: the mission's "complete" state follows both layers
+  if (options_.refine_live) RefineLiveMission();
   if (observer_.on_layers_finished) observer_.on_layers_finished();
   if (detector_) options_.finish_detector(*detector_, *output_.store, observer_.on_objects_found);
+}
+
+std::optional<LiveRefinerLag> MissionBuild::refine_lag() const {
+  if (!refiner_) return std::nullopt;
+  return refiner_->Lag();
+}
+
+void MissionBuild::Repaint(const std::vector<FrameSpec>& placed, const std::vector<int>& moved,
+                           const std::vector<VehiclePose>& before) {
+  const int zoom = plan_->base_zoom, ts = repaint_.config.map.tile_size;
+  TileSet tiles;
+  for (size_t k = 0; k < moved.size(); ++k)
+    for (const VehiclePose& pose : {before[k], placed[moved[k]].pose})
+      for (const TileId& t : FrameTiles(options_.camera, options_.frame, pose, zoom, ts)) tiles.insert(t);
+  RepaintTiles(store(), repaint_, placed, tiles);
+  // The moved frames' records at their corrected poses (the console's track).
+  int corrected = 0;
+  for (int i : moved) {
+    const FrameSpec& f = placed[i];
+    {
+      std::lock_guard<std::mutex> lock(recorded_mutex_);
+      if (f.index >= static_cast<int>(recorded_.size()) || !recorded_[f.index]) continue;
+    }
+    const auto corners = Footprint(options_.camera, f.pose);
+    if (!corners) continue;
+    FrameRecord record;
+    record.id = f.index;
+    record.image = f.image;
+    record.image_path = f.image_path;
+    record.time_s = f.time_s;
+    record.position = options_.frame.ToLatLon({f.pose.east_m, f.pose.north_m});
+    record.altitude_m = f.pose.altitude_m;
+    record.depth_m = f.pose.depth_m;
+    record.heading_deg = f.pose.heading_deg;
+    record.pitch_deg = f.pose.pitch_deg;
+    record.roll_deg = f.pose.roll_deg;
+    for (int k = 0; k < 4; ++k) record.footprint[k] = options_.frame.ToLatLon((*corners)[k]);
+    record.status = "used";
+    if (f.nav_pose) {
+      const VehiclePose& nav = *f.nav_pose;
+      record.nav = NavigatedPose{options_.frame.ToLatLon({nav.east_m, nav.north_m}),
+                                 nav.altitude_m,
+                                 nav.depth_m,
+                                 nav.heading_deg,
+                                 nav.pitch_deg,
+                                 nav.roll_deg};
+    }
+    TrackPoint point;
+    point.seq = i;  // a new mission's points follow the frames painted, one each
+    point.time_s = f.time_s;
+    point.position = record.position;
+    point.altitude_m = record.altitude_m;
+    point.depth_m = record.depth_m;
+    point.heading_deg = record.heading_deg;
+    if (record.nav) point.nav = NavigatedPosition{record.nav->position, record.nav->heading_deg};
+    store()->Records().PutFrame(record);
+    store()->Records().PutTrackPoint(point);
+    if (observer_.on_frame_placed) observer_.on_frame_placed(record, point);
+    ++corrected;
+  }
+  store()->Flush();
+  if (observer_.on_trajectory_corrected) observer_.on_trajectory_corrected(corrected, false);
+}
+
+void MissionBuild::RefineLiveMission() {
+  {
+    MissionMetadata mission;  // not complete until it is refined
+    mission.state = "building";
+    WriteMissionMetadata(output_.store.get(), mission);
+    output_.store->Flush();
+  }
+  if (live_frames_.empty()) return;
+  PoseSourceOptions refine = options_.poses;
+  refine.mode = PoseMode::kRefine;
+  PoseSource final_poses(options_.camera, refine);
+  pose_report_ = final_poses.PlaceSurvey(&live_frames_);
+  nlohmann::json summary = pose_report_;
+  summary.erase("nav_only");  // the frames say which, one by one
+  summary["mode"] = "refine";
+  summary["live"] = true;
+  MissionMetadata mission;
+  mission.trajectory = summary;
+  WriteMissionMetadata(output_.store.get(), mission);
+
+  RepaintSetup setup = repaint_;
+  setup.hooks.on_frame = observer_.on_frame_placed;  // the refined records, to the server too
+  int moved = 0;
+  for (const FrameSpec& f : live_frames_) moved += f.nav_pose.has_value();
+  RepaintWholeMap(store(), setup, live_frames_);
+  if (enhanced_store_) {
+    setup.hooks.preprocess = enhance_.preprocess;
+    setup.hooks.on_frame = nullptr;
+    RepaintWholeMap(enhanced_store_.get(), setup, live_frames_);
+  }
+  if (observer_.on_trajectory_corrected) observer_.on_trajectory_corrected(moved, true);
 }
 
 void MissionBuild::Conclude(bool complete) {

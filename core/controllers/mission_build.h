@@ -14,6 +14,7 @@
 // controller knows nothing of HTTP.
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
@@ -21,7 +22,9 @@
 #include <nlohmann/json.hpp>
 
 #include "core/camera/camera_model.h"
+#include "core/controllers/live_refiner.h"
 #include "core/controllers/map_output.h"
+#include "core/controllers/map_repaint.h"
 #include "core/controllers/pose_source.h"
 #include "core/controllers/seabed_surface.h"
 #include "core/detect/live_detector.h"
@@ -53,6 +56,11 @@ struct MissionBuildOptions {
   // Offline: the command line that started the build (the checkpoints' --resume hint).
   std::string command;
   PoseSourceOptions poses;
+  // Live only (replay --refine-nav): the frames are painted as `poses` places
+  // them, refined from the photos as they come on a worker (LiveRefiner), the
+  // tiles of frames that moved painted again; at the end the whole survey is
+  // refined as build --refine-nav refines it (poses.refine) and painted again.
+  bool refine_live = false;
   // The recogniser (--detect): made once the map is planned, drained after
   // the layers are finished (its summary is the caller's to print). Both or neither.
   std::function<std::unique_ptr<LiveDetector>(const MosaicPlan&, const TileStore* store)> start_detector;
@@ -76,6 +84,10 @@ struct MissionObserver {
   LiveDetector::Found on_objects_found;
   // The layers are finished; the recogniser has not drained yet.
   std::function<void()> on_layers_finished;
+  // refine_live: the placed trajectory was corrected (frames_moved frames
+  // painted again; their records went through on_frame_placed); `final` for
+  // the end of the dive's solve.
+  std::function<void(int frames_moved, bool final)> on_trajectory_corrected;
 };
 
 class MissionBuild {
@@ -116,11 +128,17 @@ class MissionBuild {
   const BuildStats& stats() const;           // the main layer's
   const BuildStats* enhanced_stats() const;  // null without the second layer
   const MissionBuildOptions& options() const { return options_; }
+  // refine_live: how far the worker is behind (nullopt otherwise).
+  std::optional<LiveRefinerLag> refine_lag() const;
 
  private:
   void Finish();
   void SkipFramesInMap();
   void WriteLiveMetadata();
+  void RefineLiveMission();  // refine_live, at the end: the whole survey refined and painted again
+  // refine_live, on the worker: tiles of the frames that moved painted again, their records corrected.
+  void Repaint(const std::vector<FrameSpec>& placed, const std::vector<int>& moved,
+               const std::vector<VehiclePose>& before);
 
   MissionBuildOptions options_;
   MissionObserver observer_;
@@ -138,6 +156,12 @@ class MissionBuild {
   std::unique_ptr<MosaicBuilder> builder_;
   std::unique_ptr<TileStore> enhanced_store_;
   std::unique_ptr<MosaicBuilder> enhanced_;
+  BuildConfig offline_config_;          // the config before Open made it live (a repaint's)
+  std::vector<FrameSpec> live_frames_;  // refine_live: the frames painted so far, navigation poses
+  RepaintSetup repaint_;                // refine_live
+  std::mutex recorded_mutex_;
+  std::vector<int> recorded_;             // refine_live: per frame index, 1 once recorded as used, 0 otherwise
+  std::unique_ptr<LiveRefiner> refiner_;  // refine_live
 };
 
 }  // namespace seamap

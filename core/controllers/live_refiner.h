@@ -1,0 +1,86 @@
+#pragma once
+// The worker of replay --refine-nav: frames are handed to it as they are
+// painted (Add never waits), it refines their navigation as they come
+// (IncrementalRefiner: features, pairs along the track and across passes
+// and loops, the planar pose graph), and after a solve hands back, through
+// `corrected`, every frame's corrected pose and which frames' placement moved
+// more than a base pixel since they were painted, so they can be painted
+// again. It solves when new cross-pass pairs have arrived (a loop closed)
+// and at least `min_frames_between_solves` frames came since the last solve;
+// frames that came meanwhile are taken together (it batches when behind).
+// At most `repaint_share` moved frames per new frame are handed back a
+// solve, the most moved first; the rest wait for the next one, so
+// repainting stays a bounded share of the painting.
+#include <chrono>
+#include <condition_variable>
+#include <deque>
+#include <functional>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include "core/camera/camera_model.h"
+#include "core/nav/frame_list.h"
+#include "core/trajectory/incremental_refiner.h"
+
+namespace seamap {
+
+struct LiveRefinerOptions {
+  RefineOptions refine;
+  double base_pixel_m = 0.003;        // a base-zoom pixel on the seabed, metres
+  double repaint_threshold_px = 1.0;  // a frame whose footprint moved more is painted again
+  int min_frames_between_solves = 10;
+  double repaint_share = 2.0;
+  void Check() const;  // InputError naming the option
+};
+
+// How far the worker is behind the frames painted, and what it did.
+struct LiveRefinerLag {
+  int frames_behind = 0;      // handed over, not yet refined
+  double seconds_behind = 0;  // since the oldest of them was handed over
+  double worst_seconds = 0;   // the most seconds_behind has been
+  int solves = 0;
+  int frames_repainted = 0;  // handed back as moved
+  int cross_pairs = 0;       // accepted across passes so far
+};
+
+class LiveRefiner {
+ public:
+  // `placed`: every frame handed over so far, each at the pose it is placed
+  // at now (the navigation's in nav_pose where that differs); `moved`:
+  // indices of those to paint again, `before`: the poses they were painted
+  // at. Called on the worker's thread.
+  using Corrected = std::function<void(const std::vector<FrameSpec>& placed, const std::vector<int>& moved,
+                                       const std::vector<VehiclePose>& before)>;
+
+  LiveRefiner(const CameraModel& camera, LiveRefinerOptions options, Corrected corrected);
+  ~LiveRefiner();  // Stop()
+
+  // A frame as it is painted: its navigation pose (`nav.pose`) and the
+  // pose it was painted at. Acquisition order. Never waits.
+  void Add(const FrameSpec& nav, const VehiclePose& painted);
+  // Stops after the solve under way (frames not refined yet are left to the final solve); joins.
+  void Stop();
+  LiveRefinerLag Lag() const;
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  void Work();
+  void SolveAndHandBack();
+
+  CameraModel camera_;
+  LiveRefinerOptions options_;
+  Corrected corrected_;
+  IncrementalRefiner refiner_;
+  mutable std::mutex mutex_;
+  std::condition_variable wake_;
+  std::deque<std::pair<FrameSpec, Clock::time_point>> pending_;
+  std::vector<VehiclePose> painted_;     // the pose each frame was last painted at (worker's, once taken)
+  std::vector<VehiclePose> painted_in_;  // handed over with Add, not yet taken (mutex_)
+  bool stop_ = false;
+  int frames_since_solve_ = 0, cross_since_solve_ = 0;
+  LiveRefinerLag lag_;  // mutex_
+  std::thread worker_;  // last: it uses the members above
+};
+
+}  // namespace seamap

@@ -278,12 +278,13 @@ class LiveMission {
 };
 
 // replay --refine-nav: what the live refinement did, and how far behind the frames it ran.
-void ConcludeLiveRefine(const MissionBuild& build, LiveMission& live) {
+void PrintRefineLag(const MissionBuild& build) {
   const auto lag = build.refine_lag();
   if (!lag) return;
-  live.mission.Load(*build.store());  // the refined records and the refine report
-  std::printf("refine live: %d solves, %d cross-pass pairs, %d frames painted again; lag at most %.1f s\n", lag->solves,
-              lag->cross_pairs, lag->frames_repainted, lag->worst_seconds);
+  std::printf(
+      "refine live: %d solves, %d cross-pass pairs, %d frames painted again; lag at most %.1f s, %d frames left to "
+      "the final solve\n",
+      lag->solves, lag->cross_pairs, lag->frames_repainted, lag->worst_seconds, lag->frames_behind);
 }
 
 // Runs the feed through the build; its end (complete, stopped, failed) told
@@ -307,12 +308,13 @@ int ReplayFeed(MissionBuild& build, FrameFeed& feed, LiveMission& live, bool qui
     exit_code = 1;
   }
   live.mission.LoadTerrain(*build.store());  // a height model the build stored (--terrain): /api/terrain answers
+  if (build.refine_lag()) live.mission.Load(*build.store());  // --refine-nav: the refined records and report
   live.PublishProgress(build.stats(), complete ? "complete" : "stopped", true);
   if (!quiet) std::fprintf(stderr, "\n");
   const BuildStats& s = build.stats();
   std::printf("replay %s: frames used %d, rejected %zu; %lld tile writes\n", complete ? "complete" : "stopped",
               s.frames_used, s.rejections.size(), static_cast<long long>(s.tiles_written));
-  ConcludeLiveRefine(build, live);
+  PrintRefineLag(build);
   for (const auto& r : s.rejections) std::fprintf(stderr, "skipped: %s\n", r.Message().c_str());
   std::fflush(stdout);
   if (exit_code == 0 && !complete) exit_code = 130;  // stopped by Ctrl-C before the end

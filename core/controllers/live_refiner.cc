@@ -69,8 +69,11 @@ LiveRefinerLag LiveRefiner::Lag() const {
   std::lock_guard<std::mutex> lock(mutex_);
   LiveRefinerLag lag = lag_;
   lag.frames_behind = static_cast<int>(pending_.size()) + lag_.frames_behind;
-  if (!pending_.empty())
-    lag.seconds_behind = std::chrono::duration<double>(Clock::now() - pending_.front().second).count();
+  if (stop_) return lag;  // no frames come any more: what is left goes to the final solve
+  if (lag_.frames_behind > 0 || !pending_.empty()) {
+    const Clock::time_point oldest = lag_.frames_behind > 0 ? batch_since_ : pending_.front().second;
+    lag.seconds_behind = std::chrono::duration<double>(Clock::now() - oldest).count();
+  }
   lag.worst_seconds = std::max(lag.worst_seconds, lag.seconds_behind);
   return lag;
 }
@@ -82,8 +85,7 @@ void LiveRefiner::Work() {
       std::unique_lock<std::mutex> lock(mutex_);
       wake_.wait(lock, [&] { return stop_ || !pending_.empty(); });
       if (stop_) return;
-      const double behind = std::chrono::duration<double>(Clock::now() - pending_.front().second).count();
-      lag_.worst_seconds = std::max(lag_.worst_seconds, behind);
+      batch_since_ = pending_.front().second;
       for (auto& [frame, when] : pending_) batch.push_back(std::move(frame));
       pending_.clear();
       for (const VehiclePose& p : painted_in_) painted_.push_back(p);
@@ -99,6 +101,10 @@ void LiveRefiner::Work() {
     }
     if (cross_since_solve_ > 0 && frames_since_solve_ >= options_.min_frames_between_solves) SolveAndHandBack();
     std::lock_guard<std::mutex> lock(mutex_);
+    // The batch is refined (and its corrections painted): how late that came.
+    if (!stop_)
+      lag_.worst_seconds =
+          std::max(lag_.worst_seconds, std::chrono::duration<double>(Clock::now() - batch_since_).count());
     lag_.frames_behind = 0;
   }
 }

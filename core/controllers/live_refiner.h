@@ -77,6 +77,7 @@ class LiveRefiner {
   std::deque<std::pair<FrameSpec, Clock::time_point>> pending_;
   std::vector<VehiclePose> painted_;     // the pose each frame was last painted at (worker's, once taken)
   std::vector<VehiclePose> painted_in_;  // handed over with Add, not yet taken (mutex_)
+  Clock::time_point batch_since_;        // when the oldest frame being refined was handed over (mutex_)
   bool stop_ = false;
   int frames_since_solve_ = 0, cross_since_solve_ = 0;
   LiveRefinerLag lag_;  // mutex_

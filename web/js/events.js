@@ -10,7 +10,7 @@
 import {missionUrl} from './api.js';
 import {link} from './link.js';
 
-const TYPES = ['tile', 'pose', 'track', 'detection', 'progress'];
+const TYPES = ['tile', 'pose', 'track', 'detection', 'progress', 'trajectory'];
 const RETRY_MS = 5000;
 const HEARTBEAT_S = 10;
 

@@ -43,6 +43,9 @@ export class Vehicle {
 // How the mission's poses were estimated (seamap_trajectory metadata), in a line.
 function describeTrajectory(t) {
   if (!t || !t.mode) return '';
+  if (t.mode === 'refine' && t.live && t.registered_cross_line === undefined) {
+    return 'trajectory: refined as the frames come (replay --refine-nav); the whole dive again at its end';
+  }
   if (t.mode === 'refine') {
     const mm = (v) => Number(v ?? 0).toFixed(1);
     return `trajectory refined: ${t.registered_cross_line ?? 0} cross-line and ${t.registered_along_track ?? 0} ` +

@@ -137,6 +137,8 @@ async function start() {
     })
     .on('pose', pose => vehicle.update(pose))
     .on('track', point => tracks.add(point))
+    // replay --refine-nav corrected the track: drawn again (its repainted tiles come as `tile` events).
+    .on('trajectory', () => tracks.reload())
     .on('detection', event => detections.onEvent(event))
     .on('progress', next => {
       // Progress events may leave out what only /api/status adds (token_required, writable).

@@ -30,6 +30,7 @@ export class Tracks {
     this.buoy = null;
     this.keyframes = null;
     this.loads = [];
+    this.reloads = 0;       // times a `trajectory` event had the lines read again
     this.legend = null;
   }
 
@@ -84,6 +85,12 @@ export class Tracks {
 
   add(point) {
     for (const track of this.all) track.add(point);
+  }
+
+  // The trajectory was corrected (a `trajectory` event): every line read again.
+  reload() {
+    this.reloads++;
+    return Promise.all(this.all.map(track => track.load()));
   }
 
   catchUp() {

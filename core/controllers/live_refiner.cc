@@ -110,13 +110,16 @@ void LiveRefiner::Work() {
 }
 
 void LiveRefiner::SolveAndHandBack() {
-  const IncrementalSolution solution = refiner_.Solve();
+  LiveCorrection correction;
+  IncrementalSolution& solution = correction.solution;
+  solution = refiner_.Solve();
   const int budget = std::max(1, static_cast<int>(std::ceil(options_.repaint_share * frames_since_solve_)));
   frames_since_solve_ = cross_since_solve_ = 0;
   // Every frame refined so far at its corrected pose (the navigation's own
   // where it is exactly that), the navigation's beside it.
   const std::vector<FrameSpec>& nav = refiner_.frame_specs();
-  std::vector<FrameSpec> placed(nav.begin(), nav.begin() + solution.frames);
+  std::vector<FrameSpec>& placed = correction.placed;
+  placed.assign(nav.begin(), nav.begin() + solution.frames);
   std::vector<std::pair<double, int>> moved;  // (shift in base pixels, frame)
   for (int i = 0; i < solution.frames; ++i) {
     FrameSpec& f = placed[i];
@@ -146,12 +149,17 @@ void LiveRefiner::SolveAndHandBack() {
   std::vector<int> chosen;
   for (const auto& [shift, i] : moved) chosen.push_back(i);
   std::sort(chosen.begin(), chosen.end());
-  std::vector<VehiclePose> before;
-  for (int i : chosen) before.push_back(painted_[i]);
-  if (corrected_ && !chosen.empty()) corrected_(placed, chosen, before);
+  for (int i : chosen) correction.before.push_back(painted_[i]);
+  correction.moved = chosen;
+  solution.poses.clear();
+  solution.nav_only.clear();
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    correction.solve = ++lag_.solves;
+  }
+  if (corrected_) corrected_(correction);
   for (int i : chosen) painted_[i] = placed[i].pose;
   std::lock_guard<std::mutex> lock(mutex_);
-  ++lag_.solves;
   lag_.frames_repainted += static_cast<int>(chosen.size());
 }
 

@@ -44,14 +44,20 @@ struct LiveRefinerLag {
   int cross_pairs = 0;       // accepted across passes so far
 };
 
+// A solve's outcome, handed back on the worker's thread.
+struct LiveCorrection {
+  // Every frame handed over so far, each at the pose it is placed at now (the
+  // navigation's in nav_pose where that differs).
+  std::vector<FrameSpec> placed;
+  std::vector<int> moved;           // indices into placed of the frames to paint again
+  std::vector<VehiclePose> before;  // the poses they were painted at
+  int solve = 0;                    // 1 for the first
+  IncrementalSolution solution;     // poses dropped: they are in placed
+};
+
 class LiveRefiner {
  public:
-  // `placed`: every frame handed over so far, each at the pose it is placed
-  // at now (the navigation's in nav_pose where that differs); `moved`:
-  // indices of those to paint again, `before`: the poses they were painted
-  // at. Called on the worker's thread.
-  using Corrected = std::function<void(const std::vector<FrameSpec>& placed, const std::vector<int>& moved,
-                                       const std::vector<VehiclePose>& before)>;
+  using Corrected = std::function<void(const LiveCorrection&)>;
 
   LiveRefiner(const CameraModel& camera, LiveRefinerOptions options, Corrected corrected);
   ~LiveRefiner();  // Stop()

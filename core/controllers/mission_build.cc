@@ -19,7 +19,8 @@ void MissionBuildOptions::Check() const {
   if (out.empty()) throw InputError("", 0, "--out", "names no map");
   if (live && resume) throw InputError(out, 0, "--resume", "a live build keeps no checkpoints to resume from");
   if (live && poses.mode == PoseMode::kRefine)
-    throw std::logic_error("MissionBuildOptions: a live build refines with refine_live, not PoseMode::kRefine");
+    throw InputError("", 0, "--refine-nav",
+                     "a live build refines the frames as they come (refine_live), not the whole survey first");
   if (refine_live && !live) throw std::logic_error("MissionBuildOptions: refine_live is for live builds");
   if (refine_live && append)
     throw InputError(out, 0, "--append", "replay --refine-nav paints the whole mission again; give a new map");
@@ -214,10 +215,8 @@ void MissionBuild::Start() {
     live.refine = options_.poses.refine;
     live.refine.max_image_pixels = config.frames.max_image_pixels;
     live.base_pixel_m = MetersPerPixel(plan_->latitude, plan_->base_zoom, config.map.tile_size);
-    refiner_ = std::make_unique<LiveRefiner>(
-        options_.camera, live,
-        [this](const std::vector<FrameSpec>& placed, const std::vector<int>& moved,
-               const std::vector<VehiclePose>& before) { Repaint(placed, moved, before); });
+    refiner_ = std::make_unique<LiveRefiner>(options_.camera, live,
+                                             [this](const LiveCorrection& correction) { Repaint(correction); });
   }
   hooks.surface = surface_.grid;
   TileStore* raw_store = output_.store.get();
@@ -297,14 +296,16 @@ std::optional<LiveRefinerLag> MissionBuild::refine_lag() const {
   return refiner_->Lag();
 }
 
-void MissionBuild::Repaint(const std::vector<FrameSpec>& placed, const std::vector<int>& moved,
-                           const std::vector<VehiclePose>& before) {
+void MissionBuild::Repaint(const LiveCorrection& correction) {
+  const std::vector<FrameSpec>& placed = correction.placed;
+  const std::vector<int>& moved = correction.moved;
+  const std::vector<VehiclePose>& before = correction.before;
   const int zoom = plan_->base_zoom, ts = repaint_.config.map.tile_size;
   TileSet tiles;
   for (size_t k = 0; k < moved.size(); ++k)
     for (const VehiclePose& pose : {before[k], placed[moved[k]].pose})
       for (const TileId& t : FrameTiles(options_.camera, options_.frame, pose, zoom, ts)) tiles.insert(t);
-  RepaintTiles(store(), repaint_, placed, tiles);
+  const RepaintResult painted = RepaintTiles(store(), repaint_, placed, tiles);
   // The moved frames' records at their corrected poses (the console's track).
   int corrected = 0;
   for (int i : moved) {
@@ -351,6 +352,13 @@ void MissionBuild::Repaint(const std::vector<FrameSpec>& placed, const std::vect
     ++corrected;
   }
   store()->Flush();
+  // The seams this solve closed: its pairs' disagreement with the navigation and with the solution.
+  const IncrementalSolution& s = correction.solution;
+  std::fprintf(stderr,
+               "\nrefine live: solve %d over %d frames, %d cross-pass and %d along-track pairs; pair residual RMS "
+               "%.1f mm -> %.1f mm; %zu frames moved more than a pixel painted again (%zu tiles)\n",
+               correction.solve, s.frames, s.registered_cross, s.registered_along, s.residual_before_mm,
+               s.residual_after_mm, moved.size(), painted.base_tiles);
   if (observer_.on_trajectory_corrected) observer_.on_trajectory_corrected(corrected, false);
 }
 

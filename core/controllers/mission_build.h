@@ -137,8 +137,7 @@ class MissionBuild {
   void WriteLiveMetadata();
   void RefineLiveMission();  // refine_live, at the end: the whole survey refined and painted again
   // refine_live, on the worker: tiles of the frames that moved painted again, their records corrected.
-  void Repaint(const std::vector<FrameSpec>& placed, const std::vector<int>& moved,
-               const std::vector<VehiclePose>& before);
+  void Repaint(const LiveCorrection& correction);
 
   MissionBuildOptions options_;
   MissionObserver observer_;

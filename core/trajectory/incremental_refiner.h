@@ -33,6 +33,9 @@ struct IncrementalSolution {
   int frames = 0;
   int registered_along = 0, registered_cross = 0;  // pairs of the current candidate set accepted
   int rejected_by_graph = 0;
+  // RMS disagreement of the accepted pairs with the navigation and with the
+  // solution (RefineReport's residual_before_mm / residual_after_mm): the seams.
+  double residual_before_mm = 0, residual_after_mm = 0;
 };
 
 class IncrementalRefiner {

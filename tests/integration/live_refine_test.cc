@@ -1,8 +1,9 @@
-// `seamap replay --refine-nav` end to end on the small drifting survey (the
-// one trajectory_test refines): the navigation is refined while the frames
-// come, and the mission it leaves is refined, complete, and the map that
-// `build --refine-nav` makes of the same survey.
+// `seamap replay --refine-nav` end to end on a small drifting survey at its
+// pace: the navigation is refined while the frames come (the seams fall as
+// the vehicle crosses its first line), and the mission it leaves is refined,
+// complete, and the map that `build --refine-nav` makes of the same survey.
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 
@@ -19,12 +20,17 @@ namespace {
 
 using testing::Seamap;
 
+// 72 frames (14 s) over three 3 m lines 0.9 m apart; the navigation drifting
+// 1 m/min, with 5 mm and 0.5 degree noise: the second line crosses the first
+// after about 6 s.
 const testing::SimulatedSurvey& Survey() {
-  return testing::DriftingSurvey();
+  return testing::SharedSurvey("live_refine",
+                               "--frames 72 --line-length 3 --line-spacing 0.9 --nav-drift 1 --nav-noise 0.005 "
+                               "--heading-noise 0.5 --image-format jpg --seed 5 --quiet");
 }
 
-// The navigation's stated noise, as trajectory_test states it.
-const char kNoise[] = " --nav-noise 0.005 --nav-drift 0.5 --heading-noise 0.5";
+// The navigation's stated noise.
+const char kNoise[] = " --nav-noise 0.005 --nav-drift 1 --heading-noise 0.5";
 
 nlohmann::json Evaluate(const std::string& estimate) {
   testing::TempDir dir;
@@ -56,11 +62,25 @@ TEST(LiveRefine, ReplayLeavesTheMapBuildRefineNavMakes) {
       0)
       << log;
   ASSERT_EQ(Seamap("replay " + Survey().dir + kNoise + " --refine-nav --out " + replayed + " --trajectory-out " +
-                       replayed_csv + " --speed max --host 127.0.0.1 --port 0 --quiet --exit-when-done",
+                       replayed_csv + " --speed 1 --host 127.0.0.1 --port 0 --quiet --exit-when-done",
                    &log),
             0)
       << log;
   EXPECT_NE(log.find("replay complete"), std::string::npos) << log;
+
+  // During the replay: a solve closed the seams (its pairs' disagreement with
+  // the navigation against the solution) and frames were painted again.
+  const size_t solve = log.find("refine live: solve ");
+  ASSERT_NE(solve, std::string::npos) << "no live solve: " << log;
+  double before_mm = 0, after_mm = 0;
+  const size_t rms = log.find("pair residual RMS ", solve);
+  ASSERT_NE(rms, std::string::npos) << log;
+  ASSERT_EQ(std::sscanf(log.c_str() + rms, "pair residual RMS %lf mm -> %lf mm", &before_mm, &after_mm), 2) << log;
+  std::printf("first live solve: pair residual %.1f mm -> %.1f mm\n", before_mm, after_mm);
+  EXPECT_GT(before_mm, 10);
+  EXPECT_LT(after_mm, 5);
+  EXPECT_EQ(log.find("refine live: 0 solves"), std::string::npos) << log;
+  EXPECT_EQ(log.find(" 0 frames painted again"), std::string::npos) << log;
 
   // The trajectory: refined as build refines it (seams from 0.1 m down to a few mm).
   const auto refined = Evaluate(replayed_csv), by_build = Evaluate(built_csv), raw = Evaluate(Survey().nav);

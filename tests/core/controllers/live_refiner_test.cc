@@ -20,7 +20,8 @@
 namespace seamap {
 namespace {
 
-// 72 frames over three 4 m lines 0.9 m apart, drifting 0.5 m/min.
+// 60 frames over three 3 m lines 0.9 m apart, drifting 1 m/min; features at
+// a working size of 400 px (a quarter of the default's work).
 struct Survey {
   testing::TempDir dir;
   std::vector<FrameSpec> frames;
@@ -30,19 +31,20 @@ struct Survey {
     o.out_dir = (dir / "s").string();
     o.seed = 4;
     o.image_format = "jpg";
-    o.trajectory.frames = 72;
-    o.line_length_m = 4;
+    o.trajectory.frames = 60;
+    o.line_length_m = 3;
     o.line_spacing_m = 0.9;
     o.nav_errors.position_sigma_m = 0.005;
     o.nav_errors.heading_sigma_deg = 0.5;
-    o.nav_errors.drift_m_per_min = 0.5;
+    o.nav_errors.drift_m_per_min = 1;
     SimulateSurvey(o);
     NavReadOptions nav;
     nav.origin = o.origin;
     frames = MatchFrames(ReadNavigation(o.out_dir + "/nav.csv", nav), o.out_dir + "/photo", std::nullopt).frames;
     refine.method = RefineMethod::kPlanar;
     refine.nav_noise_m = 0.005;
-    refine.nav_drift_m_per_min = 0.5;
+    refine.nav_drift_m_per_min = 1;
+    refine.features.max_side_px = 400;
     refine.heading_noise_deg = 0.5;
     refine.threads = 2;
   }
@@ -55,7 +57,7 @@ const Survey& TheSurvey() {
 
 TEST(IncrementalRefiner, EndsWhereTheWholeSurveysPlanarGraphEnds) {
   const Survey& s = TheSurvey();
-  ASSERT_EQ(s.frames.size(), 72u);
+  ASSERT_EQ(s.frames.size(), 60u);
   const CameraModel camera = DefaultSimCamera();
   RefineReport report;
   const std::vector<RefinedFrame> whole = RefineSurvey(s.frames, camera, s.refine, &report);
@@ -66,10 +68,10 @@ TEST(IncrementalRefiner, EndsWhereTheWholeSurveysPlanarGraphEnds) {
     const std::vector<FrameSpec> batch(s.frames.begin() + begin,
                                        s.frames.begin() + std::min(s.frames.size(), begin + 7));
     cross += incremental.Add(batch);
-    if (begin + 7 <= 20) cross_before_second_line = cross;
+    if (begin + 7 <= 14) cross_before_second_line = cross;
   }
   EXPECT_EQ(cross_before_second_line, 0);  // the first line crosses nothing
-  EXPECT_GT(cross, 10);
+  EXPECT_GE(cross, 5);
   const IncrementalSolution solved = incremental.Solve();
   ASSERT_EQ(solved.poses.size(), s.frames.size());
   EXPECT_EQ(solved.registered_cross, report.registered_cross);
@@ -93,15 +95,17 @@ TEST(LiveRefiner, HandsBackTheFramesThatMovedAsPassesCross) {
   options.min_frames_between_solves = 5;
   std::atomic<int> solves{0}, handed_back{0};
   std::atomic<bool> bad{false};
+  std::atomic<double> residual_before{0}, residual_after{0};
   {
-    LiveRefiner live(DefaultSimCamera(), options,
-                     [&](const std::vector<FrameSpec>& placed, const std::vector<int>& moved,
-                         const std::vector<VehiclePose>& before) {
-                       ++solves;
-                       handed_back += static_cast<int>(moved.size());
-                       bad = bad || moved.size() != before.size() || placed.size() > s.frames.size();
-                       for (int i : moved) bad = bad || !placed[i].nav_pose;  // a moved frame keeps its navigation
-                     });
+    LiveRefiner live(DefaultSimCamera(), options, [&](const LiveCorrection& c) {
+      ++solves;
+      handed_back += static_cast<int>(c.moved.size());
+      bad = bad || c.moved.size() != c.before.size() || c.placed.size() > s.frames.size() || c.solve != solves;
+      for (int i : c.moved) bad = bad || !c.placed[i].nav_pose;  // a moved frame keeps its navigation
+      // The seams close: the pairs' disagreement falls from the navigation's to a few mm.
+      residual_before = c.solution.residual_before_mm;
+      residual_after = c.solution.residual_after_mm;
+    });
     for (const FrameSpec& f : s.frames) {
       live.Add(f, f.pose);
       std::this_thread::sleep_for(std::chrono::milliseconds(40));  // a camera's pace, faster
@@ -109,13 +113,15 @@ TEST(LiveRefiner, HandsBackTheFramesThatMovedAsPassesCross) {
     for (int wait = 0; wait < 200 && live.Lag().frames_behind > 0; ++wait)
       std::this_thread::sleep_for(std::chrono::milliseconds(50));
     const LiveRefinerLag lag = live.Lag();
-    EXPECT_GT(lag.cross_pairs, 10);
+    EXPECT_GE(lag.cross_pairs, 5);
     EXPECT_EQ(lag.solves, solves.load());
     live.Stop();
   }
   EXPECT_FALSE(bad);
   EXPECT_GE(solves.load(), 1);
   EXPECT_GT(handed_back.load(), 10);
+  EXPECT_GT(residual_before.load(), 20);
+  EXPECT_LT(residual_after.load(), 5);
 }
 
 TEST(LiveRefiner, RefusesOptionsThatDoNotFit) {

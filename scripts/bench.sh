@@ -170,6 +170,9 @@ if [[ "${SEAMAP_BENCH_STEREO:-1}" == 1 ]]; then
   stereo_scenes="${SEAMAP_BENCH_STEREO_SCENES:-20}"; [[ "$quick" == 1 ]] && stereo_scenes=3
   python3 "$root/scripts/bench_stereo.py" "$seamap" "$out" "$stereo_scenes" clear,degraded,few
 fi
+# Live refinement (replay --refine-nav) against build --refine-nav, with the worker's lag (docs/REFINE_LIVE.md).
+[[ "${SEAMAP_BENCH_TRAJECTORY:-1}" == 1 ]] && SEAMAP_BIN="$seamap" SEAMAP_BENCH_PACED="$([[ "$quick" == 1 ]] && echo 0 || echo 1)" \
+  SEAMAP_BENCH_FRAMES="$([[ "$quick" == 1 ]] && echo 240 || echo 720)" "$root/scripts/bench_refine_live.sh"
 [[ "${SEAMAP_BENCH_HOSTILE:-1}" == 1 ]] && "$root/scripts/bench_hostile.sh" "$seamap" "$out/hostile"
 [[ "${SEAMAP_BENCH_GEOREF:-1}" == 1 ]] && "$root/scripts/bench_georef.sh" "$seamap" "$out/georef" "$([[ "$quick" == 1 ]] && echo 3 || echo 10)"
 [[ "${SEAMAP_BENCH_DETECT:-1}" == 1 ]] && "$root/scripts/bench_detect.sh" "$seamap" "$out/detect"

@@ -92,14 +92,22 @@ void LiveRefiner::Work() {
       painted_in_.clear();
       lag_.frames_behind = static_cast<int>(batch.size());  // being refined
     }
-    const int cross = refiner_.Add(batch);
-    frames_since_solve_ += static_cast<int>(batch.size());
-    cross_since_solve_ += cross;
-    {
+    try {
+      const int cross = refiner_.Add(batch);
+      frames_since_solve_ += static_cast<int>(batch.size());
+      cross_since_solve_ += cross;
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        lag_.cross_pairs += cross;
+      }
+      if (cross_since_solve_ > 0 && frames_since_solve_ >= options_.min_frames_between_solves) SolveAndHandBack();
+    } catch (const std::exception& e) {  // e.g. the disk is full: frames go on being painted; the final solve follows
+      std::fprintf(stderr, "\nrefine live: stopped refining as frames come: %s\n", e.what());
       std::lock_guard<std::mutex> lock(mutex_);
-      lag_.cross_pairs += cross;
+      lag_.frames_behind = 0;
+      lag_.failed = true;
+      return;
     }
-    if (cross_since_solve_ > 0 && frames_since_solve_ >= options_.min_frames_between_solves) SolveAndHandBack();
     std::lock_guard<std::mutex> lock(mutex_);
     // The batch is refined (and its corrections painted): how late that came.
     if (!stop_)

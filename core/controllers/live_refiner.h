@@ -42,6 +42,7 @@ struct LiveRefinerLag {
   int solves = 0;
   int frames_repainted = 0;  // handed back as moved
   int cross_pairs = 0;       // accepted across passes so far
+  bool failed = false;       // the worker stopped on an error (said on stderr)
 };
 
 // A solve's outcome, handed back on the worker's thread.

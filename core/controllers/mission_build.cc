@@ -279,6 +279,8 @@ void MissionBuild::Run(FrameFeed& feed) {
     }
     if (observer_.on_progress) observer_.on_progress(builder_->stats());
   }
+  // Stopped (Ctrl-C): the mission is kept as painted, without the final refinement's minutes.
+  if (feed.stopped()) live_frames_.clear();
   Finish();
 }
 
@@ -369,7 +371,7 @@ void MissionBuild::RefineLiveMission() {
     WriteMissionMetadata(output_.store.get(), mission);
     output_.store->Flush();
   }
-  if (live_frames_.empty()) return;
+  if (live_frames_.empty()) return;  // nothing painted, or stopped: left as it is
   PoseSourceOptions refine = options_.poses;
   refine.mode = PoseMode::kRefine;
   PoseSource final_poses(options_.camera, refine);

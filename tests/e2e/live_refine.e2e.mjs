@@ -85,7 +85,7 @@ await runE2E({name: 'live_refine', timeoutMs: 150000}, async ({checks, work, sea
     if (status.state !== 'complete') throw new Error(`state ${status.state}`);
     const refined = await page.evaluate(async () => (await fetch('/api/track?source=refined')).status);
     if (refined !== 200) throw new Error(`/api/track?source=refined: HTTP ${refined}`);
-    return /refine live: [^\n]*/.exec(replay.output)[0];
+    return /refine live: \d+ solves[^\n]*/.exec(replay.output)[0];
   });
   await shot(page, 'live_refine');
   if (errors.length) checks.fail('no page errors', new Error(errors.join('; ')));

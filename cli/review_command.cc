@@ -43,7 +43,9 @@ int RunReview(int argc, char** argv, int first) {
   const std::string map = args.positionals()[0];
   if (std::filesystem::is_directory(truth)) truth += "/truth/objects.json";
   const std::vector<TruthObject> objects = ReadObjectsTruth(truth);
-  if (!std::filesystem::is_regular_file(map)) throw InputError(map, 0, "MAP", "no such map file");
+  if (!std::filesystem::exists(map)) throw InputError(map, 0, "MAP", "no such map");
+  if (!std::filesystem::is_directory(map) && std::filesystem::path(map).extension() != ".mbtiles")
+    throw InputError(map, 0, "MAP", "not a map: expected a .mbtiles file or a map folder");
   std::unique_ptr<TileStore> store = OpenExistingMap(map, /*writable=*/true);
   DetectionBook book(store.get());
   book.Load(*store);

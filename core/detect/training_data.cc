@@ -80,7 +80,9 @@ TrainingDataSummary WriteTrainingData(const TrainingDataOptions& options) {
   summary.classes = model->class_names;
   std::vector<Mission> missions;
   for (const std::string& path : options.maps) {
-    if (!fs::is_regular_file(path, ec)) throw InputError(path, 0, "MAP", "no such map file");
+    if (!fs::exists(path, ec)) throw InputError(path, 0, "MAP", "no such map");
+    if (!fs::is_directory(path, ec) && fs::path(path).extension() != ".mbtiles")
+      throw InputError(path, 0, "MAP", "not a map: expected a .mbtiles file or a map folder");
     Mission m;
     m.path = path;
     m.name = MissionName(path, missions);

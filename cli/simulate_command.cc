@@ -10,6 +10,7 @@
 #include "core/nav/column_aliases.h"
 #include "core/nav/csv_table.h"
 #include "core/nav/nav_reader.h"
+#include "core/sim/seabed_objects.h"
 #include "core/sim/survey_simulator.h"
 #include "core/util/error.h"
 #include "core/util/progress.h"
@@ -51,9 +52,15 @@ camera and images:
                           over the seabed and scaled to --relief M rms
   --objects N             paint N objects (tyre, crate, pipe, anchor, rock) on the seabed, >= 1 m apart;
                           truth in truth/objects.csv and truth/objects.json (default 0)
+  --object-classes LIST   the objects' classes in turn, of tyre,crate,pipe,anchor,rock,drum (default the
+                          first five: the same survey as without it); drum: 0.6 x 0.9 m, lying or standing
+  --bury F                every object's lowest fraction F (0-0.8) of its height under sediment
+  --clutter N             N look-alikes that are no object (rock rings, pipe pieces, dark rocks), listed
+                          under "negatives" in truth/objects.json, not in objects.csv
 degradations (off by default):
   --vignetting S --color-cast S --haze S (0-1)   --noise SIGMA (8-bit units)
   --degrade               all of them, moderate (0.6, 0.6, 0.4, 2); explicit values win
+  --blur PX               motion blur PX pixels long along the image rows (default 0; not in --degrade)
 navigation errors in nav.csv (nav_truth.csv stays exact):
   --nav-noise SIGMA_M     --heading-noise DEG     --nav-drift M_PER_MIN
   --quiet                 no progress bar
@@ -132,6 +139,9 @@ SimulationOptions ParseOptions(Args& args) {
   o.relief.rms_m = args.GetDouble("relief", 0);
   o.relief.texture_file = args.GetOr("relief-texture", "");
   if (o.objects < 0) throw InputError("", 0, "--objects", "expected a number of objects >= 0");
+  if (auto classes = args.Get("object-classes")) o.object_classes = ParseObjectClasses(*classes, "--object-classes");
+  o.bury_fraction = args.GetDouble("bury", 0);
+  o.clutter = args.GetInt("clutter", 0);
 
   const int width = args.GetInt("width", 696), height = args.GetInt("height", 520);
   if (width <= 0) throw InputError("", 0, "--width", "expected a positive number of pixels");
@@ -164,6 +174,7 @@ SimulationOptions ParseOptions(Args& args) {
   d.color_cast = args.GetDouble("color-cast", base.color_cast);
   d.haze = args.GetDouble("haze", base.haze);
   d.noise_sigma = args.GetDouble("noise", base.noise_sigma);
+  d.blur_px = args.GetDouble("blur", 0);
 
   NavErrorOptions& n = o.nav_errors;
   n.position_sigma_m = args.GetDouble("nav-noise", 0);

@@ -219,6 +219,18 @@ cv::Mat FrameRenderer::Render(const SeabedTexture& texture, const VehiclePose& p
     cv::multiply(work, t_n, work);
     cv::add(work, veil, work);
   }
+  if (deg.blur_px > 0) {
+    // A line kernel along the rows, the fractional end weighted, before the sensor's noise.
+    const int len = static_cast<int>(std::ceil(deg.blur_px));
+    cv::Mat1f kernel(1, len | 1, 0.f);
+    const double half = deg.blur_px / 2;
+    for (int k = 0; k < kernel.cols; ++k) {
+      const double d = std::abs(k - kernel.cols / 2);
+      kernel(0, k) = static_cast<float>(std::clamp(half + 0.5 - d, 0.0, 1.0));
+    }
+    kernel /= cv::sum(kernel)[0];
+    cv::filter2D(work, work, -1, kernel, cv::Point(-1, -1), 0, cv::BORDER_REFLECT);
+  }
   if (deg.noise_sigma > 0) {
     // A window of the precomputed pool at a seeded offset: as random as fresh
     // gaussian noise for any use here, and much cheaper.

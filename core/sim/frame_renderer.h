@@ -24,8 +24,9 @@ struct Degradations {
   double color_cast = 0;   // water absorbs red strongly, blue a little (colour only)
   double haze = 0;         // I = J t + A (1 - t), t = exp(-0.4 * haze * range_m), bluish A
   double noise_sigma = 0;  // gaussian noise, standard deviation in 8-bit units
+  double blur_px = 0;      // motion blur: a line of this length along the image's rows (the camera moving)
 
-  bool Any() const { return vignetting > 0 || color_cast > 0 || haze > 0 || noise_sigma > 0; }
+  bool Any() const { return vignetting > 0 || color_cast > 0 || haze > 0 || noise_sigma > 0 || blur_px > 0; }
   // What `--degrade` turns on.
   static Degradations Moderate() { return {0.6, 0.6, 0.4, 2.0}; }
 };

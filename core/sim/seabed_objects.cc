@@ -16,13 +16,21 @@
 namespace seamap {
 namespace {
 
-enum Class { kTyre = 0, kCrate, kPipe, kAnchor, kRock, kClassCount };
+// The shipped model's five classes, the classes it does not know (drum), then the clutter kinds.
+enum Class { kTyre = 0, kCrate, kPipe, kAnchor, kRock, kDrum, kRockRing, kPipePiece, kDarkRock, kKindCount };
+constexpr int kShippedClasses = 5, kClassCount = 6;
 
 // Body colours (BGR, luminance about 1) and albedos relative to full scale;
-// the procedural seabed averages 0.5.
-const cv::Vec3f kColour[kClassCount] = {
-    {1.0f, 1.0f, 1.02f}, {0.62f, 0.92f, 1.25f}, {1.02f, 1.0f, 0.96f}, {0.7f, 0.9f, 1.25f}, {0.95f, 1.03f, 0.98f}};
-const float kAlbedo[kClassCount] = {0.16f, 0.62f, 0.86f, 0.3f, 0.36f};
+// the procedural seabed averages 0.5. Drums are rust brown; clutter looks like
+// the rocks and pipes it imitates.
+const cv::Vec3f kColour[kKindCount] = {{1.0f, 1.0f, 1.02f},   {0.62f, 0.92f, 1.25f}, {1.02f, 1.0f, 0.96f},
+                                       {0.7f, 0.9f, 1.25f},   {0.95f, 1.03f, 0.98f}, {0.55f, 0.85f, 1.35f},
+                                       {0.95f, 1.03f, 0.98f}, {1.02f, 1.0f, 0.96f},  {0.98f, 1.0f, 1.02f}};
+const float kAlbedo[kKindCount] = {0.16f, 0.62f, 0.86f, 0.3f, 0.36f, 0.5f, 0.34f, 0.8f, 0.17f};
+
+bool IsRock(int cls) {
+  return cls == kRock || cls == kDarkRock;
+}
 
 struct V2 {
   double u, v;
@@ -48,10 +56,22 @@ struct Shape {
   std::vector<Capsule> capsules;  // anchor shank, stock, arms
   std::vector<std::array<V2, 3>> flukes;
   double rock_coef[6][2] = {};  // rock outline harmonics (amplitude, phase)
+  std::vector<Capsule> stones;  // rock ring: the stones (a = centre, radius)
+  bool standing = false;        // drum on its end
 
-  explicit Shape(const SeabedObject& o) : cls(o.class_id), length(o.length_m), width(o.width_m), height(o.height_m) {
+  explicit Shape(const SeabedObject& o)
+      : cls(o.class_id), length(o.length_m), width(o.width_m), height(o.height_m), standing(o.standing) {
     cv::RNG rng(o.shape_seed);
-    if (cls == kRock) {
+    if (cls == kRockRing) {  // 7-10 stones around a circle, each up to a fifth of the radius
+      const double R = length / 2;
+      const int n = rng.uniform(7, 11);
+      const double phase = rng.uniform(0.0, 2 * M_PI);
+      for (int k = 0; k < n; ++k) {
+        const double a = phase + 2 * M_PI * (k + rng.uniform(-0.2, 0.2)) / n, mid = 0.78 * R;
+        stones.push_back({{mid * std::cos(a), mid * std::sin(a)}, {}, 0.2 * R * rng.uniform(0.75, 1.0)});
+      }
+    }
+    if (IsRock(cls)) {
       for (int k = 2; k < 6; ++k) {
         rock_coef[k][0] = rng.uniform(0.0, 0.22 / k);
         rock_coef[k][1] = rng.uniform(0.0, 2 * M_PI);
@@ -108,7 +128,36 @@ struct Shape {
         *albedo = a;
         return true;
       }
-      case kPipe: {
+      case kDrum: {
+        if (standing) {  // the lid: a raised rim, a bung
+          const double R = width / 2, rho = std::hypot(u, v);
+          if (rho >= R) return false;
+          const bool rim = rho > R - 0.035;
+          *h = static_cast<float>(height * (rim ? 1.0 : 0.985));
+          const bool bung = std::hypot(u - 0.6 * R, v) < 0.08 * R;
+          *albedo = rim ? 0.72f : (bung ? 0.45f : 1.0f);
+          return true;
+        }
+        const double r = width / 2;  // lying: a cylinder with two rolling hoops and rims
+        if (std::abs(u) >= length / 2 || std::abs(v) >= r) return false;
+        const bool hoop = std::abs(std::abs(u) - length / 6)<0.018, rim = std::abs(u)> length / 2 - 0.03;
+        *h = static_cast<float>(r + std::sqrt(r * r - v * v) + (hoop || rim ? 0.008 : 0.0));
+        *albedo = rim ? 0.6f : (hoop ? 0.68f : 1.0f);
+        return true;
+      }
+      case kRockRing: {
+        double best = -1;
+        for (const Capsule& c : stones) {
+          const double d = std::hypot(u - c.a.u, v - c.a.v);
+          if (d < c.radius) best = std::max(best, height * std::sqrt(1 - (d / c.radius) * (d / c.radius)));
+        }
+        if (best <= 0) return false;
+        *h = static_cast<float>(best);
+        *albedo = 1.0f;
+        return true;
+      }
+      case kPipe:
+      case kPipePiece: {
         const double r = width / 2;
         if (std::abs(u) >= length / 2 || std::abs(v) >= r) return false;
         *h = static_cast<float>(r + std::sqrt(r * r - v * v));
@@ -149,10 +198,21 @@ struct Shape {
     const int n = 96;
     switch (cls) {
       case kTyre:
+      case kRockRing:
         for (int k = 0; k < n; ++k)
           pts.push_back({length / 2 * std::cos(2 * M_PI * k / n), length / 2 * std::sin(2 * M_PI * k / n)});
         break;
+      case kDrum:
+        if (standing) {
+          for (int k = 0; k < n; ++k)
+            pts.push_back({width / 2 * std::cos(2 * M_PI * k / n), width / 2 * std::sin(2 * M_PI * k / n)});
+        } else {
+          for (double su : {-1.0, 1.0})
+            for (double sv : {-1.0, 1.0}) pts.push_back({su * length / 2, sv * width / 2});
+        }
+        break;
       case kRock:
+      case kDarkRock:
         for (int k = 0; k < n; ++k) {
           const double phi = 2 * M_PI * k / n, R = RockRadius(phi);
           pts.push_back({R * std::cos(phi), R * std::sin(phi)});
@@ -254,6 +314,28 @@ void RandomObject(int cls, cv::RNG& rng, SeabedObject* o) {
       o->width_m = 0.62 * o->length_m;
       o->height_m = 0.06 * o->length_m;
       break;
+    case kDrum: {  // a 200-litre drum: 0.6 m across, 0.9 m long
+      o->standing = rng.uniform(0.0, 1.0) < 0.35;
+      const double diameter = rng.uniform(0.57, 0.61), length = rng.uniform(0.86, 0.92);
+      o->length_m = o->standing ? diameter : length;
+      o->width_m = diameter;
+      o->height_m = o->standing ? length : diameter;
+      break;
+    }
+    case kRockRing:
+      o->length_m = o->width_m = rng.uniform(0.5, 1.0);
+      o->height_m = 0.12 * o->length_m;
+      break;
+    case kPipePiece:
+      o->length_m = rng.uniform(0.25, 0.6);
+      o->width_m = rng.uniform(0.15, 0.35);
+      o->height_m = o->width_m;
+      break;
+    case kDarkRock:
+      o->length_m = rng.uniform(0.4, 0.9) / 1.15;
+      o->width_m = o->length_m;
+      o->height_m = 0.4 * o->length_m;
+      break;
     default:
       o->length_m = rng.uniform(0.2, 0.8) / 1.15;  // outline harmonics widen it by up to ~15 %
       o->width_m = o->length_m;
@@ -270,7 +352,9 @@ void SoftBlur(cv::Mat1f& m, double sigma_px) {
 void PaintOne(const SeabedObject& o, SeabedTexture* tex) {
   const Shape shape(o);
   const double res = tex->res_m;
-  const double shadow_m = 0.8 * o.height_m + 0.02, blur_m = 0.25 * o.height_m + 0.01;
+  // Sediment hides the lowest `buried_fraction` of the object: the shadow falls from what shows.
+  const double visible_m = o.height_m * (1 - o.buried_fraction);
+  const double shadow_m = 0.8 * visible_m + 0.02, blur_m = 0.25 * visible_m + 0.01;
   const double margin_m = shadow_m + 3 * blur_m + 2 * res;
   const int c0 = static_cast<int>(std::floor(tex->Column(o.centre_east_m - o.box_width_m / 2 - margin_m)));
   const int c1 = static_cast<int>(std::ceil(tex->Column(o.centre_east_m + o.box_width_m / 2 + margin_m)));
@@ -296,15 +380,26 @@ void PaintOne(const SeabedObject& o, SeabedTexture* tex) {
       }
     }
   });
+  if (o.buried_fraction > 0) {
+    // Of the body's own highest point (an anchor's shank stands lower than its height_m).
+    double top = 0;
+    cv::minMaxLoc(height, nullptr, &top);
+    height -= static_cast<float>(o.buried_fraction * top);
+    cv::max(height, 0.0, height);
+    mask.setTo(0.f, height <= 0);
+    albedo.setTo(0.f, height <= 0);
+  }
   // Surface detail: fine grain and, for rocks, mottling.
   cv::RNG rng(o.shape_seed ^ 0xde7a11);
   cv::Mat1f grain(roi.size());
-  rng.fill(grain, cv::RNG::NORMAL, 0, o.class_id == kRock ? 0.22 : 0.1);
+  const bool stony = IsRock(o.class_id) || o.class_id == kRockRing;
+  rng.fill(grain, cv::RNG::NORMAL, 0, stony ? 0.22 : 0.1);
   cv::GaussianBlur(grain, grain, cv::Size(), std::max(1.0, 0.004 / res));
-  if (o.class_id == kRock) {
-    cv::Mat1f coarse(std::max(2, static_cast<int>(roi.height * res / 0.05)),
-                     std::max(2, static_cast<int>(roi.width * res / 0.05)));
-    rng.fill(coarse, cv::RNG::NORMAL, 0, 0.25);
+  if (stony || o.class_id == kDrum) {  // rocks mottled at 5 cm, drums with rust blotches at 8 cm
+    const double cell_m = o.class_id == kDrum ? 0.08 : 0.05;
+    cv::Mat1f coarse(std::max(2, static_cast<int>(roi.height * res / cell_m)),
+                     std::max(2, static_cast<int>(roi.width * res / cell_m)));
+    rng.fill(coarse, cv::RNG::NORMAL, 0, o.class_id == kDrum ? 0.3 : 0.25);
     cv::Mat1f up;
     cv::resize(coarse, up, roi.size(), 0, 0, cv::INTER_CUBIC);
     grain += up;
@@ -324,12 +419,21 @@ void PaintOne(const SeabedObject& o, SeabedTexture* tex) {
   SoftBlur(shadow, blur_m / res);
   cv::Mat1f soft_mask = mask.clone();
   cv::GaussianBlur(soft_mask, soft_mask, cv::Size(), 0.7);  // anti-aliased edges
+  if (o.buried_fraction > 0) {
+    // Sediment thins out up the body (over its lowest 15 % of height) and dusts the rest.
+    double top = 0;
+    cv::minMaxLoc(height, nullptr, &top);
+    cv::Mat1f cover = height * static_cast<float>(1 / (0.15 * top + 0.005));
+    cv::min(cover, 1.0, cover);
+    cv::GaussianBlur(cover, cover, cv::Size(), 0.7);
+    soft_mask = soft_mask.mul(cover) * static_cast<float>(1 - 0.3 * o.buried_fraction);
+  }
 
   const double full = tex->image.depth() == CV_16U ? 65535.0 : 255.0;
   const int ch = tex->image.channels();
   cv::Mat patch;
   tex->image(roi).convertTo(patch, CV_MAKETYPE(CV_32F, ch));
-  const cv::Vec3f colour = kColour[o.class_id];
+  const cv::Vec3f colour = kColour[o.class_id];  // NOLINT: class_id < kKindCount
   const float base = kAlbedo[o.class_id];
   for (int y = 0; y < roi.height; ++y) {
     float* p = patch.ptr<float>(y);
@@ -348,19 +452,12 @@ void PaintOne(const SeabedObject& o, SeabedTexture* tex) {
   patch.convertTo(tex->image(roi), tex->image.type());
 }
 
-}  // namespace
-
-const std::vector<std::string>& SeabedObjectClasses() {
-  static const std::vector<std::string> names = {"tyre", "crate", "pipe", "anchor", "rock"};
-  return names;
-}
-
-std::vector<SeabedObject> PlaceSeabedObjects(int count, const std::vector<cv::Rect2d>& frame_bounds_m, uint64_t seed,
-                                             double min_gap_m) {
-  if (count < 0) throw InputError("", 0, "--objects", "expected a number of objects >= 0");
-  std::vector<SeabedObject> placed;
-  if (count == 0) return placed;
-  if (frame_bounds_m.empty()) throw InputError("", 0, "--objects", "there are no frames to place objects under");
+// Places `count` objects of `kinds` in turn, away from `placed` (which they join). `noun`
+// and `option` name them in the error.
+void PlaceInTurn(int count, const std::vector<int>& kinds, const std::vector<cv::Rect2d>& frame_bounds_m, cv::RNG& rng,
+                 double min_gap_m, const char* noun, const std::string& option, std::vector<SeabedObject>* all) {
+  std::vector<SeabedObject>& placed = *all;
+  if (frame_bounds_m.empty()) throw InputError("", 0, option, "there are no frames to place objects under");
   cv::Rect2d area = frame_bounds_m[0];
   for (const cv::Rect2d& r : frame_bounds_m) area |= r;
   // A frame's ground bounds hold its whole footprint, which tilt and lens distortion bend
@@ -372,13 +469,12 @@ std::vector<SeabedObject> PlaceSeabedObjects(int count, const std::vector<cv::Re
     }
     return false;
   };
-  cv::RNG rng(seed * 0x9E3779B97F4A7C15ull + 0x0b1ec75ull);
   constexpr int kTries = 4000;
   for (int i = 0; i < count; ++i) {
     bool ok = false;
     for (int t = 0; t < kTries && !ok; ++t) {
       SeabedObject o;
-      RandomObject(i % kClassCount, rng, &o);
+      RandomObject(kinds[i % kinds.size()], rng, &o);
       Derive(&o);  // at the origin first: where is its box centre?
       const double e = rng.uniform(area.x, area.x + area.width), n = rng.uniform(area.y, area.y + area.height);
       o.ref_east_m = e - o.centre_east_m, o.ref_north_m = n - o.centre_north_m;
@@ -400,13 +496,85 @@ std::vector<SeabedObject> PlaceSeabedObjects(int count, const std::vector<cv::Re
     if (!ok) {
       char msg[256];
       std::snprintf(msg, sizeof msg,
-                    "only %d of %d objects fit %.1f m apart inside the surveyed area (%.1f x %.1f m); use fewer "
-                    "--objects or a larger survey (--frames)",
-                    i, count, min_gap_m, area.width, area.height);
-      throw InputError("", 0, "--objects", msg);
+                    "only %d of %d %s fit %.1f m apart inside the surveyed area (%.1f x %.1f m); use fewer "
+                    "%s or a larger survey (--frames)",
+                    i, count, noun, min_gap_m, area.width, area.height, option.c_str());
+      throw InputError("", 0, option, msg);
     }
   }
+}
+
+}  // namespace
+
+bool SeabedObject::negative() const {
+  return class_id >= kClassCount;
+}
+
+const std::string& SeabedObject::class_name() const {
+  return negative() ? ClutterKinds().at(class_id - kClassCount) : SimulatedObjectClasses().at(class_id);
+}
+
+const std::vector<std::string>& SeabedObjectClasses() {
+  static const std::vector<std::string> names = {"tyre", "crate", "pipe", "anchor", "rock"};
+  return names;
+}
+
+const std::vector<std::string>& SimulatedObjectClasses() {
+  static const std::vector<std::string> names = {"tyre", "crate", "pipe", "anchor", "rock", "drum"};
+  return names;
+}
+
+const std::vector<std::string>& ClutterKinds() {
+  static const std::vector<std::string> names = {"rock_ring", "pipe_piece", "dark_rock"};
+  return names;
+}
+
+std::vector<int> ParseObjectClasses(const std::string& list, const std::string& option) {
+  const std::vector<std::string>& names = SimulatedObjectClasses();
+  std::vector<int> ids;
+  size_t start = 0;
+  while (start <= list.size()) {
+    const size_t end = std::min(list.find(',', start), list.size());
+    const std::string name = list.substr(start, end - start);
+    const auto it = std::find(names.begin(), names.end(), name);
+    if (it == names.end())
+      throw InputError("", 0, option,
+                       "unknown class '" + name.substr(0, 100) + "'; expected a comma-separated list of " +
+                           "tyre, crate, pipe, anchor, rock, drum");
+    const int id = static_cast<int>(it - names.begin());
+    if (std::find(ids.begin(), ids.end(), id) != ids.end())
+      throw InputError("", 0, option, "class '" + name + "' is listed twice");
+    ids.push_back(id);
+    start = end + 1;
+  }
+  return ids;
+}
+
+std::vector<SeabedObject> PlaceSeabedObjects(int count, const std::vector<cv::Rect2d>& frame_bounds_m, uint64_t seed,
+                                             double min_gap_m, const std::vector<int>& class_ids) {
+  if (count < 0) throw InputError("", 0, "--objects", "expected a number of objects >= 0");
+  std::vector<SeabedObject> placed;
+  if (count == 0) return placed;
+  std::vector<int> kinds = class_ids;
+  if (kinds.empty())
+    for (int k = 0; k < kShippedClasses; ++k) kinds.push_back(k);
+  for (int k : kinds)
+    if (k < 0 || k >= kClassCount) throw InputError("", 0, "--object-classes", "class id out of range");
+  // The random stream of the five-class surveys: a seed's objects stay where they were.
+  cv::RNG rng(seed * 0x9E3779B97F4A7C15ull + 0x0b1ec75ull);
+  PlaceInTurn(count, kinds, frame_bounds_m, rng, min_gap_m, "objects", "--objects", &placed);
   return placed;
+}
+
+std::vector<SeabedObject> PlaceClutter(int count, const std::vector<cv::Rect2d>& frame_bounds_m, uint64_t seed,
+                                       const std::vector<SeabedObject>& objects, double min_gap_m) {
+  if (count < 0) throw InputError("", 0, "--clutter", "expected a number of clutter pieces >= 0");
+  if (count == 0) return {};
+  std::vector<SeabedObject> all = objects;
+  cv::RNG rng(seed * 0x9E3779B97F4A7C15ull + 0xc1a77e4ull);
+  PlaceInTurn(count, {kRockRing, kPipePiece, kDarkRock}, frame_bounds_m, rng, min_gap_m, "clutter pieces", "--clutter",
+              &all);
+  return std::vector<SeabedObject>(all.begin() + static_cast<std::ptrdiff_t>(objects.size()), all.end());
 }
 
 void PaintSeabedObjects(const std::vector<SeabedObject>& objects, SeabedTexture* texture) {
@@ -418,40 +586,52 @@ void SaveObjectsTruth(const std::vector<SeabedObject>& objects, const LocalFrame
   const std::string csv_path = truth_dir + "/objects.csv", json_path = truth_dir + "/objects.json";
   std::ofstream csv(csv_path);
   csv << "class,lat,lon,x_m,y_m,size_m\n";
-  nlohmann::json list = nlohmann::json::array();
+  nlohmann::json list = nlohmann::json::array(), negatives = nlohmann::json::array();
+  bool new_classes = false;  // a class the shipped model does not know
   for (const SeabedObject& o : objects) {
-    const std::string& name = SeabedObjectClasses()[o.class_id];
+    const std::string& name = o.class_name();
     const LatLon ll = frame.ToLatLon({o.centre_east_m, o.centre_north_m});
-    char line[256];
-    std::snprintf(line, sizeof line, "%s,%.9f,%.9f,%.4f,%.4f,%.4f\n", name.c_str(), ll.lat, ll.lon, o.centre_east_m,
-                  o.centre_north_m, o.size_m());
-    csv << line;
+    if (!o.negative()) {
+      char line[256];
+      std::snprintf(line, sizeof line, "%s,%.9f,%.9f,%.4f,%.4f,%.4f\n", name.c_str(), ll.lat, ll.lon, o.centre_east_m,
+                    o.centre_north_m, o.size_m());
+      csv << line;
+    }
     nlohmann::json metres = nlohmann::json::array(), ring = nlohmann::json::array();
     for (size_t k = 0; k <= o.footprint_m.size(); ++k) {  // closed rings
-      const LocalXY& p = o.footprint_m[k % o.footprint_m.size()];
-      const LatLon q = frame.ToLatLon(p);
-      metres.push_back({p.east, p.north});
+      const LatLon q = frame.ToLatLon(o.footprint_m[k % o.footprint_m.size()]);
+      metres.push_back({o.footprint_m[k % o.footprint_m.size()].east, o.footprint_m[k % o.footprint_m.size()].north});
       ring.push_back({q.lon, q.lat});
     }
-    list.push_back({{"class", name},
-                    {"class_id", o.class_id},
-                    {"lat", ll.lat},
-                    {"lon", ll.lon},
-                    {"x_m", o.centre_east_m},
-                    {"y_m", o.centre_north_m},
-                    {"size_m", o.size_m()},
-                    {"box_m", {o.box_width_m, o.box_height_m}},
-                    {"angle_deg", o.angle_rad * 180 / M_PI},
-                    {"footprint_m", metres},
-                    {"footprint_lonlat", ring}});
+    nlohmann::json item = {{"class", name},
+                           {"class_id", o.class_id},
+                           {"lat", ll.lat},
+                           {"lon", ll.lon},
+                           {"x_m", o.centre_east_m},
+                           {"y_m", o.centre_north_m},
+                           {"size_m", o.size_m()},
+                           {"box_m", {o.box_width_m, o.box_height_m}},
+                           {"angle_deg", o.angle_rad * 180 / M_PI},
+                           {"footprint_m", metres},
+                           {"footprint_lonlat", ring}};
+    // Keys only where they say something, so the five-class truth stays as it was.
+    if (o.class_id == kDrum) item["pose"] = o.standing ? "standing" : "lying";
+    if (o.buried_fraction > 0) item["buried_fraction"] = o.buried_fraction;
+    if (o.negative()) {
+      item["negative"] = true;
+      negatives.push_back(item);
+    } else {
+      new_classes |= o.class_id >= kShippedClasses;
+      list.push_back(item);
+    }
   }
   if (!csv) throw InputError(csv_path, 0, "", "cannot write the object truth");
   std::ofstream json(json_path);
-  json << nlohmann::json({{"origin", {frame.origin().lat, frame.origin().lon}},
-                          {"classes", SeabedObjectClasses()},
-                          {"objects", list}})
-              .dump(2)
-       << "\n";
+  nlohmann::json truth = {{"origin", {frame.origin().lat, frame.origin().lon}},
+                          {"classes", new_classes ? SimulatedObjectClasses() : SeabedObjectClasses()},
+                          {"objects", list}};
+  if (!negatives.empty()) truth["negatives"] = negatives;
+  json << truth.dump(2) << "\n";
   if (!json) throw InputError(json_path, 0, "", "cannot write the object truth");
 }
 

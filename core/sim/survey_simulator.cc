@@ -39,6 +39,11 @@ void Validate(const SimulationOptions& o) {
   const TrajectoryOptions& t = o.trajectory;
   Require(t.frames > 0, "--frames", "expected a positive number of frames");
   Require(o.objects >= 0, "--objects", "expected a number of objects >= 0");
+  Require(o.bury_fraction >= 0 && o.bury_fraction <= 0.8, "--bury",
+          "expected the fraction 0-0.8 of each object's height under sediment");
+  Require(o.bury_fraction == 0 || o.objects > 0, "--bury", "needs --objects");
+  Require(o.clutter >= 0 && o.clutter <= 1000, "--clutter", "expected a number of clutter pieces 0-1000");
+  Require(o.object_classes.empty() || o.objects > 0, "--object-classes", "needs --objects");
   Require(t.fps > 0, "--fps", "expected a positive frame rate");
   Require(t.speed_mps > 0, "--speed", "expected a positive speed in m/s");
   Require(t.altitude_min_m > 0, "--altitude-min", "expected a positive altitude in metres");
@@ -58,6 +63,7 @@ void Validate(const SimulationOptions& o) {
   Require(d.color_cast >= 0 && d.color_cast <= 1, "--color-cast", "expected a strength in 0-1");
   Require(d.haze >= 0 && d.haze <= 5, "--haze", "expected a strength in 0-5");
   Require(d.noise_sigma >= 0, "--noise", "expected a non-negative sigma in 8-bit units");
+  Require(d.blur_px >= 0 && d.blur_px <= 64, "--blur", "expected a motion blur of 0-64 pixels");
   const NavErrorOptions& n = o.nav_errors;
   Require(n.position_sigma_m >= 0, "--nav-noise", "expected a non-negative sigma in metres");
   Require(n.heading_sigma_deg >= 0, "--heading-noise", "expected a non-negative sigma in degrees");
@@ -231,6 +237,15 @@ nlohmann::json SurveyJson(const SimulationOptions& o, const SimulationSummary& s
         {"drift_m_per_min", n.drift_m_per_min}}},
       {"relief_m", o.relief.rms_m},
       {"area_m2", s.area_m2}};
+  // Issue 32's options only when used: a five-class survey's survey.json stays as it was.
+  if (!o.object_classes.empty()) {
+    std::vector<std::string> names;
+    for (int id : o.object_classes) names.push_back(SimulatedObjectClasses().at(id));
+    j["object_classes"] = names;
+  }
+  if (o.bury_fraction > 0) j["bury_fraction"] = o.bury_fraction;
+  if (o.clutter > 0) j["clutter"] = o.clutter;
+  if (d.blur_px > 0) j["degradations"]["blur_px"] = d.blur_px;
   if (!o.relief.Flat())
     j["relief"] = {{"rms_m", o.relief.rms_m},
                    {"source", o.relief.texture_file.empty() ? "random" : o.relief.texture_file},
@@ -365,7 +380,10 @@ SimulationSummary SimulateSurvey(const SimulationOptions& o, const std::function
     }
   }
   // Objects go into the texture before anything is rendered from it.
-  const std::vector<SeabedObject> objects = PlaceSeabedObjects(o.objects, frame_bounds, o.seed);
+  std::vector<SeabedObject> objects = PlaceSeabedObjects(o.objects, frame_bounds, o.seed, 1.0, o.object_classes);
+  for (SeabedObject& obj : objects) obj.buried_fraction = o.bury_fraction;
+  const std::vector<SeabedObject> clutter = PlaceClutter(o.clutter, frame_bounds, o.seed, objects);
+  objects.insert(objects.end(), clutter.begin(), clutter.end());
   PaintSeabedObjects(objects, &texture);
   summary.texture_size = texture.image.size();
   summary.texture_res_m = texture.res_m;
@@ -376,7 +394,7 @@ SimulationSummary SimulateSurvey(const SimulationOptions& o, const std::function
   SaveCameraJson(cam, (out / "camera.json").string());
   WriteNav((out / "nav.csv").string(), nav, names);
   WriteNav((out / "nav_truth.csv").string(), truth, names);
-  if (o.objects > 0) SaveObjectsTruth(objects, LocalFrame(o.origin), (out / "truth").string());
+  if (o.objects > 0 || o.clutter > 0) SaveObjectsTruth(objects, LocalFrame(o.origin), (out / "truth").string());
 
   // The large truth PNG is encoded while the frames render.
   std::exception_ptr truth_error;

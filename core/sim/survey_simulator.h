@@ -55,6 +55,10 @@ struct SimulationOptions {
   // trajectory options and line geometry are then unused.
   std::vector<PosedFrame> posed_frames;
   int objects = 0;  // objects painted on the seabed (seabed_objects.h)
+  // Their classes in turn (SimulatedObjectClasses ids); empty: the shipped five, as before.
+  std::vector<int> object_classes;
+  double bury_fraction = 0;  // of every object's height under sediment (--bury, 0-0.8)
+  int clutter = 0;           // hard negatives painted beside the objects (--clutter)
   double line_length_m = 10;
   double line_spacing_m = 0;  // 0: 0.7 x the footprint width at the lowest altitude
   TrajectoryOptions trajectory;

@@ -43,10 +43,11 @@ read -r -a conditions <<<"${STRESS_CONDITIONS:-clear murky altitude_3.5m jpeg_50
 declare -A extra=(
   [clear]="" [murky]="--degrade" [altitude_3.5m]="--altitude-min 3.3 --altitude-max 3.7"
   [jpeg_50]="--image-format jpg --jpeg-quality 50" [blur]="--blur 4" [half_buried]="--bury 0.5" [clutter]="--clutter 12")
+declare -A seeds=([clear]=3101 [murky]=3102 [altitude_3.5m]=3103 [jpeg_50]=3104 [blur]=3105 [half_buried]=3106
+  [clutter]=3107)
 all_pairs=() keep_pairs=()
-k=0
 for c in "${conditions[@]}"; do
-  seed=$((3101 + k)) k=$((k + 1)) s="$out/stress_$c"
+  seed=${seeds[$c]} s="$out/stress_$c"
   read -r -a opts <<<"${extra[$c]}"
   if [[ "${STRESS_REUSE:-0}" == 1 && -f "$s.mbtiles" ]]; then :  # the survey of an earlier run (other DETECT_ARGS)
   elif ! "$seamap" simulate --quiet --out "$s" --objects "$objects" --frames "$frames" --seed $seed --color --force \

@@ -808,6 +808,8 @@ def read_missions(dirs, size, base_names):
                     b.append([c, x0, y0, x1, y1])
                 return np.array(b, np.float32).reshape(-1, 5)
 
+            if "labels" not in w and w.get("label"):  # only the YOLO file: class_id cx cy w h, normalised
+                w = dict(w, labels=yolo_labels(os.path.join(d, w["label"]), classes, src))
             out.append(dict(img=img, boxes=boxes_of(w.get("labels", []), "label"),
                             negatives=boxes_of(w.get("negatives", []), "negative"),
                             ids=[str(it.get("id", "")) for it in w.get("labels", [])],
@@ -815,6 +817,24 @@ def read_missions(dirs, size, base_names):
     if not out:
         raise SystemExit("--from-missions: no windows")
     return names, out
+
+
+def yolo_labels(path, classes, side_px):
+    """A YOLO label file as manifest labels (class name, box_px in the window's pixels)."""
+    out = []
+    for k, line in enumerate(open(path)):
+        f = line.split()
+        if not f:
+            continue
+        try:
+            c, cx, cy, w, h = int(f[0]), *map(float, f[1:5])
+            name = classes[c]
+        except (ValueError, IndexError):
+            raise SystemExit(f"{path}:{k + 1}: expected 'class_id cx cy w h' (class id in the manifest's "
+                             f"classes, numbers normalised), got {line.strip()[:100]!r}")
+        out.append({"class": name, "box_px": [(cx - w / 2) * side_px, (cy - h / 2) * side_px,
+                                              (cx + w / 2) * side_px, (cy + h / 2) * side_px], "id": ""})
+    return out
 
 
 def split_by_position(windows, val_fraction, size):

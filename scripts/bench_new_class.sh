@@ -18,14 +18,16 @@ origin_of() { python3 -c 'import json,sys; print(",".join(map(str, json.load(ope
 
 mission() {  # seed dir classes: simulate (30 objects, fewer when they do not fit) and build
   local seed=$1 s=$2 classes=$3 n
-  if [[ ! -f "$s.mbtiles" ]]; then
+  if [[ ! -f "$s.mbtiles" && ! -f "$s/truth/objects.csv" ]]; then  # (a survey of an earlier run is built again)
     for n in 30 26 22; do
       "$seamap" simulate --quiet --out "$s" --objects $n --object-classes $classes --frames 1200 --seed "$seed" \
         --color --force >/dev/null 2>&1 && break
     done
+  fi
+  if [[ ! -f "$s.mbtiles" ]]; then
     "$seamap" build --quiet --images "$s/photo" --nav "$s/nav.csv" --camera "$s/camera.json" \
-      --origin "$(origin_of "$s/survey.json")" --out "$s.mbtiles.tmp" --overwrite >/dev/null
-    mv "$s.mbtiles.tmp" "$s.mbtiles"
+      --origin "$(origin_of "$s/survey.json")" --out "$s.tmp.mbtiles" --overwrite >/dev/null
+    mv "$s.tmp.mbtiles" "$s.mbtiles"
   fi
   echo "new class: mission $(basename "$s") (seed $seed): $(($(wc -l <"$s/truth/objects.csv") - 1)) objects," \
     "$(grep -c '^drum,' "$s/truth/objects.csv") drums"
@@ -40,7 +42,7 @@ mission 3202 "$out/mission_b" drum,crate
   sed 's/^/new class: training data /'
 
 # Fine-tune (CPU time and peak memory measured; the machine may be shared, so CPU time is the cost).
-/usr/bin/time -v -o "$out/finetune.time" nice "$root/scripts/train_detector.py" --from-missions "$out/training_a" \
+/usr/bin/time -v -o "$out/finetune.time" "$root/scripts/train_detector.py" --from-missions "$out/training_a" \
   --base "$root/data/models/seabed_objects.onnx" --minutes "$minutes" --cpu-minutes "$cpu_minutes" \
   --seamap "$seamap" --work "$out/work" --replay-surveys 3 --out "$out/new.onnx" >"$out/finetune.log" 2>&1 ||
   { tail -20 "$out/finetune.log"; exit 1; }
@@ -74,8 +76,8 @@ for seed in 3101 3102; do
       "$seamap" simulate --quiet --out "$s" --objects 15 --frames 600 --seed $seed --color --force "${extra[@]}" \
         >/dev/null
     "$seamap" build --quiet --images "$s/photo" --nav "$s/nav.csv" --camera "$s/camera.json" \
-      --origin "$(origin_of "$s/survey.json")" --out "$s.mbtiles.tmp" --overwrite >/dev/null
-    mv "$s.mbtiles.tmp" "$s.mbtiles"
+      --origin "$(origin_of "$s/survey.json")" --out "$s.tmp.mbtiles" --overwrite >/dev/null
+    mv "$s.tmp.mbtiles" "$s.mbtiles"
   fi
   "$seamap" detect --quiet "$s.mbtiles" --out "$s.shipped.geojson" >/dev/null
   "$seamap" detect --quiet "$s.mbtiles" --model "$out/new.onnx" --out "$s.new.geojson" >/dev/null

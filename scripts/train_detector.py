@@ -139,10 +139,10 @@ def detection_zooms(tiles, lat, largest_m):
     return out
 
 
-def survey_windows(survey_dir, size):
+def survey_windows(survey_dir, size, mbtiles=None):
     """Every window with painted pixels at the detection zooms: list of (image, boxes, meta)."""
     truth = json.load(open(os.path.join(survey_dir, "truth", "objects.json")))
-    tiles = read_tiles(os.path.join(survey_dir, "map.mbtiles"))
+    tiles = read_tiles(mbtiles or os.path.join(survey_dir, "map.mbtiles"))
     lat0 = truth["origin"][0]
     largest = max(v[1] for v in CLASS_SIZES_M.values()) * 1.15
     out = []

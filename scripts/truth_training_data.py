@@ -26,11 +26,8 @@ def main():
     survey, mbtiles, out = sys.argv[1:]
     os.makedirs(os.path.join(out, "images"), exist_ok=True)
     os.makedirs(os.path.join(out, "labels"), exist_ok=True)
-    link = os.path.join(survey, "map.mbtiles")
-    if not os.path.exists(link):
-        os.symlink(os.path.abspath(mbtiles), link)
     T.CLASS_SIZES_M.setdefault("drum", [0.6, 0.9])
-    windows, truth = T.survey_windows(survey, 768)
+    windows, truth = T.survey_windows(survey, 768, mbtiles)
     mission = os.path.basename(os.path.normpath(survey))
     man = dict(classes=CLASSES, counts={c: 0 for c in CLASSES}, windows=[])
     for img, boxes, (z, x, y) in windows:

@@ -25,5 +25,7 @@ int RunStereoLocate(int argc, char** argv, int first);    // cli/stereo_locate_c
 
 int RunDetect(int argc, char** argv, int first);          // cli/detect_command.cc
 int RunDetectionsPack(int argc, char** argv, int first);  // cli/detections_pack_command.cc
+int RunTrainingData(int argc, char** argv, int first);    // cli/training_data_command.cc
+int RunReview(int argc, char** argv, int first);          // cli/review_command.cc
 
 }  // namespace seamap::cli

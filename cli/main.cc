@@ -35,6 +35,8 @@ const char* kUsage =
     "  map-eval        compare a map's texture with a simulated survey's truth (px, mm)\n"
     "  detect          search a map's tiles for objects with a YOLO model (ONNX)\n"
     "  detections-pack a map's detections as 24-byte records for an acoustic modem (and --decode)\n"
+    "  training-data   reviewed missions' windows with YOLO labels, to fine-tune the recogniser\n"
+    "  review          a simulated survey's truth as the operator's review of a map (for training)\n"
     "\n"
     "Run 'seamap <command> --help' for a command's options.\n";
 
@@ -72,6 +74,8 @@ int main(int argc, char** argv) {
     if (command == "map-eval") return RunMapEval(argc, argv, 2);
     if (command == "detect") return RunDetect(argc, argv, 2);
     if (command == "detections-pack") return RunDetectionsPack(argc, argv, 2);
+    if (command == "training-data") return RunTrainingData(argc, argv, 2);
+    if (command == "review") return RunReview(argc, argv, 2);
   } catch (const seamap::InputError& e) {
     std::fprintf(stderr, "seamap %s: error: %s\n", command.c_str(), e.what());
     return 2;

@@ -6,6 +6,7 @@
 #include "core/mission/detection_match.h"
 #include "core/mission/mission_classes.h"
 #include "core/mission/mission_metadata.h"
+#include "core/mission/operator_box.h"
 #include "core/tiles/modem_record.h"
 #include "core/tiles/record_json.h"
 #include "core/util/utc_time.h"
@@ -43,11 +44,12 @@ LatLon ParsePoint(const nlohmann::json& geometry) {
 }
 
 // Applies the writable properties; read-only ones a client echoes back are ignored.
+// `box` and `size_m` are an operator's box (operator_box.h; a recogniser's stay as found).
 void ApplyProperties(const nlohmann::json& props, Detection* d) {
   if (!props.is_object()) throw DetectionError::Invalid("properties", "expected an object");
-  static const std::set<std::string> kReadOnly = {
-      "id",  "source",     "created", "updated", "seq",       "frame_id",  "model",       "level",  "levels",
-      "box", "position_m", "size_m",  "frames",  "truncated", "alt_class", "heading_deg", "depth_m"};
+  static const std::set<std::string> kReadOnly = {"id",        "source",    "created",     "updated", "seq",
+                                                  "frame_id",  "model",     "level",       "levels",  "frames",
+                                                  "truncated", "alt_class", "heading_deg", "depth_m", "position_m"};
   for (const auto& [key, value] : props.items()) {
     if (key == "class") {
       if (!value.is_string() || value.get<std::string>().empty() || value.get<std::string>().size() > kMaxClassLength)
@@ -72,11 +74,14 @@ void ApplyProperties(const nlohmann::json& props, Detection* d) {
         d->time_s = value.get<double>();
       else
         throw DetectionError::Invalid("properties.time_s", "expected a number of seconds or null");
-    } else if (!kReadOnly.count(key)) {
+    } else if (key != "box" && key != "size_m" && !kReadOnly.count(key)) {
       throw DetectionError::Invalid("properties." + key,
-                                    "unknown property; expected class, note, score, status or time_s");
+                                    "unknown property; expected class, note, score, status, time_s, box or size_m");
     }
   }
+  const auto box = props.find("box"), size = props.find("size_m");
+  if (d->source == "operator")
+    ApplyOperatorBox(box == props.end() ? nullptr : &*box, size == props.end() ? nullptr : &*size, d);
 }
 
 // A recogniser's detection allows `status` and `note` to change; any other
@@ -241,6 +246,7 @@ Detection DetectionBook::Create(const nlohmann::json& feature) {
   Detection d;
   d.position = ParsePoint(feature.contains("geometry") ? feature["geometry"] : nlohmann::json());
   d.status = "confirmed";  // an operator's own mark, unless the body says otherwise
+  d.source = "operator";
   ApplyProperties(feature.contains("properties") ? feature["properties"] : nlohmann::json::object(), &d);
   if (d.class_name.empty()) throw DetectionError::Invalid("properties.class", "required (what the object is)");
   d.source = "operator";

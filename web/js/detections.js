@@ -1,7 +1,9 @@
 // Detections and operator marks: markers with popups (class, score, position,
 // time, the photos that saw it), a side list filtered by class and score that
 // zooms to the object, confirming or rejecting a recogniser's detection, and
-// adding, editing, moving and deleting operator marks.
+// adding, editing, moving and deleting operator marks. In mark mode a drag
+// draws a box around a missed object (the mark gets class and box: training
+// data, issue 32); any class may be typed, the mission's classes are offered.
 
 import {getCollection, missionUrl, send} from './api.js';
 import {classColour} from './class_colour.js';
@@ -26,6 +28,10 @@ export class Detections {
     this.features = new Map();  // id -> Feature
     this.markers = new Map();   // id -> L.Marker
     this.group = L.featureGroup().addTo(map);
+    this.boxes = new Map();     // id -> L.Rectangle of an operator mark's box
+    this.boxGroup = L.featureGroup().addTo(map);
+    this.missionClasses = [];   // the mission's class table (/api/status classes)
+    this.drawn = false;         // a box was just drawn: the click that ends it adds no point mark
     this.filter = '';
     this.lastSeq = 0;
     this.deleted = new Set();   // ids deleted on the server
@@ -110,6 +116,14 @@ export class Detections {
     }
     marker.iconKey = iconKey;
     marker.getElement()?.setAttribute('data-detection-id', id);
+    this.boxes.get(id)?.remove();
+    this.boxes.delete(id);
+    if (p.source === 'operator' && Array.isArray(p.box) && p.box.length === 5) {
+      const rect = L.rectangle(p.box.map(([x, y]) => [y, x]),
+        {color: classColour(p.class), weight: 2, fill: false, interactive: false, className: 'mark-box'});
+      rect.detectionId = id;
+      this.boxes.set(id, rect);
+    }
     if (render) this.render();
   }
 
@@ -139,6 +153,8 @@ export class Detections {
     }
     this.markers.delete(id);
     this.features.delete(id);
+    this.boxes.get(id)?.remove();
+    this.boxes.delete(id);
     if (render) this.render();
   }
 
@@ -158,7 +174,8 @@ export class Detections {
     select.replaceChildren(el('option', {value: ''}, `all classes (${this.features.size})`),
       ...classes.map(c => el('option', {value: c, selected: c === current}, c)));
     if (current && !classes.includes(current)) this.filter = '';
-    $('#class-names').replaceChildren(...classes.map(c => el('option', {value: c})));
+    const offered = [...new Set([...this.missionClasses, ...classes])].sort();
+    $('#class-names').replaceChildren(...offered.map(c => el('option', {value: c})));
 
     const list = $('#detection-list');
     const items = [];
@@ -168,6 +185,9 @@ export class Detections {
       const shown = this.shown(feature.properties);
       if (shown && !this.group.hasLayer(marker)) this.group.addLayer(marker);
       if (!shown && this.group.hasLayer(marker)) this.group.removeLayer(marker);
+      const rect = this.boxes.get(id);
+      if (rect && shown && !this.boxGroup.hasLayer(rect)) this.boxGroup.addLayer(rect);
+      if (rect && !shown && this.boxGroup.hasLayer(rect)) this.boxGroup.removeLayer(rect);
       if (marker.getElement()) marker.getElement().setAttribute('data-detection-id', id);
       if (!shown) continue;
       const p = feature.properties;
@@ -328,18 +348,71 @@ export class Detections {
     }
   }
 
-  // Map click in "mark" mode: a popup form that creates an operator mark.
-  addAt(latlng) {
+  // The mission's class table: offered to the operator with the classes on the map.
+  setMissionClasses(classes) {
+    this.missionClasses = Array.isArray(classes) ? classes.filter(c => typeof c === 'string') : [];
+    this.render();
+  }
+
+  // Mark mode: a drag on the map draws a box; on release the new-mark form
+  // opens at its centre with the box. A press without a drag is a click
+  // (a point mark). The map does not pan while a box is drawn.
+  enableBoxDrawing(isMarkMode) {
+    const map = this.map;
+    let start = null, rect = null;
+    map.on('mousedown', event => {
+      if (!isMarkMode() || !this.canEdit() || event.originalEvent.button !== 0) return;
+      start = event;
+      map.dragging.disable();
+    });
+    map.on('mousemove', event => {
+      if (!start) return;
+      const moved = start.containerPoint.distanceTo(event.containerPoint);
+      if (!rect && moved < 6) return;
+      const bounds = L.latLngBounds(start.latlng, event.latlng);
+      if (!rect) rect = L.rectangle(bounds, {weight: 2, dashArray: '4 3', fill: false, className: 'drawing-box'}).addTo(map);
+      else rect.setBounds(bounds);
+    });
+    const finish = () => {
+      if (!start) return;
+      map.dragging.enable();
+      start = null;
+      if (!rect) return;
+      const bounds = rect.getBounds();
+      rect.remove();
+      rect = null;
+      this.drawn = true;   // the click that follows the release is no point mark
+      setTimeout(() => { this.drawn = false; }, 0);
+      this.addAt(bounds.getCenter(), bounds);
+    };
+    map.on('mouseup', finish);
+    document.addEventListener('mouseup', finish);
+  }
+
+  // Whether a box was just drawn (then the map's click adds nothing).
+  justDrew() {
+    return this.drawn;
+  }
+
+  // Map click in "mark" mode: a popup form that creates an operator mark;
+  // with `bounds` (a drawn box) the mark carries that box.
+  addAt(latlng, bounds = null) {
     const cls = el('input', {name: 'class', list: 'class-names', required: true, placeholder: 'class', 'aria-label': 'class'});
     const note = el('input', {name: 'note', placeholder: 'note', 'aria-label': 'note'});
     const popup = L.popup({minWidth: 200}).setLatLng(latlng);
+    const box = bounds ? [[bounds.getWest(), bounds.getNorth()], [bounds.getWest(), bounds.getSouth()],
+      [bounds.getEast(), bounds.getSouth()], [bounds.getEast(), bounds.getNorth()],
+      [bounds.getWest(), bounds.getNorth()]] : null;
+    if (box) popup.on('remove', () => this.pending?.remove());
+    this.pending?.remove();
+    this.pending = box ? L.rectangle(bounds, {weight: 2, fill: false, className: 'pending-box'}).addTo(this.map) : null;
     const form = el('form', {class: 'mark-form new-mark', onsubmit: async event => {
       event.preventDefault();
       try {
         const feature = await send('POST', '/api/detections', {
           type: 'Feature',
           geometry: {type: 'Point', coordinates: [latlng.lng, latlng.lat]},
-          properties: {class: cls.value.trim(), note: note.value},
+          properties: {class: cls.value.trim(), note: note.value, ...(box ? {box} : {})},
         });
         this.map.closePopup(popup);
         this.upsert(feature);
@@ -347,7 +420,9 @@ export class Detections {
       } catch (error) {
         toast(`add failed: ${error.message}`);
       }
-    }}, el('h3', {}, 'new mark'), cls, note, el('div', {class: 'buttons'}, el('button', {type: 'submit'}, 'add')));
+    }}, el('h3', {}, box ? 'new mark with a box' : 'new mark'), cls, note,
+    el('small', {}, 'any class: a new one joins the mission\'s list'),
+    el('div', {class: 'buttons'}, el('button', {type: 'submit'}, 'add')));
     popup.setContent(form).openOn(this.map);
     setTimeout(() => cls.focus(), 0);
   }

@@ -109,6 +109,8 @@ async function start() {
   tracks.update(status);
   const photos = new Photos(map);
   const detections = new Detections(map, {canEdit, frame, openPhotos: (ids, start) => photos.openList(ids, start)});
+  detections.enableBoxDrawing(() => document.body.dataset.mode === 'mark');
+  if (status) detections.setMissionClasses(status.classes);
   const measure = new Measure(map);
   const footprints = new Footprints(map, id => photos.openId(id));
   if (status) vehicle.update(status.last_pose);
@@ -160,6 +162,7 @@ async function start() {
         status = await getJSON('/api/status');
         showStatus(status);
         showEditing();
+        detections.setMissionClasses(status.classes);
         tracks.update(status);
       } catch { /* the stream will tell */ }
       tracks.catchUp();
@@ -170,7 +173,7 @@ async function start() {
   map.on('click', event => {
     const mode = document.body.dataset.mode;
     if (mode === 'measure') measure.click(event.latlng);
-    else if (mode === 'mark' && canEdit()) detections.addAt(event.latlng);
+    else if (mode === 'mark' && canEdit()) { if (!detections.justDrew()) detections.addAt(event.latlng); }
     else {
       photos.at(event.latlng);
       if (relief.on) relief.at(event.latlng);

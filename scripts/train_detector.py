@@ -862,7 +862,9 @@ def split_by_position(windows, val_fraction, size):
         if val_fraction <= 0 or not centres:
             train += ws
             continue
-        pos = np.array([c[axis] for c in centres])
+        # Each object once (it is labelled in every window and level that holds it): centres to ~5 cm.
+        unit = 0.05 / 4.0075e7
+        pos = np.array(sorted({(round(c[0] / unit), round(c[1] / unit)) for c in centres}))[:, axis] * unit
         cut = float(np.quantile(pos, 1 - val_fraction))
         for w in ws:
             lo, hi = span(w)[axis], span(w)[axis + 2]

@@ -34,12 +34,22 @@ def main():
         name = f"{mission}_z{z}_x{x}_y{y}"
         cv2.imwrite(os.path.join(out, "images", name + ".png"), cv2.cvtColor(img, cv2.COLOR_RGB2BGR))
         labels = []
+        # Each label's object (its index in the truth): the one whose box holds the label's centre, so an object
+        # seen in several windows and levels is one object.
+        holders = []
+        for k, o in enumerate(truth["objects"]):
+            pts = [T.lonlat_to_pixel(lon, lat, z) for lon, lat in o["footprint_lonlat"]]
+            holders.append((k, o["class_id"], min(p[0] for p in pts) - x * 256, min(p[1] for p in pts) - y * 256,
+                            max(p[0] for p in pts) - x * 256, max(p[1] for p in pts) - y * 256))
         with open(os.path.join(out, "labels", name + ".txt"), "w") as f:
             for c, x0, y0, x1, y1 in boxes:
+                cx, cy = (x0 + x1) / 2, (y0 + y1) / 2
+                oid = next((str(k) for k, hc, a, b, a2, b2 in holders
+                            if hc == int(c) and a <= cx <= a2 and b <= cy <= b2), "")
                 f.write(f"{int(c)} {(x0 + x1) / 1536:.6f} {(y0 + y1) / 1536:.6f} {(x1 - x0) / 768:.6f} "
                         f"{(y1 - y0) / 768:.6f}\n")
                 labels.append({"class": CLASSES[int(c)], "box_px": [float(x0), float(y0), float(x1), float(y1)],
-                               "source": "truth", "id": ""})
+                               "source": "truth", "id": oid})
                 man["counts"][CLASSES[int(c)]] += 1
         man["windows"].append(dict(image=f"images/{name}.png", label=f"labels/{name}.txt", mission=mission, z=z,
                                    x=x, y=y, level=z, labels=labels, negatives=[]))

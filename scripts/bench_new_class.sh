@@ -35,11 +35,19 @@ mission() {  # seed dir classes: simulate (30 objects, fewer when they do not fi
 mission 3201 "$out/mission_a" drum,tyre
 mission 3202 "$out/mission_b" drum,crate
 
-# The operator's review of mission A, from its truth (every object confirmed with its box), as training data
-# in `seamap training-data`'s layout (scripts/truth_training_data.py composes the same windows).
-[[ -f "$out/training_a/manifest.json" ]] ||
-  "$root/scripts/truth_training_data.py" "$out/mission_a" "$out/mission_a.mbtiles" "$out/training_a" |
-  sed 's/^/new class: training data /'
+# The operator's review of mission A from its truth: the shipped model's search, `seamap review --truth`
+# (confirm, reject, box the missed drums), `seamap training-data`. TRUTH_WINDOWS=1 (or a seamap without
+# `review`) writes the truth straight into the same layout instead (scripts/truth_training_data.py).
+if [[ ! -f "$out/training_a/manifest.json" ]]; then
+  if [[ "${TRUTH_WINDOWS:-0}" != 1 ]] && "$seamap" review --help >/dev/null 2>&1; then
+    "$seamap" detect --quiet "$out/mission_a.mbtiles" >/dev/null
+    "$seamap" review "$out/mission_a.mbtiles" --truth "$out/mission_a" | sed 's/^/new class: review: /'
+    "$seamap" training-data "$out/mission_a.mbtiles" --out "$out/training_a" | sed 's/^/new class: training data: /'
+  else
+    "$root/scripts/truth_training_data.py" "$out/mission_a" "$out/mission_a.mbtiles" "$out/training_a" |
+      sed 's/^/new class: training data /'
+  fi
+fi
 
 # Fine-tune (CPU time and peak memory measured; the machine may be shared, so CPU time is the cost).
 /usr/bin/time -v -o "$out/finetune.time" "$root/scripts/train_detector.py" --from-missions "$out/training_a" \

@@ -873,20 +873,26 @@ def split_by_position(windows, val_fraction, size):
                 continue
             if hi > cut:  # grey out the part beyond the cut, drop boxes that lose more than 60 %
                 k = int(math.floor((cut - lo) / (hi - lo) * size))
-                img = w["img"].copy()
                 b = w["boxes"].copy()
+                # A held-out object (centre beyond the cut) reaching back over it is greyed out whole.
+                for row in b:
+                    if (row[1 + axis] + row[3 + axis]) / 2 >= k:
+                        k = min(k, int(math.floor(row[1 + axis])))
+                k = max(k, 0)
+                img = w["img"].copy()
                 if axis == 0:
                     img[:, k:] = GREY
                 else:
                     img[k:, :] = GREY
-                keep = []
-                for row in b:
+                keep, keep_ids = [], []
+                for row, oid in zip(b, w["ids"] or [""] * len(b)):
                     a0, a1 = row[1 + axis], row[3 + axis]
                     vis = (min(a1, k) - a0) / max(a1 - a0, 1e-6)
                     if vis >= 0.4:
                         row[3 + axis] = min(a1, k)
                         keep.append(row)
-                w = dict(w, img=img, boxes=np.array(keep, np.float32).reshape(-1, 5),
+                        keep_ids.append(oid)
+                w = dict(w, img=img, boxes=np.array(keep, np.float32).reshape(-1, 5), ids=keep_ids,
                          negatives=w["negatives"][w["negatives"][:, 1 + axis] < k] if len(w["negatives"]) else
                          w["negatives"])
             train.append(w)

@@ -26,12 +26,14 @@ const char* kHelp =
     "  --layer NAME      raw | enhanced: the tiles searched (default raw)\n"
     "  --out FILE        also write the detections as GeoJSON\n"
     "  --threads N       windows searched at once, one network each (default 1)\n"
+    "  --keep-cut-views  keep boxes cut by a window edge whose class is seen whole\n"
+    "                    at a searched level (dropped by default: pieces of long objects)\n"
     "  --quiet           no progress bar\n";
 
 }  // namespace
 
 int RunDetect(int argc, char** argv, int first) {
-  Args args(argc, argv, first, {"help", "quiet"});
+  Args args(argc, argv, first, {"help", "quiet", "keep-cut-views"});
   if (args.Flag("help")) {
     std::fputs(kHelp, stdout);
     return 0;
@@ -44,6 +46,7 @@ int RunDetect(int argc, char** argv, int first) {
   const std::string layer = args.GetOr("layer", "raw");
   const std::optional<std::string> out = args.Get("out");
   options.quiet = args.Flag("quiet");
+  options.keep_cut_views = args.Flag("keep-cut-views");
   options.threads = args.GetInt("threads", 1);
   args.RejectUnknown();
   options.Check();  // --threads before the arguments are counted; --layer (still the default) after

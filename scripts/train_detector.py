@@ -18,6 +18,7 @@ import json
 import math
 import os
 import random
+import re
 import sqlite3
 import subprocess
 import sys
@@ -55,10 +56,13 @@ def make_survey(seamap, work, seed, color, degrade, frames, objects, tile_format
         cmd.append("--color")
     if degrade:
         cmd.append("--degrade")
-    try:
-        run(cmd + ["--objects", str(objects)])
-    except subprocess.CalledProcessError:  # that many do not fit 1 m apart on this seed's path
-        run(cmd + ["--objects", str(objects * 3 // 4)])
+    for k, n in enumerate((objects, objects * 3 // 4, objects // 2)):
+        try:
+            run(cmd + ["--objects", str(n)])
+            break
+        except subprocess.CalledProcessError:  # that many do not fit 1 m apart on this seed's path
+            if k == 2:
+                raise
     origin = json.load(open(os.path.join(d, "survey.json")))["origin"]
     run([seamap, "build", "--images", os.path.join(d, "photo"), "--nav", os.path.join(d, "nav.csv"), "--camera",
          os.path.join(d, "camera.json"), "--origin", f"{origin[0]},{origin[1]}", "--out", mb, "--overwrite",
@@ -135,10 +139,10 @@ def detection_zooms(tiles, lat, largest_m):
     return out
 
 
-def survey_windows(survey_dir, size):
+def survey_windows(survey_dir, size, mbtiles=None):
     """Every window with painted pixels at the detection zooms: list of (image, boxes, meta)."""
     truth = json.load(open(os.path.join(survey_dir, "truth", "objects.json")))
-    tiles = read_tiles(os.path.join(survey_dir, "map.mbtiles"))
+    tiles = read_tiles(mbtiles or os.path.join(survey_dir, "map.mbtiles"))
     lat0 = truth["origin"][0]
     largest = max(v[1] for v in CLASS_SIZES_M.values()) * 1.15
     out = []
@@ -247,8 +251,11 @@ class Detector(nn.Module):
         return [t3, n4, n5]
 
     def forward(self, x):
+        return self.decode(self.features(x))
+
+    def decode(self, feats):
         outs = []
-        for f, h, s in zip(self.features(x), self.heads, STRIDES):
+        for f, h, s in zip(feats, self.heads, STRIDES):
             dist = F.softplus(h["box"](f)) * s  # l, t, r, b in input pixels
             logits = h["cls"](f)
             if not self.export:
@@ -567,6 +574,121 @@ within 10 cm, greedy one-to-one; error = distance of box centre to truth box cen
         f.write(text)
 
 
+# ---------------------------------------------------------------- the shipped network's weights
+
+def conv_call_order(model, size):
+    """The model's Conv2d modules by name, in the order the export traces them (= the ONNX graph's Conv order)."""
+    names = {id(m): n for n, m in model.named_modules()}
+    order, hooks = [], []
+    for m in model.modules():
+        if isinstance(m, nn.Conv2d):
+            hooks.append(m.register_forward_hook(lambda mod, i, o: order.append(names[id(mod)])))
+    was = model.export
+    model.export = True
+    with torch.no_grad():
+        model.eval()(torch.zeros(1, 3, size, size))
+    model.export = was
+    for h in hooks:
+        h.remove()
+    return order
+
+
+def state_from_onnx(path, size=320):
+    """Trainable weights recovered from an exported model's initialisers. The export folded each BatchNorm into
+    its convolution (W' = W g / sqrt(v + e), b' = beta - m g / sqrt(v + e)), so the BatchNorm comes back as the
+    identity with the folded bias as its shift (mean 0, var 1 - eps, weight 1): the same function, and a model
+    that fine-tunes with its BatchNorms frozen. Returns (state_dict, class names)."""
+    import onnx
+    from onnx import numpy_helper
+    m = onnx.load(path)
+    inits = {i.name: numpy_helper.to_array(i) for i in m.graph.initializer}
+    meta = {p.key: p.value for p in m.metadata_props}
+    names = parse_names(meta.get("names", ""))
+    model = Detector(len(names))
+    convs = [n for n in m.graph.node if n.op_type == "Conv"]
+    order = conv_call_order(model, size)
+    if len(convs) != len(order):
+        raise SystemExit(f"{path}: {len(convs)} convolutions, the network has {len(order)}: not this script's model")
+    state = {k: v.clone() for k, v in model.state_dict().items()}
+    for node, name in zip(convs, order):
+        w = inits[node.input[1]]
+        b = inits[node.input[2]] if len(node.input) > 2 else np.zeros(w.shape[0], np.float32)
+        if tuple(state[name + ".weight"].shape) != w.shape:
+            raise SystemExit(f"{path}: {node.name} has weights {w.shape}, {name} expects "
+                             f"{tuple(state[name + '.weight'].shape)}")
+        state[name + ".weight"] = torch.from_numpy(w.copy())
+        if name + ".bias" in state:  # a head's last convolution: its own bias
+            state[name + ".bias"] = torch.from_numpy(b.copy())
+            continue
+        bn = name[:-1] + "1"  # ConvBN: conv at .0, BatchNorm at .1
+        eps = 1e-5
+        state[bn + ".weight"] = torch.ones(w.shape[0])
+        state[bn + ".bias"] = torch.from_numpy(b.copy())
+        state[bn + ".running_mean"] = torch.zeros(w.shape[0])
+        state[bn + ".running_var"] = torch.full((w.shape[0],), 1.0 - eps)
+    return state, names
+
+
+def parse_names(text):
+    """The `names` metadata, "{0: 'tyre', 1: 'crate'}", as a list in id order."""
+    pairs = re.findall(r"(\d+)\s*:\s*'([^']*)'", text)
+    if not pairs:
+        return list(CLASSES)
+    return [n for _, n in sorted((int(i), n) for i, n in pairs)]
+
+
+def weights_path(onnx_path):
+    return os.path.splitext(onnx_path)[0] + ".weights.npz"
+
+
+def load_base(onnx_path, size=320):
+    """The base model's weights: the .weights.npz shipped beside it, else recovered from the ONNX itself."""
+    w = weights_path(onnx_path)
+    state, names = state_from_onnx(onnx_path, size) if not os.path.exists(w) else (None, None)
+    if state is None:
+        z = np.load(w)
+        state = {k: torch.from_numpy(z[k]) for k in z.files if k != "names"}
+        names = [str(n) for n in z["names"]]
+    return state, names
+
+
+def recover_weights(onnx_path, size):
+    """--recover-weights: the .weights.npz beside the model, checked against cv2.dnn on windows of the shipped
+    model's validation kind (a simulated survey's, when one is cached in --work) or on random images."""
+    state, names = state_from_onnx(onnx_path, size)
+    net = Detector(len(names))
+    net.load_state_dict(state)
+    rng = np.random.default_rng(0)
+    images = [(rng.random((size, size, 3)) * 255).astype(np.uint8) for _ in range(2)]
+    worst = check_against_onnx(net, onnx_path, images)
+    assert worst < 1e-3, f"recovered weights differ from the ONNX by {worst:.2e}"
+    path = weights_path(onnx_path)
+    save_state(net, path, names)
+    print(f"wrote {path} ({os.path.getsize(path) / 1e6:.2f} MB, {len(names)} classes); torch vs cv2.dnn max "
+          f"difference {worst:.2e}", flush=True)
+    return 0
+
+
+def check_against_onnx(net, onnx_path, images):
+    """Largest difference between the torch model and cv2.dnn (OpenCV 4.6, as the C++ detector) on RGB images."""
+    cvnet = cv2.dnn.readNetFromONNX(onnx_path)
+    cvnet.setPreferableBackend(cv2.dnn.DNN_BACKEND_OPENCV)
+    cvnet.setPreferableTarget(cv2.dnn.DNN_TARGET_CPU)
+    was = net.export
+    net.export = True
+    net.eval()
+    worst = 0.0
+    for img in images:
+        blob = cv2.dnn.blobFromImage(cv2.cvtColor(img, cv2.COLOR_RGB2BGR), 1 / 255.0, swapRB=True, crop=False)
+        cvnet.setInput(blob)
+        out_cv = cvnet.forward()
+        with torch.no_grad():
+            out_t = net(torch.from_numpy(blob)).numpy()
+        worst = max(worst, float(np.abs(out_cv - out_t).max()))
+    net.export = was
+    return worst
+
+
 # ---------------------------------------------------------------- data packs (to train on another machine)
 
 def write_pack(path, train, val, quality):
@@ -605,14 +727,15 @@ def read_pack(path):
     return sets[:n], sets[n:]
 
 
-def save_state(net, path):
+def save_state(net, path, names=None):
     """The weights as plain arrays: readable by any torch version (trained on one, exported on another)."""
-    np.savez(path, **{k: v.detach().cpu().numpy() for k, v in net.state_dict().items()})
+    extra = {"names": np.array(names)} if names else {}
+    np.savez(path, **{k: v.detach().cpu().numpy() for k, v in net.state_dict().items()}, **extra)
 
 
 def load_state(path):
     if path.endswith(".npz"):
-        return {k: torch.from_numpy(v) for k, v in np.load(path).items()}
+        return {k: torch.from_numpy(v) for k, v in np.load(path).items() if k != "names"}
     return torch.load(path, map_location="cpu")
 
 
@@ -635,6 +758,498 @@ class Crops(torch.utils.data.IterableDataset):
             yield to_tensor(imgs), targets
 
 
+# ---------------------------------------------------------------- fine-tuning on the operator's review
+
+def world_units(z):
+    """Tile pixels of zoom z per world width (Web Mercator), to put windows of all levels on one axis."""
+    return float(TILE * (1 << z))
+
+
+def read_missions(dirs, size, base_names):
+    """The windows of `seamap training-data` folders (images/*.png 768 px, labels/*.txt YOLO, manifest.json):
+    (class names, [dict(img, boxes [K, 5] class x1 y1 x2 y2 in `size` px, negatives [M, 5], mission, z, x, y,
+    ids)]). Classes are matched by name across folders; the base model's keep their ids, new ones follow."""
+    names, manifests = list(base_names), {}
+    for d in dirs:
+        path = os.path.join(d, "manifest.json")
+        if not os.path.isfile(path):
+            raise SystemExit(f"--from-missions {d}: no manifest.json (expected `seamap training-data` output)")
+        man = json.load(open(path))
+        for c in man.get("classes", []):
+            c = c if isinstance(c, str) else c.get("name", "")
+            if c and c not in names:
+                names.append(c)
+        manifests[d] = man
+    out = []
+    for d in dirs:
+        man = manifests[d]
+        classes = [c if isinstance(c, str) else c.get("name", "") for c in man.get("classes", [])]
+        for w in man.get("windows", []):
+            img_path = os.path.join(d, w["image"])
+            img = cv2.imread(img_path, cv2.IMREAD_COLOR)
+            if img is None:
+                raise SystemExit(f"--from-missions {d}: {w['image']} is not a readable image")
+            src = img.shape[0]
+            r = size / float(src)
+            img = cv2.cvtColor(cv2.resize(img, (size, size), interpolation=cv2.INTER_AREA), cv2.COLOR_BGR2RGB)
+
+            def boxes_of(items, what):
+                b = []
+                for it in items:
+                    c = it["class"]
+                    if isinstance(c, str):
+                        if c not in classes and c not in names:
+                            raise SystemExit(f"{d}/manifest.json: {w['image']}: {what} class {c[:100]!r} is not in "
+                                             f"`classes`")
+                        c = names.index(c)
+                    else:
+                        c = names.index(classes[int(c)])
+                    x0, y0, x1, y1 = (float(v) * r for v in it["box_px"])
+                    b.append([c, x0, y0, x1, y1])
+                return np.array(b, np.float32).reshape(-1, 5)
+
+            if "labels" not in w and w.get("label"):  # only the YOLO file: class_id cx cy w h, normalised
+                w = dict(w, labels=yolo_labels(os.path.join(d, w["label"]), classes, src))
+            out.append(dict(img=img, boxes=boxes_of(w.get("labels", []), "label"),
+                            negatives=boxes_of(w.get("negatives", []), "negative"),
+                            ids=[str(it.get("id", "")) for it in w.get("labels", [])],
+                            mission=f"{d}#{w.get('mission', '')}", z=int(w["z"]), x=int(w["x"]), y=int(w["y"])))
+    if not out:
+        raise SystemExit("--from-missions: no windows")
+    return names, out
+
+
+def yolo_labels(path, classes, side_px):
+    """A YOLO label file as manifest labels (class name, box_px in the window's pixels)."""
+    out = []
+    for k, line in enumerate(open(path)):
+        f = line.split()
+        if not f:
+            continue
+        try:
+            c, cx, cy, w, h = int(f[0]), *map(float, f[1:5])
+            name = classes[c]
+        except (ValueError, IndexError):
+            raise SystemExit(f"{path}:{k + 1}: expected 'class_id cx cy w h' (class id in the manifest's "
+                             f"classes, numbers normalised), got {line.strip()[:100]!r}")
+        out.append({"class": name, "box_px": [(cx - w / 2) * side_px, (cy - h / 2) * side_px,
+                                              (cx + w / 2) * side_px, (cy + h / 2) * side_px], "id": ""})
+    return out
+
+
+def split_by_position(windows, val_fraction, size):
+    """Held-out ground, not held-out windows: per mission, the far part along its longest axis (holding about
+    `val_fraction` of the labelled objects) is validation. Validation windows lie wholly inside it; the
+    training windows that reach into it are greyed out there, so training never sees a validation pixel."""
+    train, val = [], []
+    by_mission = {}
+    for w in windows:
+        by_mission.setdefault(w["mission"], []).append(w)
+    n_tiles_px = N_TILES * TILE
+    for mission, ws in by_mission.items():
+        def span(w):  # window extent in world fractions
+            u = world_units(w["z"])
+            return (w["x"] * TILE / u, w["y"] * TILE / u, (w["x"] * TILE + n_tiles_px) / u,
+                    (w["y"] * TILE + n_tiles_px) / u)
+
+        centres = []  # labelled objects' centres in world fractions
+        for w in ws:
+            x0, y0, x1, y1 = span(w)
+            for b in w["boxes"]:
+                centres.append((x0 + (b[1] + b[3]) / 2 / size * (x1 - x0), y0 + (b[2] + b[4]) / 2 / size * (y1 - y0)))
+        spans = np.array([span(w) for w in ws])
+        axis = 0 if spans[:, 2].max() - spans[:, 0].min() >= spans[:, 3].max() - spans[:, 1].min() else 1
+        if val_fraction <= 0 or not centres:
+            train += ws
+            continue
+        # Each object once (it is labelled in every window and level that holds it): centres to ~5 cm.
+        unit = 0.05 / 4.0075e7
+        pos = np.array(sorted({(round(c[0] / unit), round(c[1] / unit)) for c in centres}))[:, axis] * unit
+        cut = float(np.quantile(pos, 1 - val_fraction))
+        for w in ws:
+            lo, hi = span(w)[axis], span(w)[axis + 2]
+            if lo >= cut:
+                val.append(w)
+                continue
+            if hi > cut:  # grey out the part beyond the cut, drop boxes that lose more than 60 %
+                k = int(math.floor((cut - lo) / (hi - lo) * size))
+                b = w["boxes"].copy()
+                # A held-out object (centre beyond the cut) reaching back over it is greyed out whole.
+                for row in b:
+                    if (row[1 + axis] + row[3 + axis]) / 2 >= k:
+                        k = min(k, int(math.floor(row[1 + axis])))
+                k = max(k, 0)
+                img = w["img"].copy()
+                if axis == 0:
+                    img[:, k:] = GREY
+                else:
+                    img[k:, :] = GREY
+                keep, keep_ids = [], []
+                for row, oid in zip(b, w["ids"] or [""] * len(b)):
+                    a0, a1 = row[1 + axis], row[3 + axis]
+                    vis = (min(a1, k) - a0) / max(a1 - a0, 1e-6)
+                    if vis >= 0.4:
+                        row[3 + axis] = min(a1, k)
+                        keep.append(row)
+                        keep_ids.append(oid)
+                w = dict(w, img=img, boxes=np.array(keep, np.float32).reshape(-1, 5), ids=keep_ids,
+                         negatives=w["negatives"][w["negatives"][:, 1 + axis] < k] if len(w["negatives"]) else
+                         w["negatives"])
+            train.append(w)
+    return train, val
+
+
+def extend_classes(state, old_nc, new_nc, seed=0):
+    """The class head for new_nc classes: the old classes' rows kept as they are, new rows small and with the
+    focal-loss prior's bias (a low score everywhere until trained)."""
+    g = torch.Generator().manual_seed(seed)
+    for k in list(state):
+        if k.startswith("heads.") and ".cls.1." in k:
+            v = state[k]
+            if v.shape[0] != old_nc:
+                raise SystemExit(f"the base model's class head {k} has {v.shape[0]} rows, expected {old_nc}")
+            if k.endswith("weight"):
+                extra = torch.randn((new_nc - old_nc,) + tuple(v.shape[1:]), generator=g) * 0.01
+            else:
+                extra = torch.full((new_nc - old_nc,), -4.6)
+            state[k] = torch.cat([v, extra.to(v.dtype)], 0)
+    return state
+
+
+def window_scale_m(w):
+    """Metres per input pixel of a `size` px window at the window's latitude."""
+    n = 1 << w["z"]
+    lat = math.degrees(math.atan(math.sinh(math.pi * (1 - 2 * (w["y"] + 1.5) / n))))
+    return 156543.03392 * math.cos(math.radians(lat)) / n
+
+
+def validate_windows(val, run_net, size, names, thresholds):
+    """Per class at each score threshold: objects found on the held-out ground. An object (one label id, seen in
+    several windows and levels) counts once; found when some window's detection of its class overlaps its box
+    with IoU >= 0.5. A detection with no label of its class at IoU >= 0.3 is a false one, counted once per place
+    (duplicates across windows within 10 cm merged)."""
+    raw = []  # (window index, class, score, box)
+    for i, w in enumerate(val):
+        for c, sc, x1, y1, x2, y2 in nms_window(run_net(w["img"]), min(thresholds)):
+            raw.append((i, c, sc, (x1, y1, x2, y2)))
+    objects = {}  # (mission, id or place) -> class
+    for w in val:
+        for b, oid in zip(w["boxes"], w["ids"] or [""] * len(w["boxes"])):
+            objects.setdefault((w["mission"], oid or ground_key(w, b, size)), int(b[0]))
+
+    def iou(a, b):
+        iw = min(a[2], b[2]) - max(a[0], b[0])
+        ih = min(a[3], b[3]) - max(a[1], b[1])
+        if iw <= 0 or ih <= 0:
+            return 0.0
+        inter = iw * ih
+        return inter / ((a[2] - a[0]) * (a[3] - a[1]) + (b[2] - b[0]) * (b[3] - b[1]) - inter)
+
+    table = {}
+    for t in thresholds:
+        found, false = set(), {}
+        for i, c, sc, box in raw:
+            if sc < t:
+                continue
+            w = val[i]
+            ids = w["ids"] or [""] * len(w["boxes"])
+            best, best_iou = None, 0.0
+            for b, oid in zip(w["boxes"], ids):
+                if int(b[0]) != c:
+                    continue
+                v = iou(box, b[1:5])
+                if v > best_iou:
+                    best, best_iou = (w["mission"], oid or ground_key(w, b, size)), v
+            if best is not None and best_iou >= 0.5:
+                found.add(best)
+            elif best is None or best_iou < 0.3:
+                false[(w["mission"], c, ground_key(w, [c, *box], size))] = 1
+        rows = {}
+        for c, name in enumerate(names):
+            nt = sum(1 for k, v in objects.items() if v == c)
+            nf = sum(1 for k in found if objects.get(k) == c)
+            nfalse = sum(1 for k in false if k[1] == c)
+            rows[name] = dict(truths=nt, found=nf, false=nfalse)
+        table[t] = rows
+    return table
+
+
+def ground_key(w, b, size):
+    """A place on the ground to 10 cm (for objects and false detections without an id)."""
+    m = window_scale_m(w) * N_TILES * TILE / size
+    x0 = w["x"] * TILE * window_scale_m(w)
+    y0 = w["y"] * TILE * window_scale_m(w)
+    return (round((x0 + (b[1] + b[3]) / 2 * m) / 0.1), round((y0 + (b[2] + b[4]) / 2 * m) / 0.1))
+
+
+def summarise(rows):
+    nt = sum(r["truths"] for r in rows.values())
+    nf = sum(r["found"] for r in rows.values())
+    nfalse = sum(r["false"] for r in rows.values())
+    rec = nf / nt if nt else float("nan")
+    prec = nf / (nf + nfalse) if nf + nfalse else float("nan")
+    return nt, nf, nfalse, rec, prec
+
+
+def replay_windows(a, size):
+    """Simulated windows of the shipped classes, so fine-tuning does not forget them: from the shipped
+    training pack (--replay-pack), else simulated here from the shipped training seeds (never the bench's)."""
+    out = []
+    if a.replay_pack:
+        train, _ = read_pack(a.replay_pack)
+        for windows, _ in train:
+            out += [dict(img=img, boxes=b, negatives=np.zeros((0, 5), np.float32)) for img, b, _ in windows]
+        return out
+    for k in range(a.replay_surveys):
+        seed = 1000 + k
+        d = make_survey(a.seamap, a.work, seed, k % 2 == 1, k % 3 == 2, a.replay_frames, 12,
+                        "jpg" if k % 4 == 3 else "png")
+        windows, _ = survey_windows(d, size)
+        out += [dict(img=img, boxes=b, negatives=np.zeros((0, 5), np.float32)) for img, b, _ in windows]
+    return out
+
+
+class MixedCrops(torch.utils.data.IterableDataset):
+    """Batches of augmented crops: `share` of them from the operator's windows (a third of those around a
+    rejected detection, a hard negative), the rest from simulated windows of the shipped classes."""
+
+    def __init__(self, review, replay, share, crop, batch, seed):
+        self.review, self.replay, self.share = review, replay, share
+        self.crop, self.batch, self.seed = crop, batch, seed
+
+    def __iter__(self):
+        info = torch.utils.data.get_worker_info()
+        rng = np.random.default_rng([self.seed, info.id if info else 0])
+        while True:
+            imgs, targets = [], []
+            for _ in range(self.batch):
+                pool = self.review if (not self.replay or rng.random() < self.share) else self.replay
+                w = pool[rng.integers(len(pool))]
+                boxes = w["boxes"]
+                if len(w["negatives"]) and rng.random() < 0.33:
+                    img, boxes = crop_around(w["img"], boxes, w["negatives"][rng.integers(len(w["negatives"]))],
+                                             self.crop, rng)
+                else:
+                    img, boxes = random_crop(w["img"], boxes, self.crop, rng)
+                img, boxes = augment(img, boxes, rng)
+                imgs.append(img)
+                targets.append(boxes)
+            yield to_tensor(imgs), targets
+
+
+def crop_around(img, boxes, centre_box, crop, rng):
+    """A crop holding `centre_box` (a hard negative), labels clipped as random_crop does."""
+    S = img.shape[0]
+    cx, cy = (centre_box[1] + centre_box[3]) / 2, (centre_box[2] + centre_box[4]) / 2
+    x0 = int(np.clip(cx - crop / 2 + rng.uniform(-crop / 4, crop / 4), 0, S - crop))
+    y0 = int(np.clip(cy - crop / 2 + rng.uniform(-crop / 4, crop / 4), 0, S - crop))
+    out = []
+    for c, bx0, by0, bx1, by1 in boxes:
+        full = (bx1 - bx0) * (by1 - by0)
+        ax0, ay0, ax1, ay1 = max(bx0, x0), max(by0, y0), min(bx1, x0 + crop), min(by1, y0 + crop)
+        if ax1 <= ax0 or ay1 <= ay0 or (ax1 - ax0) * (ay1 - ay0) < 0.4 * full:
+            continue
+        out.append([c, ax0 - x0, ay0 - y0, ax1 - x0, ay1 - y0])
+    return img[y0:y0 + crop, x0:x0 + crop], np.array(out, np.float32).reshape(-1, 5)
+
+
+def freeze_batchnorm(model):
+    """The base model's BatchNorms are its folded biases (state_from_onnx): kept in eval mode, their scale and
+    shift train like any weight, and a batch of 8 crops never overwrites the statistics."""
+    for m in model.modules():
+        if isinstance(m, nn.BatchNorm2d):
+            m.eval()
+
+
+def class_sizes_from_labels(windows, names, size, base_sizes):
+    """Size range [min, max] in metres per class: the base model's, and for new classes the labels' longest
+    sides (10 % margin)."""
+    sizes = {k: list(v) for k, v in base_sizes.items() if k in names}
+    seen = {}
+    for w in windows:
+        m = window_scale_m(w) * N_TILES * TILE / size
+        for b in w["boxes"]:
+            name = names[int(b[0])]
+            if name in sizes:
+                continue
+            side = max(b[3] - b[1], b[4] - b[2]) * m
+            touches = min(b[1], b[2]) < 2 or max(b[3], b[4]) > size - 2
+            if not touches:
+                seen.setdefault(name, []).append(side)
+    for name, v in seen.items():
+        sizes[name] = [round(min(v) * 0.9, 2), round(max(v) * 1.1, 2)]
+    return sizes
+
+
+def finetune(a):
+    """--from-missions: the base model fine-tuned on the operator's reviewed windows (see module doc)."""
+    t_start = time.time()
+    cpu_start = time.process_time()
+    size = a.imgsz
+    base_state, base_names = load_base(a.base, size)
+    names, windows = read_missions(a.from_missions, size, base_names)
+    train_w, val_w = split_by_position(windows, a.val_fraction, size)
+    n_labels = {n: 0 for n in names}
+    for w in train_w:
+        for b in w["boxes"]:
+            n_labels[names[int(b[0])]] += 1
+    print(f"review: {len(windows)} windows of {len({w['mission'] for w in windows})} missions; "
+          f"{len(train_w)} to train, {len(val_w)} held out by position; labels in training windows: "
+          + ", ".join(f"{k} {v}" for k, v in n_labels.items()), flush=True)
+    missing = [n for n in names[len(base_names):] if n_labels[n] == 0]
+    if missing:
+        raise SystemExit(f"--from-missions: no training label of the new class(es) {', '.join(missing)}")
+    replay = replay_windows(a, size) if a.replay_share > 0 else []
+    print(f"replay: {len(replay)} simulated windows of the shipped classes", flush=True)
+    t_data = time.time() - t_start
+
+    base_meta = onnx_metadata(a.base)
+    base_sizes = json.loads(base_meta.get("seamap.class_sizes_m", json.dumps(CLASS_SIZES_M)))
+    base_min_score = float(base_meta.get("seamap.min_score", a.min_score))
+    model = Detector(len(names))
+    model.load_state_dict(extend_classes(base_state, len(base_names), len(names)))
+    # Few examples: the backbone and neck stay as shipped (their features found the old classes), the heads
+    # learn; --train all trains every layer (7x the CPU a step).
+    heads_only = a.train == "heads"
+    for n, p in model.named_parameters():
+        p.requires_grad = not heads_only or n.startswith("heads.")
+    opt = torch.optim.AdamW([p for p in model.parameters() if p.requires_grad], lr=a.lr, weight_decay=5e-4)
+    ema = torch.optim.swa_utils.AveragedModel(model, avg_fn=lambda e, m, n: 0.99 * e + 0.01 * m)
+    loader = dict(num_workers=a.workers, persistent_workers=True, prefetch_factor=4) if a.workers else {}
+    batches = iter(torch.utils.data.DataLoader(MixedCrops(train_w, replay, a.replay_share if replay else 1.0,
+                                                          a.crop, a.batch, 0), batch_size=None, **loader))
+    # The budget: --minutes of wall time or --cpu-minutes of this process's CPU time, whichever ends first (on a
+    # shared machine the CPU time is what the fine-tune costs; 2 free cores spend 2 CPU-minutes a minute).
+    t0, c0 = time.time(), time.process_time()
+    wall_budget, cpu_budget = a.minutes * 60, (a.cpu_minutes if a.cpu_minutes else 2 * a.minutes) * 60
+    step = 0
+
+    def spent():
+        return max((time.time() - t0) / wall_budget, (time.process_time() - c0) / cpu_budget)
+
+    while spent() < 1:
+        frac = spent()
+        for g in opt.param_groups:
+            g["lr"] = a.lr * (0.05 + 0.95 * 0.5 * (1 + math.cos(math.pi * frac))) * min(1.0, (step + 1) / 50)
+        imgs, targets = next(batches)
+        model.train()
+        freeze_batchnorm(model)
+        if heads_only:
+            with torch.no_grad():
+                feats = model.features(imgs)
+            loss, npos = loss_fn(model.decode(feats), targets)
+        else:
+            loss, npos = loss_fn(model(imgs), targets)
+        opt.zero_grad()
+        loss.backward()
+        torch.nn.utils.clip_grad_norm_(model.parameters(), 10.0)
+        opt.step()
+        ema.update_parameters(model)
+        step += 1
+        if step % 50 == 0:
+            print(f"step {step} {time.time() - t0:.0f} s ({time.process_time() - c0:.0f} CPU-s) loss "
+                  f"{loss.item():.3f} pos {npos}", flush=True)
+    t_train = time.time() - t0
+    net = (ema.module if step else model).eval()
+
+    # Validation on the held-out ground: the score threshold with the best F1 over all classes.
+    net.export = True
+
+    def run_torch(img):
+        with torch.no_grad():
+            return net(to_tensor([img.astype(np.float32)]))[0].numpy()
+
+    thresholds = [round(0.25 + 0.05 * k, 2) for k in range(12)]
+    table = validate_windows(val_w, run_torch, size, names, thresholds) if val_w else {}
+    min_score = base_min_score
+    if table:
+        def f1(t):
+            _, nf, nfalse, _, _ = summarise(table[t])
+            nt = sum(r["truths"] for r in table[t].values())
+            return 2 * nf / max(nt + nf + nfalse, 1)
+        best = max(f1(t) for t in thresholds)
+        tied = [t for t in thresholds if f1(t) >= best - 1e-9]
+        min_score = tied[len(tied) // 2]  # the middle of the best range: few held-out objects, a flat F1
+        rows = table[min_score]
+    net.export = False
+
+    out = a.out if a.out.endswith(".onnx") else os.path.join(a.out, "seabed_objects.onnx")
+    os.makedirs(os.path.dirname(os.path.abspath(out)), exist_ok=True)
+    sizes = class_sizes_from_labels(windows, names, size, base_sizes)
+    meta = {
+        "names": "{" + ", ".join(f"{i}: '{n}'" for i, n in enumerate(names)) + "}",
+        "stride": str(max(STRIDES)),
+        "imgsz": f"[{size}, {size}]",
+        "task": "detect",
+        "seamap.class_sizes_m": json.dumps(sizes),
+        "seamap.layer": base_meta.get("seamap.layer", "raw"),
+        "seamap.layout": "yolov8",
+        "seamap.min_score": str(min_score),
+        "seamap.base": os.path.basename(a.base),
+        "seamap.finetune_missions": ",".join(os.path.basename(os.path.normpath(d)) for d in a.from_missions),
+    }
+    export_onnx(net, out, size, meta)
+    save_state(net, weights_path(out), names)
+    worst = check_against_onnx(net, out, [w["img"] for w in (val_w or train_w)[:4]])
+    print(f"cv2.dnn vs torch: max difference {worst:.2e}", flush=True)
+    assert worst < 1e-3, "cv2.dnn does not match torch"
+    with open(os.path.splitext(out)[0] + ".names", "w") as f:
+        f.write("\n".join(names) + "\n")
+    report = dict(base=a.base, missions=a.from_missions, classes=names, class_sizes_m=sizes, steps=step,
+                  batch=a.batch, crop=a.crop, lr=a.lr, train_minutes=round(t_train / 60, 2),
+                  data_minutes=round(t_data / 60, 2), cpu_minutes=round((time.process_time() - cpu_start) / 60, 2),
+                  train_windows=len(train_w), val_windows=len(val_w), replay_windows=len(replay),
+                  replay_share=a.replay_share if replay else 1.0, train=a.train, train_labels=n_labels, min_score=min_score,
+                  validation=table.get(min_score, {}) if table else {}, cv_max_diff=worst,
+                  thresholds={str(t): summarise(table[t])[3:] for t in thresholds} if table else {})
+    json.dump(report, open(os.path.splitext(out)[0] + ".report.json", "w"), indent=1)
+    write_finetune_card(report, out)
+    print(f"wrote {out} ({len(names)} classes, min score {min_score}), its card and weights", flush=True)
+    return 0
+
+
+def onnx_metadata(path):
+    import onnx
+    return {p.key: p.value for p in onnx.load(path).metadata_props}
+
+
+def write_finetune_card(r, out):
+    """A model card beside the fine-tuned model: data, minutes, validation per class."""
+    rows = []
+    for name, v in r["validation"].items():
+        rec = v["found"] / v["truths"] if v["truths"] else float("nan")
+        prec = v["found"] / (v["found"] + v["false"]) if v["found"] + v["false"] else float("nan")
+        rows.append(f"| {name} | {r['train_labels'].get(name, 0)} | {v['truths']} | {v['found']} | {v['false']} | "
+                    f"{rec:.2f} | {prec:.2f} |")
+    if r["validation"]:
+        nt, nf, nfalse, rec, prec = summarise(r["validation"])
+        rows.append(f"| all | {sum(r['train_labels'].values())} | {nt} | {nf} | {nfalse} | {rec:.2f} | {prec:.2f} |")
+    table = "\n".join(rows) if rows else "(no held-out windows: `--val-fraction 0`)"
+    text = f"""# {os.path.basename(out)}
+
+Fine-tuned by `scripts/train_detector.py --from-missions` from `{os.path.basename(r['base'])}` on an operator's
+reviewed missions (docs/DETECTION_MODEL.md, "Fine-tuning on the operator's review").
+
+- Classes (ids in order): {", ".join(r['classes'])}; sizes (m) {json.dumps(r['class_sizes_m'])}.
+- Data: {", ".join(os.path.normpath(d) for d in r['missions'])}: {r['train_windows']} training windows,
+  {r['val_windows']} held out by position (the far part of each mission along its longest axis), mixed with
+  {r['replay_windows']} simulated windows of the shipped classes ({r['replay_share']:.0%} of the crops from the review).
+- Training ({r['train']}): {r['steps']} steps of {r['batch']} crops of {r['crop']} px in {r['train_minutes']} min
+  ({r['cpu_minutes']} CPU-min in all, data {r['data_minutes']} min), AdamW {r['lr']}, BatchNorm frozen, EMA.
+- Metadata `seamap.min_score` = {r['min_score']}: the threshold with the best F1 on the held-out windows.
+- cv2.dnn vs torch: max difference {r['cv_max_diff']:.1e}.
+
+Held-out validation (objects on the held-out ground, each once; found = a detection of its class at IoU >= 0.5
+in some window; false = a detection with no label of its class at IoU >= 0.3, once per 10 cm place):
+
+| class | training labels (in windows) | held-out objects | found | false | recall | precision |
+| --- | --- | --- | --- | --- | --- | --- |
+{table}
+"""
+    with open(os.path.splitext(out)[0] + ".md", "w") as f:
+        f.write(text)
+
+
 # ---------------------------------------------------------------- main
 
 def main():
@@ -649,7 +1264,7 @@ def main():
     ap.add_argument("--imgsz", type=int, default=320)
     ap.add_argument("--crop", type=int, default=192)
     ap.add_argument("--batch", type=int, default=8)
-    ap.add_argument("--lr", type=float, default=2e-3)
+    ap.add_argument("--lr", type=float, help="learning rate (2e-3; fine-tuning 1e-3)")
     ap.add_argument("--minutes", type=float, default=30, help="training wall time; 0: export --resume as it is")
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--workers", type=int, default=0, help="processes making the augmented crops")
@@ -661,7 +1276,26 @@ def main():
     ap.add_argument("--pack-quality", type=int, default=92, help="JPEG quality of the packed windows")
     ap.add_argument("--from-pack", help="train on the windows of this .npz instead of simulating")
     ap.add_argument("--no-export", action="store_true", help="save the state dict and validate with torch only")
+    ap.add_argument("--from-missions", nargs="+", metavar="DIR",
+                    help="fine-tune --base on these `seamap training-data` folders, write --out (a .onnx)")
+    ap.add_argument("--base", default="data/models/seabed_objects.onnx",
+                    help="the model to fine-tune; its weights from the .weights.npz beside it, else from the ONNX")
+    ap.add_argument("--val-fraction", type=float, default=0.25,
+                    help="share of each reviewed mission's objects held out (by position) for validation")
+    ap.add_argument("--replay-share", type=float, default=0.5,
+                    help="share of the crops from the review; the rest from simulated windows of the old classes")
+    ap.add_argument("--replay-pack", help="the old classes' windows from this pack instead of simulating them")
+    ap.add_argument("--replay-surveys", type=int, default=4, help="surveys simulated for the old classes")
+    ap.add_argument("--replay-frames", type=int, default=300, help="frames of each replay survey")
+    ap.add_argument("--cpu-minutes", type=float,
+                    help="fine-tuning: stop after this much CPU time too (default 2 x --minutes: 2 cores)")
+    ap.add_argument("--train", choices=["heads", "all"], default="heads",
+                    help="fine-tuning: train the heads only (default) or every layer")
+    ap.add_argument("--recover-weights", action="store_true",
+                    help="write --base's weights beside it (.weights.npz), recovered from the ONNX and checked")
     a = ap.parse_args()
+    if a.lr is None:
+        a.lr = 1e-3 if a.from_missions else 2e-3
 
     random.seed(0)
     np.random.seed(0)
@@ -669,6 +1303,14 @@ def main():
     torch.set_num_threads(a.threads)
     cv2.setNumThreads(1)
     os.makedirs(a.work, exist_ok=True)
+    if a.recover_weights:
+        return recover_weights(a.base, a.imgsz)
+    if a.from_missions:
+        if not a.out.endswith(".onnx"):
+            raise SystemExit(f"--out {a.out[:100]}: expected the fine-tuned model's path, ending in .onnx")
+        if a.minutes <= 0 or not 0 <= a.replay_share <= 1 or not 0 <= a.val_fraction < 1:
+            raise SystemExit("--minutes must be > 0, --replay-share in 0..1, --val-fraction in 0..1 (below 1)")
+        return finetune(a)
     t_start = time.time()
 
     def plan(seed, k):  # the shipped model's data: 12 objects on the first 12 surveys of each set, then --objects

@@ -97,6 +97,7 @@ ObjectDetectionResult DetectObjects(const ObjectDetectionOptions& options) {
   DetectSettings settings;
   settings.model = model;
   settings.min_score = options.min_score.value_or(model->min_score);
+  settings.keep_cut_views = options.keep_cut_views;
   if (mission.unreadable.count(kTileSizeKey))
     throw InputError(path, 0, kTileSizeKey, std::string("the map's metadata has no valid '") + kTileSizeKey + "'");
   settings.tile_size = mission.tile_size_px.value_or(256);

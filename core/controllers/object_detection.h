@@ -18,6 +18,7 @@ struct ObjectDetectionOptions {
   std::string classes_path;               // class names, one per line ("": the model's metadata)
   std::optional<std::vector<int>> zooms;  // levels to search (none: the model's default zooms)
   std::optional<float> min_score;         // none: the model's own
+  bool keep_cut_views = false;            // --keep-cut-views (level_rule.h)
   std::string layer = "raw";              // raw | enhanced
   int threads = 1;                        // windows searched at once, one network each
   bool quiet = false;                     // no progress bar

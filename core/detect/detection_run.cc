@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/detect/detection_record.h"
+#include "core/detect/level_rule.h"
 #include "core/tiles/tile_codec.h"
 #include "core/util/error.h"
 
@@ -77,6 +78,9 @@ std::vector<RecognisedObject> WindowSearcher::Objects(const std::vector<FrameRec
 std::vector<RecognisedObject> MergeSearched(const DetectSettings& settings, std::vector<RawDetection> raw,
                                             const std::vector<FrameRecord>& frames) {
   const LocalFrame frame(settings.origin);
+  if (!settings.keep_cut_views)
+    DropCutViews(WholeViewZooms(settings.model->class_sizes_m, settings.zooms, settings.origin.lat, settings.tile_size),
+                 &raw);
   std::vector<RecognisedObject> objects =
       MergeDetections(std::move(raw), settings.model->class_names, settings.tile_size, frame);
   for (RecognisedObject& o : objects) o.model = settings.model->name;

@@ -18,6 +18,9 @@ struct DetectSettings {
   float min_score = 0.4f;
   int tile_size = 256;
   LatLon origin;  // of the mission's local frame (position_m)
+  // Keep boxes cut by a window edge of classes seen whole at some searched
+  // level (level_rule.h drops them by default).
+  bool keep_cut_views = false;
 };
 
 // The zooms to search: `requested` (--zooms), each of which the map must

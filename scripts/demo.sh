@@ -4,7 +4,7 @@
 # whose navigation drifts, over a seabed with relief, objects and murky water,
 # crossing a subsea structure four times, and a stereo rig's pairs of that
 # structure. The replay places the frames with the online filter (--nav-mode
-# ekf), paints the raw and enhanced maps, searches the tiles for objects
+# ekf), paints the raw and enhanced maps (config/demo_dive.json), searches the tiles for objects
 # (--detect) and locates the structure in the stereo pairs (--stereo) as the
 # dive goes; the server and operator console show it at the printed URL.
 # Ctrl-C stops it; the mission stays in out/demo/mission.mbtiles.
@@ -71,8 +71,8 @@ fi
 echo "demo: replaying the dive live; open the URL below in a browser (Ctrl-C to stop)"
 # Add --refine-nav to correct the map as passes cross.
 exec "$seamap" replay "$dive/survey" --speed "${SEAMAP_DEMO_SPEED:-2}" \
-  --config "$root/config/default.json" --out "$out/mission.mbtiles" --overwrite \
-  --nav-mode ekf --detect --enhance default \
+  --config "$root/config/demo_dive.json" --out "$out/mission.mbtiles" --overwrite \
+  --nav-mode ekf --detect \
   --stereo "$dive/wellhead/dive" --pair-times "$dive/pair_times.csv" \
   --calib "$dive/wellhead/stereo.yaml" --model "$dive/wellhead.json" --rig down \
   --port "${SEAMAP_PORT:-8080}"

@@ -16,7 +16,7 @@ TrajectoryGeoref GeoreferenceTrajectory(const std::vector<TrajectoryRow>& rows, 
   std::map<double, size_t> by_time;
   for (size_t i = 0; i < rows.size(); ++i) {
     if (!rows[i].time_s)
-      throw InputError(options.keyframes_source, static_cast<int>(i + 2), "time_s",
+      throw InputError(options.keyframes_source, 0, "time_s",
                        "frame '" + Shorten(rows[i].image, 100) + "' has no time to match against the buoy's fixes");
     by_time[*rows[i].time_s] = i;
   }

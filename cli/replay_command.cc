@@ -20,7 +20,9 @@
 #include "cli/georef_overlays.h"
 #include "cli/server_setup.h"
 #include "cli/shutdown_signal.h"
+#include "cli/stereo_setup.h"
 #include "cli/trajectory_setup.h"
+#include "core/controllers/live_stereo.h"
 #include "core/controllers/mission_build.h"
 #include "core/detect/detection_record.h"
 #include "core/nav/frame_feed.h"
@@ -321,12 +323,47 @@ int ReplayFeed(MissionBuild& build, FrameFeed& feed, LiveMission& live, bool qui
   return exit_code;
 }
 
+// --stereo: the frames placed feed the pairs' poses; the pairs still due are
+// located once the layers are finished, before the mission is concluded.
+void HookUpLiveStereo(LiveStereo* stereo, MissionObserver* observer) {
+  if (!stereo) return;
+  observer->on_frame_placed = [stereo, placed = observer->on_frame_placed](const FrameRecord& record,
+                                                                           const TrackPoint& point) {
+    if (placed) placed(record, point);
+    stereo->OnFramePlaced(record);
+  };
+  observer->on_layers_finished = [stereo, finished = observer->on_layers_finished] {
+    if (finished) finished();
+    stereo->Finish();
+  };
+}
+
+// The located objects to the console (SSE `detection` events) and the mission, as they are found.
+void StartLiveStereo(LiveStereo* stereo, const MissionBuild& build, LiveMission& live) {
+  if (!stereo) return;
+  stereo->Start(build.options().frame, [stereo, &live](std::vector<Detection> objects) {
+    server::PublishOptions options;
+    options.model_classes = {stereo->model_name()};
+    options.replace_model = stereo->model_file();  // this model's earlier unreviewed locations are replaced
+    live.detections->Publish(std::move(objects), options);
+  });
+}
+
+// What stereo found in the dive, a line per pair and the count.
+void PrintLiveStereo(LiveStereo* stereo) {
+  if (!stereo) return;
+  const LiveStereoSummary summary = stereo->Finish();
+  for (const std::string& line : summary.lines) std::printf("stereo %s\n", line.c_str());
+  std::printf("stereo: %d pairs: %d found, %d not found, %d outside the frames' times\n", summary.pairs, summary.found,
+              summary.not_found, summary.skipped);
+}
+
 }  // namespace
 
 int RunReplay(int argc, char** argv, int first) {
   Args args(argc, argv, first, {"append", "overwrite", "quiet", "exit-when-done", "detect", "refine-nav", "help"});
   if (args.Flag("help")) {
-    std::printf("%s%s%s", kHelp, kGeorefOverlayHelp, kServerOptionsHelp);
+    std::printf("%s%s%s%s", kHelp, kLiveStereoHelp, kGeorefOverlayHelp, kServerOptionsHelp);
     return 0;
   }
   const std::optional<std::string> watch = ReadSurveyFolder(args);
@@ -361,7 +398,10 @@ int RunReplay(int argc, char** argv, int first) {
   const auto detect_model = LiveDetectArgs(args);            // checked before the map is opened
   const std::optional<std::string> trajectory_out = args.Get("trajectory-out");
   if (trajectory_out) CheckTrajectoryOut(*trajectory_out);
+  const std::shared_ptr<const StereoLocateOptions> stereo_options = ReadLiveStereo(args);
   args.RejectUnknown();
+  // The rig, model and pairs' times read before the map is touched.
+  const std::unique_ptr<LiveStereo> stereo = stereo_options ? std::make_unique<LiveStereo>(*stereo_options) : nullptr;
 
   std::unique_ptr<FrameFeed> feed = OpenFeed(watch, args, in, speed, idle_timeout);
   StopSignalsOnExit stop_signals{shutdown};  // ... and the feed
@@ -379,11 +419,14 @@ int RunReplay(int argc, char** argv, int first) {
   build_options.refine_live = refine_live;
   HookUpDetector(detect_model, &build_options);
   LiveMission live(quiet, feed.get());
-  MissionBuild build(std::move(build_options), live.Observer(detect_model));
+  MissionObserver observer = live.Observer(detect_model);
+  HookUpLiveStereo(stereo.get(), &observer);
+  MissionBuild build(std::move(build_options), std::move(observer));
   live.refine_lag = [&build] { return build.refine_lag(); };
   build.Open();
   for (const auto& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   live.Attach(build, overlays);
+  StartLiveStereo(stereo.get(), build, live);
   build.Start();
 
   server::HttpServer http(options, live.tiles.get(), &live.mission, live.detections.get(), &live.events);
@@ -396,6 +439,7 @@ int RunReplay(int argc, char** argv, int first) {
   std::fflush(stdout);
 
   int exit_code = ReplayFeed(build, *feed, live, quiet, interrupted);
+  PrintLiveStereo(stereo.get());
   if (trajectory_out) {  // what the frames were placed with, stopped or not
     try {
       WriteTrajectoryOut(*build.store(), *trajectory_out);

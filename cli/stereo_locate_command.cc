@@ -4,6 +4,7 @@
 
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "cli/stereo_setup.h"
 #include "core/controllers/stereo_locate.h"
 #include "core/stereo/object_georef.h"
 #include "core/stereo/object_locator.h"
@@ -42,20 +43,6 @@ on the trajectory (a pair outside its times is reported and skipped); --out gets
                      (NAME_12.500, t12.5, 12.5s)
   --quiet            no progress bar
 )";
-
-RigMount ReadRigMount(Args& args) {
-  RigMount mount;
-  mount.looking = ParseLooking(args.GetOr("rig", "forward"), "--rig");
-  if (auto text = args.Get("rig-offset")) {
-    double x = 0, y = 0, z = 0;
-    char end = 0;
-    if (std::sscanf(text->c_str(), "%lf,%lf,%lf%c", &x, &y, &z, &end) != 3 || !std::isfinite(x + y + z) ||
-        std::abs(x) + std::abs(y) + std::abs(z) > 100)
-      throw InputError("", 0, "--rig-offset", "expected X,Y,Z in metres (each within 100 m), got '" + *text + "'");
-    mount.offset_m = {x, y, z};
-  }
-  return mount;
-}
 
 // Every pair of a dive: a line per sighting, the summary, the mission's objects.
 int RunDive(StereoLocate& locator, const StereoLocateOptions& options) {

@@ -1,4 +1,5 @@
 // seamap trajectory: a survey's trajectory estimated from its photos.
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -8,6 +9,7 @@
 #include "cli/trajectory_setup.h"
 #include "core/camera/camera_model.h"
 #include "core/controllers/pose_source.h"
+#include "core/controllers/trajectory_georef.h"
 #include "core/mosaic/build_config.h"
 #include "core/nav/frame_list.h"
 #include "core/nav/nav_reader.h"
@@ -33,7 +35,51 @@ const char* kHelp =
     "                      metres, heights up with the sea surface 0)\n"
     "  --config FILE       a build config: its \"navigation\" object (columns, origin, noise)\n"
     "  --threads N         worker threads (default: one per core)\n"
-    "  --quiet             no progress bars\n";
+    "  --quiet             no progress bars\n"
+    "on the Earth without absolute fixes (--mode vo or refine): seed 002's towed buoy, as seamap georef\n"
+    "  --buoy FILE         the buoy's GPS fixes: CSV time_s,lat,lon (or easting,northing,zone), same clock\n"
+    "  --tether-length M   the tether's length, metres\n"
+    "  --depth M | --depth-csv FILE   the vehicle's depth (default: the trajectory's own depth_m)\n"
+    "  --buoy-method M     tether (default), umeyama or triangle (see seamap georef --help)\n"
+    "  --georef-report F   the fit's report (scale, residuals, predicted_rmse_m; default OUT.georef.json)\n"
+    "                      --out then holds the trajectory moved by the fit, in the survey's local frame\n";
+
+// --buoy and its companions: the towed-buoy fit's options (BuoyGeorefOptions
+// as seamap georef reads them), checked before the photos are read. Without
+// --depth/--depth-csv the trajectory's own depths are the depth log.
+std::optional<BuoyGeorefOptions> ReadBuoyOptions(Args& args, const std::string& mode, const std::string& out) {
+  const std::optional<std::string> buoy = args.Get("buoy");
+  if (!buoy) {
+    for (const char* option : {"tether-length", "depth", "depth-csv", "buoy-method", "georef-report"})
+      if (args.Get(option)) throw InputError("", 0, std::string("--") + option, "goes with --buoy FILE");
+    return std::nullopt;
+  }
+  if (mode == "ekf")
+    throw InputError("", 0, "--buoy",
+                     "puts a trajectory without absolute fixes on the Earth: use --mode vo or refine (ekf already "
+                     "fuses the navigation's positions)");
+  BuoyGeorefOptions in;
+  in.keyframes_source = "the " + mode + " trajectory";
+  in.buoy_file = *buoy;
+  in.tether_length_m = args.GetDouble("tether-length", NAN);
+  if (std::isnan(in.tether_length_m))
+    throw InputError("", 0, "--tether-length", "is required with --buoy: the tether length in metres");
+  if (args.Get("depth")) in.depth_m = args.GetDouble("depth", 0);
+  in.depth_file = args.GetOr("depth-csv", "");
+  const std::string method = args.GetOr("buoy-method", "tether");
+  if (method == "triangle")
+    in.georef.method = GeorefMethod::kTriangle;
+  else if (method == "umeyama")
+    in.georef.method = GeorefMethod::kUmeyama;
+  else if (method != "tether")
+    throw InputError("", 0, "--buoy-method", "expected tether, umeyama or triangle, got '" + method + "'");
+  in.georef.tether_length_m = in.tether_length_m;
+  const std::filesystem::path out_path(out);
+  in.report =
+      args.GetOr("georef-report", (out_path.parent_path() / (out_path.stem().string() + ".georef.json")).string());
+  in.quiet = true;
+  return in;
+}
 
 }  // namespace
 
@@ -65,7 +111,12 @@ int RunTrajectory(int argc, char** argv, int first) {
   FrameList frames = MatchFrames(nav, images, args.Get("image-times"));
   const RefineOptions options = ReadRefineOptions(args, config.navigation, threads);
   const FeatureEnhanceOptions feature_enhance = ReadFeatureEnhance(args);
+  std::optional<BuoyGeorefOptions> buoy = ReadBuoyOptions(args, mode, out);
   args.RejectUnknown();
+  // Without --depth/--depth-csv, the trajectory's own depths: a stand-in for the check, replaced below.
+  const bool own_depth = buoy && buoy->depth_file.empty() && !buoy->depth_m;
+  if (own_depth) buoy->depth_samples = {{0, 0}};
+  if (buoy) buoy->Check();
   for (const auto& w : nav.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   for (const auto& r : nav.rejected) std::fprintf(stderr, "skipped: %s\n", r.Message().c_str());
   for (const auto& r : frames.rejected) std::fprintf(stderr, "skipped: %s\n", r.Message().c_str());
@@ -100,8 +151,23 @@ int RunTrajectory(int argc, char** argv, int first) {
     const FrameSpec& f = frames.frames[i];
     rows.push_back({f.image, f.time_s, f.pose, flags[i]});
   }
+  if (buoy) {
+    if (own_depth) {
+      buoy->depth_samples.clear();
+      for (const TrajectoryRow& r : rows)
+        if (r.time_s) buoy->depth_samples.emplace_back(*r.time_s, r.pose.depth_m);
+    }
+    const TrajectoryGeoref placed = GeoreferenceTrajectory(rows, frame, *buoy);
+    rows = placed.rows;
+    std::printf(
+        "on the Earth with the buoy (%s): scale %.4f (the trajectory is metric: ~1 expected), turned %.2f deg, "
+        "start moved %.2f m; %d of %d frames in the fit, residual %.3f m RMS, expected error %.3f m -> %s\n",
+        buoy->buoy_file.c_str(), placed.scale, placed.rotation_deg, placed.shift_m, placed.good, placed.keyframes,
+        placed.residual_rmse_m, placed.predicted_rmse_m, buoy->report.c_str());
+  }
   WriteTrajectoryCsv(out, rows, frame);
-  std::printf("trajectory (%s): %zu frames -> %s\n", mode.c_str(), rows.size(), out.c_str());
+  std::printf("trajectory (%s%s): %zu frames -> %s\n", mode.c_str(), buoy ? ", buoy-georeferenced" : "", rows.size(),
+              out.c_str());
   if (report_path) {
     report["mode"] = mode;
     std::ofstream file(*report_path);

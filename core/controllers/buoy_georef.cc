@@ -102,12 +102,12 @@ std::string Summary(const SubmapGeoref& s) {
 }  // namespace
 
 void BuoyGeorefOptions::Check() const {
-  if (keyframe_files.empty() && map_path.empty())
+  if (keyframe_files.empty() && map_path.empty() && keyframes_source.empty())
     throw InputError("", 0, "--keyframes", "is required: a TUM trajectory file (or --map MAP: a mission's trajectory)");
   if (!keyframe_files.empty() && !map_path.empty())
     throw InputError("", 0, "--map", "and --keyframes: give one trajectory to georeference");
   if (!(tether_length_m > 0)) throw InputError("", 0, "--tether-length", "expected a positive length in metres");
-  if (depth_m.has_value() == !depth_file.empty())
+  if ((depth_m.has_value() + !depth_file.empty() + !depth_samples.empty()) != 1)
     throw InputError("", 0, "--depth", "give either --depth METRES or --depth-csv FILE (exactly one)");
   if (depth_m) {
     if (*depth_m < 0) throw InputError("", 0, "--depth", "expected a depth >= 0 metres");
@@ -137,6 +137,10 @@ BuoyGeorefResult BuoyGeoref::Run() {
     keyframes.push_back(MissionKeyframes(*OpenExistingMap(in.map_path, /*writable=*/false), in.map_path));
     sources.push_back(in.map_path);
   }
+  if (!in.keyframes_source.empty()) {
+    keyframes.push_back(in.keyframes);
+    sources.push_back(in.keyframes_source);
+  }
   const BuoyLog buoy_log = ReadBuoyLog(in.buoy_file);
   std::vector<std::string> warnings = buoy_log.warnings;
   for (const auto& r : buoy_log.rejected) std::fprintf(stderr, "skipped: %s\n", r.Message().c_str());
@@ -154,6 +158,7 @@ BuoyGeorefResult BuoyGeoref::Run() {
     warnings.insert(warnings.end(), log.warnings.begin(), log.warnings.end());
     depth = DepthProfile::Samples(log.samples);
   }
+  if (!in.depth_samples.empty()) depth = DepthProfile::Samples(in.depth_samples);
   std::optional<DepthProfile> altitude_series;  // read before any output is written
   if (!in.altitude_file.empty()) {
     const DepthLog log = ReadAltitudeLog(in.altitude_file);
@@ -206,10 +211,12 @@ BuoyGeorefResult BuoyGeoref::Run() {
                  in.out.c_str(), static_cast<long>(missing), rows.size(),
                  in.altitude_from_cloud ? "fewer than 5 cloud points within 2 m below them"
                                         : "outside the altitude log's span or in a gap over 10 s");
-  WriteNav(in.out, rows, frame, altitude);
+  if (!in.out.empty()) WriteNav(in.out, rows, frame, altitude);
   BuoyGeorefResult result;
   for (const auto& s : submaps) result.keyframes += static_cast<int>(s.keyframes.size()), result.good += s.good;
   result.submaps = static_cast<int>(submaps.size());
+  result.fits = std::move(submaps);
+  result.working_origin = frame.origin();
   return result;
 }
 

@@ -11,6 +11,8 @@
 #include "core/geo/lat_lon.h"
 #include "core/geo/utm.h"
 #include "core/georef/georef_options.h"
+#include "core/georef/georeferencer.h"
+#include "core/georef/tum_trajectory.h"
 
 namespace seamap {
 
@@ -20,11 +22,16 @@ struct BuoyGeorefOptions {
   // local frame (east, north, up), as one sub-map's keyframes
   // (core/controllers/mission_trajectory_io.h).
   std::string map_path;
+  // ... or keyframes already in memory (`seamap trajectory --buoy`: its own
+  // estimate), named `keyframes_source` in messages; set the name before Check().
+  std::vector<Keyframe> keyframes;
+  std::string keyframes_source;
   std::string buoy_file;
   double tether_length_m = 0;
-  std::optional<double> depth_m;   // constant depth, or ...
-  std::string depth_file;          // ... a depth log
-  std::string out;                 // nav.csv
+  std::optional<double> depth_m;                         // constant depth, or ...
+  std::string depth_file;                                // ... a depth log, or ...
+  std::vector<std::pair<double, double>> depth_samples;  // ... (time_s, depth_m) in memory
+  std::string out;                 // nav.csv ("": none, the caller writes what it needs from the result)
   std::string report;              // "": none
   std::string points, points_out;  // the PLY cloud in and georeferenced out ("": none)
   GeorefOptions georef;
@@ -40,6 +47,8 @@ struct BuoyGeorefOptions {
 struct BuoyGeorefResult {
   int keyframes = 0, good = 0;
   int submaps = 0;
+  std::vector<SubmapGeoref> fits;  // each sub-map's fit, its keyframes in the working frame
+  LatLon working_origin;           // the working frame's centre (--origin, else the buoy track's median)
 };
 
 class BuoyGeoref {

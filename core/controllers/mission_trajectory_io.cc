@@ -61,27 +61,29 @@ NavSeries MissionTrajectorySeries(const MissionTrajectory& trajectory, const Loc
   return NavSeries(records);
 }
 
+Keyframe PoseKeyframe(double time_s, const VehiclePose& pose, int line) {
+  Eigen::Matrix3d enu_from_ned;
+  enu_from_ned << 0, 1, 0, 1, 0, 0, 0, 0, -1;
+  static const Eigen::Matrix3d body_from_camera = BodyFromCamera(CameraLooking::kDown);
+  Keyframe k;
+  k.time_s = time_s;
+  k.position_slam = Eigen::Vector3d(pose.east_m, pose.north_m, -pose.depth_m);
+  k.world_from_cam = Eigen::Quaterniond(enu_from_ned * NedFromBodyDeg(pose.heading_deg, pose.pitch_deg, pose.roll_deg) *
+                                        body_from_camera)
+                         .normalized();
+  k.line = line;
+  return k;
+}
+
 std::vector<Keyframe> MissionKeyframes(const TileStore& store, const std::string& map_path) {
   const LocalFrame frame(RequireMissionOrigin(ReadMissionMetadata(store), map_path));
   const MissionTrajectory trajectory = MissionTrajectory::Read(store);
   std::map<double, MissionPose> by_time;  // the last frame at a time wins, as NavSeries has it
   for (const MissionPose& p : trajectory.Poses(trajectory.placed()))
     if (p.time_s) by_time[*p.time_s] = p;
-  Eigen::Matrix3d enu_from_ned;
-  enu_from_ned << 0, 1, 0, 1, 0, 0, 0, 0, -1;
-  const Eigen::Matrix3d body_from_camera = BodyFromCamera(CameraLooking::kDown);
   std::vector<Keyframe> keyframes;
-  for (const auto& [time_s, p] : by_time) {
-    Keyframe k;
-    k.time_s = time_s;
-    const LocalXY xy = frame.FromLatLon(p.position);
-    k.position_slam = Eigen::Vector3d(xy.east, xy.north, -p.depth_m);
-    k.world_from_cam =
-        Eigen::Quaterniond(enu_from_ned * NedFromBodyDeg(p.heading_deg, p.pitch_deg, p.roll_deg) * body_from_camera)
-            .normalized();
-    k.line = p.frame_id + 1;
-    keyframes.push_back(k);
-  }
+  for (const auto& [time_s, p] : by_time)
+    keyframes.push_back(PoseKeyframe(time_s, LocalPose(p, frame), p.frame_id + 1));
   if (keyframes.size() < 2)
     throw InputError(
         map_path, 0, "frames",

@@ -32,6 +32,11 @@ size_t WriteMissionTrajectory(const TileStore& store, const std::string& path, c
 NavSeries MissionTrajectorySeries(const MissionTrajectory& trajectory, const LocalFrame& frame,
                                   const std::string& map_path);
 
+// A pose in `frame`'s local metres as a SLAM-style keyframe: the local frame
+// (east, north, up = -depth) as the SLAM frame, the down-looking camera
+// (image top to the bow) as its camera; `line` names it in messages.
+Keyframe PoseKeyframe(double time_s, const VehiclePose& pose, int line);
+
 // The placed trajectory as SLAM-style keyframes for buoy georeferencing: the
 // local frame about the mission's origin (east, north, up = -depth) is the
 // "SLAM" frame, the frame's down-looking camera (image top to the bow) its

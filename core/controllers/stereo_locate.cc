@@ -228,40 +228,17 @@ StereoDive StereoLocate::RunDive() {
   if (!o.Dive()) throw std::logic_error("RunDive: not a dive (--time given, or no trajectory)");
   const auto [calibration, model] = LoadRig(o);
   const std::vector<PairFiles> files = ListStereoPairs(o.pairs_dir);
-  const std::optional<PairTimes> table =
-      o.pair_times_path ? std::optional<PairTimes>(PairTimes::Read(*o.pair_times_path)) : std::nullopt;
-  const std::unique_ptr<Trajectory> trajectory = OpenTrajectory();
-  const NavSeries& series = *trajectory->series;
-
   // Every pair's time before the (slow) search: a pair without one is bad input.
   StereoDive dive;
+  dive.sightings = TimedSightings(o, files);
+  const std::unique_ptr<Trajectory> trajectory = OpenTrajectory();
+  const NavSeries& series = *trajectory->series;
   dive.model_name = model.name;
   dive.trajectory = trajectory->text;
-  for (const PairFiles& f : files) {
-    StereoSighting s;
-    s.pair = f.name;
-    if (table) {
-      s.time_s = table->Find(f.name, f.left, f.right);
-      s.time_from = "--pair-times";
-      if (!s.time_s)
-        throw InputError(*o.pair_times_path, 0, "image",
-                         "has no time for pair '" + Shorten(f.name, 100) + "' (" + f.left + ")");
-    } else {
-      s.time_s = PairTimeFromName(f.name);
-      s.time_from = "name";
-      if (!s.time_s)
-        throw InputError(f.left, 0, "--pair-times",
-                         "pair '" + Shorten(f.name, 100) +
-                             "' has no time in its name (a UTC stamp YYYYMMDD_HHMMSS[_mmm], or seconds as t12.5, "
-                             "12.5s or NAME_12.500): give --pair-times FILE (image,time_s), or --time T, to place it "
-                             "on the trajectory (" +
-                             (o.nav_path ? "--nav" : "--map") + ")");
-    }
+  for (StereoSighting& s : dive.sightings)
     if (!series.PoseAt(*s.time_s))
       s.skipped = cv::format("at %.3f s, outside the trajectory's times (%.3f to %.3f s)", *s.time_s,
                              series.first_time_s(), series.last_time_s());
-    dive.sightings.push_back(std::move(s));
-  }
 
   ProgressBar progress("pairs", static_cast<long>(files.size()), !o.quiet);
   nlohmann::json sightings = nlohmann::json::array();
@@ -336,16 +313,7 @@ StereoDive StereoLocate::RunDive() {
 std::vector<long long> StereoLocate::StoreDetections(const StereoDive& dive) {
   if (!store_) throw std::logic_error("StoreDetections: no map");
   const LocalFrame frame(RequireMissionOrigin(ReadMissionMetadata(*store_), *options_.map_path));
-  std::vector<Detection> found;
-  for (const ObjectGroup& g : GroupSightings(dive.sightings)) {
-    PlacedObject placed;
-    placed.local = {g.east_m, g.north_m};
-    placed.position = frame.ToLatLon(placed.local);
-    placed.depth_m = g.depth_m;
-    placed.heading_deg = g.heading_deg;
-    found.push_back(SightingDetection(placed, *g.sightings.front()->time_s));
-    found.back().class_name = dive.model_name;
-  }
+  std::vector<Detection> found = StereoObjectDetections(options_, dive.sightings, dive.model_name, frame);
   std::vector<long long> ids;
   if (found.empty()) return ids;
   const std::string model = found.front().model;
@@ -357,9 +325,67 @@ std::vector<long long> StereoLocate::StoreDetections(const StereoDive& dive) {
 }
 
 Detection StereoLocate::SightingDetection(const PlacedObject& placed, double time_s) const {
+  return StereoSightingDetection(options_, placed, time_s);
+}
+
+std::pair<StereoCalibration, ObjectModel> LoadStereoRig(const StereoLocateOptions& options) {
+  return LoadRig(options);
+}
+
+LocateResult LocateStereoPairs(const StereoLocateOptions& options, const ObjectModel& model,
+                               const StereoCalibration& calibration, const std::vector<LoadedPair>& pairs) {
+  return LocateWith(options, model, calibration, pairs);
+}
+
+std::vector<StereoSighting> TimedSightings(const StereoLocateOptions& o, const std::vector<PairFiles>& files) {
+  const std::optional<PairTimes> table =
+      o.pair_times_path ? std::optional<PairTimes>(PairTimes::Read(*o.pair_times_path)) : std::nullopt;
+  std::vector<StereoSighting> sightings;
+  for (const PairFiles& f : files) {
+    StereoSighting s;
+    s.pair = f.name;
+    if (table) {
+      s.time_s = table->Find(f.name, f.left, f.right);
+      s.time_from = "--pair-times";
+      if (!s.time_s)
+        throw InputError(*o.pair_times_path, 0, "image",
+                         "has no time for pair '" + Shorten(f.name, 100) + "' (" + f.left + ")");
+    } else {
+      s.time_s = PairTimeFromName(f.name);
+      s.time_from = "name";
+      if (!s.time_s)
+        throw InputError(f.left, 0, "--pair-times",
+                         "pair '" + Shorten(f.name, 100) +
+                             "' has no time in its name (a UTC stamp YYYYMMDD_HHMMSS[_mmm], or seconds as t12.5, "
+                             "12.5s or NAME_12.500): give --pair-times FILE (image,time_s), or --time T, to place it "
+                             "on the trajectory (" +
+                             (o.nav_path ? "--nav" : "--map") + ")");
+    }
+    sightings.push_back(std::move(s));
+  }
+  return sightings;
+}
+
+std::vector<Detection> StereoObjectDetections(const StereoLocateOptions& options,
+                                              const std::vector<StereoSighting>& sightings,
+                                              const std::string& model_name, const LocalFrame& frame) {
+  std::vector<Detection> found;
+  for (const ObjectGroup& g : GroupSightings(sightings)) {
+    PlacedObject placed;
+    placed.local = {g.east_m, g.north_m};
+    placed.position = frame.ToLatLon(placed.local);
+    placed.depth_m = g.depth_m;
+    placed.heading_deg = g.heading_deg;
+    found.push_back(StereoSightingDetection(options, placed, *g.sightings.front()->time_s));
+    found.back().class_name = model_name;
+  }
+  return found;
+}
+
+Detection StereoSightingDetection(const StereoLocateOptions& options, const PlacedObject& placed, double time_s) {
   Detection d;
   d.source = "stereo";
-  d.model = std::filesystem::path(options_.model_path).filename().string();
+  d.model = std::filesystem::path(options.model_path).filename().string();
   d.score = 1;
   d.position = placed.position;
   d.position_m = std::array<double, 2>{placed.local.east, placed.local.north};  // the mission's frame

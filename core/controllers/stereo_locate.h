@@ -17,8 +17,12 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/geo/local_frame.h"
 #include "core/stereo/object_georef.h"
 #include "core/stereo/object_locator.h"
+#include "core/stereo/object_model.h"
+#include "core/stereo/stereo_calibration.h"
+#include "core/stereo/stereo_pairs.h"
 #include "core/tiles/tile_store.h"
 
 namespace seamap {
@@ -66,6 +70,22 @@ struct StereoLocation {
   std::string model_name;
   std::optional<PlacedObject> placed;  // found, with nav_path and time_s
 };
+
+// The pieces a dive is made of, for whoever locates pairs as a dive goes
+// (core/controllers/live_stereo.h): the calibration and model checked
+// against each other; the pairs located with options' method; every pair of
+// `files` with its time (from --pair-times, else its name: InputError naming
+// the pair without one); the found sightings grouped as objects, one
+// detection each (sightings within 1 m of a group's mean are one object).
+std::pair<StereoCalibration, ObjectModel> LoadStereoRig(const StereoLocateOptions& options);
+LocateResult LocateStereoPairs(const StereoLocateOptions& options, const ObjectModel& model,
+                               const StereoCalibration& calibration, const std::vector<LoadedPair>& pairs);
+std::vector<StereoSighting> TimedSightings(const StereoLocateOptions& options, const std::vector<PairFiles>& files);
+// A placed object as the mission stores it (source "stereo", the model file's name as its model).
+Detection StereoSightingDetection(const StereoLocateOptions& options, const PlacedObject& placed, double time_s);
+std::vector<Detection> StereoObjectDetections(const StereoLocateOptions& options,
+                                              const std::vector<StereoSighting>& sightings,
+                                              const std::string& model_name, const LocalFrame& frame);
 
 class StereoLocate {
  public:

@@ -4,6 +4,8 @@
 
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "cli/enhance_setup.h"
+#include "cli/stereo_setup.h"
 #include "core/controllers/stereo_locate.h"
 #include "core/stereo/object_georef.h"
 #include "core/stereo/object_locator.h"
@@ -25,6 +27,10 @@ found: false (exit 0) when the object is not recognised.
                      world_from_camera per pair, sigma_m, sigma_deg): holds the joint solution to it
   --min-inliers N    found rule: inliers per pair (default 12)
   --max-features N   SIFT keypoints per image (default 4000)
+  --feature-enhance off|auto|LIST  enhance the pairs before their features are detected (seed 004;
+                     LIST as seamap enhance --ops): auto tries a few chains on the first pairs and keeps
+                     the one that raises the left/right inliers, if any (default off); build the model
+                     with the same chain (stereo-model --feature-enhance)
 where the object is on the Earth (a trajectory: --nav, or --map alone):
   --nav FILE         the vehicle's navigation, as seamap build reads it (a trajectory.csv too)
   --map MAP          the mission: its trajectory (the poses its frames were placed with, refined or
@@ -42,20 +48,6 @@ on the trajectory (a pair outside its times is reported and skipped); --out gets
                      (NAME_12.500, t12.5, 12.5s)
   --quiet            no progress bar
 )";
-
-RigMount ReadRigMount(Args& args) {
-  RigMount mount;
-  mount.looking = ParseLooking(args.GetOr("rig", "forward"), "--rig");
-  if (auto text = args.Get("rig-offset")) {
-    double x = 0, y = 0, z = 0;
-    char end = 0;
-    if (std::sscanf(text->c_str(), "%lf,%lf,%lf%c", &x, &y, &z, &end) != 3 || !std::isfinite(x + y + z) ||
-        std::abs(x) + std::abs(y) + std::abs(z) > 100)
-      throw InputError("", 0, "--rig-offset", "expected X,Y,Z in metres (each within 100 m), got '" + *text + "'");
-    mount.offset_m = {x, y, z};
-  }
-  return mount;
-}
 
 // Every pair of a dive: a line per sighting, the summary, the mission's objects.
 int RunDive(StereoLocate& locator, const StereoLocateOptions& options) {
@@ -109,6 +101,7 @@ int RunStereoLocate(int argc, char** argv, int first) {
   locate.min_tie_points = args.GetInt("min-tie-points", locate.min_tie_points);
   if (const auto motion = args.Get("motion")) locate.motion = ReadRigMotion(*motion);
   locate.sift.max_features = args.GetInt("max-features", locate.sift.max_features);
+  options.feature_enhance = ReadFeatureEnhance(args);
   options.nav_path = args.Get("nav");
   options.map_path = args.Get("map");
   if (args.Get("time")) options.time_s = args.GetDouble("time", 0);

@@ -50,6 +50,8 @@ const char* kHelp =
     "  --max-relief M      with --terrain: how far the seabed may lie from the plane at the altitude (1.5)\n"
     "  --dem-cell M        with --terrain: the height model's cell (default: from the points' density)\n"
     "  --dem-max-sigma M   with --terrain: a cell less certain than this is a hole (0.05)\n"
+    "  --terrain-points CSV with --terrain: seabed points from a stereo rig (seamap stereo-points) fitted\n"
+    "                      with the photos' own\n"
     "  --feature-enhance off|auto|LIST  with --refine-nav: enhance the frames before their features are\n"
     "                      detected (seamap trajectory --help)\n"
     "  --detect            search tiles for objects as they are finished (seamap detect's recogniser)\n"
@@ -121,6 +123,11 @@ int RunBuild(int argc, char** argv, int first) {
     *value = args.GetDouble(name, 0);
     if (!(*value > 0 && *value <= 1000))
       throw InputError("", 0, std::string("--") + name, "expected metres in (0, 1000]");
+  }
+  if (auto points = args.Get("terrain-points")) {
+    if (!options.config.terrain.estimate)
+      throw InputError("", 0, "--terrain-points", "applies to the height model --terrain estimates; add --terrain");
+    options.config.terrain.points_file = *points;
   }
   options.poses.feature_enhance = ReadFeatureEnhance(args);
   options.poses.quiet = quiet;

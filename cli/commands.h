@@ -22,6 +22,7 @@ int RunMapEval(int argc, char** argv, int first);         // cli/map_eval_comman
 int RunSimulateStereo(int argc, char** argv, int first);  // cli/stereo_simulate_command.cc
 int RunStereoModel(int argc, char** argv, int first);     // cli/stereo_model_command.cc
 int RunStereoLocate(int argc, char** argv, int first);    // cli/stereo_locate_command.cc
+int RunStereoPoints(int argc, char** argv, int first);    // cli/stereo_points_command.cc
 
 int RunDetect(int argc, char** argv, int first);          // cli/detect_command.cc
 int RunDetectionsPack(int argc, char** argv, int first);  // cli/detections_pack_command.cc

@@ -29,6 +29,7 @@ const char* kUsage =
     "  simulate-stereo render a stereo scene of a subsea object with exact truth\n"
     "  stereo-model    build an object model from stereo overview pairs\n"
     "  stereo-locate   recognise the object in stereo pairs: the camera's pose in its frame\n"
+    "  stereo-points   stereo pairs as seabed points for the height model (build --terrain-points)\n"
     "  georef          georeference SLAM keyframes and point clouds from a towed GPS buoy\n"
     "  simulate-buoy   simulate a buoy-GPS survey with exact truth (for georef)\n"
     "  georef-eval     compare georef's output with a simulated survey's truth\n"
@@ -68,6 +69,7 @@ int main(int argc, char** argv) {
     if (command == "simulate-stereo") return RunSimulateStereo(argc, argv, 2);
     if (command == "stereo-model") return RunStereoModel(argc, argv, 2);
     if (command == "stereo-locate") return RunStereoLocate(argc, argv, 2);
+    if (command == "stereo-points") return RunStereoPoints(argc, argv, 2);
     if (command == "georef") return RunGeoref(argc, argv, 2);
     if (command == "simulate-buoy") return RunSimulateBuoy(argc, argv, 2);
     if (command == "georef-eval") return RunGeorefEval(argc, argv, 2);

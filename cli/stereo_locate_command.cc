@@ -4,6 +4,7 @@
 
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "cli/enhance_setup.h"
 #include "cli/stereo_setup.h"
 #include "core/controllers/stereo_locate.h"
 #include "core/stereo/object_georef.h"
@@ -26,6 +27,10 @@ found: false (exit 0) when the object is not recognised.
                      world_from_camera per pair, sigma_m, sigma_deg): holds the joint solution to it
   --min-inliers N    found rule: inliers per pair (default 12)
   --max-features N   SIFT keypoints per image (default 4000)
+  --feature-enhance off|auto|LIST  enhance the pairs before their features are detected (seed 004;
+                     LIST as seamap enhance --ops): auto tries a few chains on the first pairs and keeps
+                     the one that raises the left/right inliers, if any (default off); build the model
+                     with the same chain (stereo-model --feature-enhance)
 where the object is on the Earth (a trajectory: --nav, or --map alone):
   --nav FILE         the vehicle's navigation, as seamap build reads it (a trajectory.csv too)
   --map MAP          the mission: its trajectory (the poses its frames were placed with, refined or
@@ -96,6 +101,7 @@ int RunStereoLocate(int argc, char** argv, int first) {
   locate.min_tie_points = args.GetInt("min-tie-points", locate.min_tie_points);
   if (const auto motion = args.Get("motion")) locate.motion = ReadRigMotion(*motion);
   locate.sift.max_features = args.GetInt("max-features", locate.sift.max_features);
+  options.feature_enhance = ReadFeatureEnhance(args);
   options.nav_path = args.Get("nav");
   options.map_path = args.Get("map");
   if (args.Get("time")) options.time_s = args.GetDouble("time", 0);

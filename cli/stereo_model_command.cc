@@ -5,8 +5,10 @@
 
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "cli/enhance_setup.h"
 #include "core/stereo/object_frame.h"
 #include "core/stereo/object_model.h"
+#include "core/stereo/stereo_enhancement.h"
 #include "core/util/error.h"
 
 namespace seamap::cli {
@@ -24,6 +26,8 @@ left camera frame of the first pair (x right, y down, z forward, metres).
   --no-bundle        skip the bundle adjustment over the overview pairs
   --max-features N   SIFT keypoints per image (default 4000)
   --contrast T       SIFT contrast threshold (default 0.02)
+  --feature-enhance off|auto|LIST  enhance the pairs before their features are detected (seed 004;
+                     auto keeps the chain that raises the left/right inliers, if any; default off)
 )";
 
 }  // namespace
@@ -39,6 +43,7 @@ int RunStereoModel(int argc, char** argv, int first) {
   options.bundle = !args.Flag("no-bundle");
   options.sift.max_features = args.GetInt("max-features", options.sift.max_features);
   options.sift.contrast_threshold = args.GetDouble("contrast", options.sift.contrast_threshold);
+  const FeatureEnhanceOptions feature_enhance = ReadFeatureEnhance(args);
   std::string name = args.GetOr("name", "");
   const std::string frame_csv = args.GetOr("object-frame", "");
   args.RejectUnknown();
@@ -56,6 +61,14 @@ int RunStereoModel(int argc, char** argv, int first) {
   // Read before the long part, so that a bad file fails at once.
   const std::vector<ObjectFramePoint> frame_points =
       frame_csv.empty() ? std::vector<ObjectFramePoint>{} : ReadObjectFramePoints(frame_csv);
+  const EnhancementChoice enhancement =
+      ChooseStereoEnhancement(feature_enhance, pairs, calibration, options.sift, options.match);
+  options.sift.enhance = enhancement.chain;
+  if (feature_enhance.spec != "off") {
+    std::printf("feature enhancement (%s): %s\n", feature_enhance.spec.c_str(), enhancement.chain.Names().c_str());
+    for (const EnhancementTrial& t : enhancement.trials)
+      std::printf("  %-40s %7.1f stereo inliers/pair\n", t.chain.c_str(), t.inliers);
+  }
   ModelBuildReport report;
   ObjectModel model = BuildObjectModel(pairs, calibration, name, options, &report);
   if (!frame_csv.empty()) {

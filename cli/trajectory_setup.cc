@@ -18,13 +18,6 @@ const char* kFeatureEnhanceHelp =
     "                      LIST as seamap enhance --ops): auto tries a few chains on the first frames and keeps\n"
     "                      the one that raises the inliers between frames, if any (default off)\n";
 
-FeatureEnhanceOptions ReadFeatureEnhance(Args& args) {
-  FeatureEnhanceOptions o;
-  if (auto v = args.Get("feature-enhance")) o.spec = *v;
-  o.Check();
-  return o;
-}
-
 RefineOptions ReadRefineOptions(Args& args, const NavigationSettings& settings, int threads) {
   RefineOptions o;
   o.nav_noise_m = args.GetDouble("nav-noise", settings.noise_m);

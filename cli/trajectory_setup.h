@@ -8,6 +8,7 @@
 #include <opencv2/core.hpp>
 
 #include "cli/args.h"
+#include "cli/enhance_setup.h"
 #include "core/camera/camera_model.h"
 #include "core/controllers/pose_source.h"
 #include "core/mosaic/build_config.h"
@@ -19,9 +20,6 @@ namespace seamap::cli {
 
 extern const char* kNavigationNoiseHelp;
 extern const char* kFeatureEnhanceHelp;
-
-// --feature-enhance off|auto|LIST (default off).
-FeatureEnhanceOptions ReadFeatureEnhance(Args& args);
 
 // --nav-noise, --nav-drift, --heading-noise (and --threads) over the config's
 // navigation.noise_m, drift_m_per_min, heading_noise_deg.

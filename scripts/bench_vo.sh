@@ -57,44 +57,74 @@ for seed in $seeds; do
   simulate "flat_$seed" "--seed $seed"
   simulate "relief_$seed" "--seed $seed --relief 0.15"
   simulate "rough_$seed" "--seed $seed --relief 0.15 --pitch-amp 3 --roll-amp 3 --degrade --color"
-  for s in flat relief rough; do vo "${s}_$seed" "${s}_$seed"; done
-  vo "rough_$seed" "rough_auto_$seed" "--feature-enhance auto"
+  for s in flat relief; do vo "${s}_$seed" "${s}_$seed"; done
+  vo "rough_$seed" "rough_${seed}_off"
+  vo "rough_$seed" "rough_${seed}_auto" "--feature-enhance auto"
 done
-runs() { for seed in $seeds; do echo -n "$1_$seed "; done; }
+runs() { for seed in $seeds; do echo -n "$1_$seed$2 "; done; }
 drift_line "flat" "0.15 % (as before)" $(runs flat)
 drift_line "relief 0.15 m rms" "<= 0.5 %" $(runs relief)
-drift_line "relief 0.15 + pitch/roll 3 + degrade + color" "<= 0.5 % (seed 003: 1.3 %)" $(runs rough)
-drift_line "the same, --feature-enhance auto" "<= 0.5 %" $(runs rough_auto)
+drift_line "relief 0.15 + pitch/roll 3 + degrade + color" "<= 0.5 % (seed 003: 1.3 %)" $(runs rough _off)
+drift_line "the same, --feature-enhance auto" "<= 0.5 %" $(runs rough _auto)
 
-# 2. Seed 004's Table 4: APE without and with enhancement, one seed, several
-# degradations (relief 0.15 m, pitch/roll 3 degrees throughout).
-table4() {  # label, survey name, simulate args (none: the survey exists)
-  [[ -n "${3:-}" ]] && simulate "$2" "--seed 1 --relief 0.15 --pitch-amp 3 --roll-amp 3 $3"
-  vo "$2" "$2_off"
-  vo "$2" "$2_auto" "--feature-enhance auto"
-  vo "$2" "$2_default" "--feature-enhance default"
-  python3 - "$1" "$out/$2/nav_truth.csv" "$out/runs/$2" <<'PY'
+# 2. Seed 004's Table 4: the absolute trajectory error without and with the
+# enhancement chain in front of the features, on degraded surveys (relief
+# 0.15 m, pitch/roll 3 degrees throughout). Per survey, Table 4's rows (APE
+# max, mean, median, min, rmse, sse, std in metres) plus drift and the mean
+# inliers per VO motion, columns raw / `auto` / `default`; then one summary
+# line per survey.
+table4() {  # survey name, simulate args (none: the survey and its off and auto runs exist)
+  if [[ -n "${2:-}" ]]; then
+    simulate "$1" "$2"
+    vo "$1" "$1_off"
+    vo "$1" "$1_auto" "--feature-enhance auto"
+  fi
+  vo "$1" "$1_default" "--feature-enhance default"
+}
+table4_print() {  # "label=survey" ...
+  python3 - "$out" "$@" <<'PY'
 import csv, json, math, statistics, sys
-label, truth_path, run = sys.argv[1:4]
-truth = {r["image"]: (float(r["x_m"]), float(r["y_m"])) for r in csv.DictReader(open(truth_path))}
-def ape(path):
+out, surveys = sys.argv[1], [a.split("=", 1) for a in sys.argv[2:]]
+variants = ("off", "auto", "default")
+def ape(truth_path, path):
+    truth = {r["image"]: (float(r["x_m"]), float(r["y_m"])) for r in csv.DictReader(open(truth_path))}
     e = []
     for r in csv.DictReader(open(path)):
         t = truth.get(r["image"])
         if t: e.append(math.hypot(float(r["x_m"]) - t[0], float(r["y_m"]) - t[1]))
     return e
-for variant in ("off", "auto", "default"):
-    e = ape(f"{run}_{variant}.csv")
-    rep = json.load(open(f"{run}_{variant}.json"))
-    chain = rep.get("feature_enhance", {}).get("chain", "none")
-    sse = sum(x * x for x in e)
-    print(f"table 4, {label:<30} {variant:<8} chain {chain:<32} APE m: max {max(e):.4f} mean {statistics.mean(e):.4f} "
-          f"median {statistics.median(e):.4f} min {min(e):.4f} rmse {math.sqrt(sse / len(e)):.4f} sse {sse:.3f} "
-          f"std {statistics.pstdev(e):.4f}  drift {json.load(open(run + '_' + variant + '.eval.json'))['drift_percent']:.3f} %")
+summary = []
+for label, name in surveys:
+    cols = {}
+    for v in variants:
+        run = f"{out}/runs/{name}_{v}"
+        e = ape(f"{out}/{name}/nav_truth.csv", run + ".csv")
+        rep, ev = json.load(open(run + ".json")), json.load(open(run + ".eval.json"))
+        sse = sum(x * x for x in e)
+        cols[v] = {"max": max(e), "mean": statistics.mean(e), "median": statistics.median(e), "min": min(e),
+                   "rmse": math.sqrt(sse / len(e)), "sse": sse, "std": statistics.pstdev(e),
+                   "drift %": ev["drift_percent"], "inliers": rep.get("mean_motion_inliers", float("nan")),
+                   "chain": rep.get("feature_enhance", {}).get("chain", "none")}
+    print(f"table 4, {label} ({name}): APE in m; columns raw | auto ({cols['auto']['chain']}) | default")
+    for row in ("max", "mean", "median", "min", "rmse", "sse", "std", "drift %", "inliers"):
+        fmt = "{:10.1f}" if row == "inliers" else "{:10.3f}" if row in ("sse", "drift %") else "{:10.4f}"
+        print(f"table 4,   {row:<8}" + "".join(fmt.format(cols[v][row]) for v in variants))
+    summary.append((label, cols))
+print("table 4 summary: survey | raw ATE rmse mm, drift %, inliers | auto | default")
+for label, cols in summary:
+    print(f"table 4 summary: {label:<44}" + " | ".join(
+        f"{1000 * cols[v]['rmse']:6.1f} mm {cols[v]['drift %']:6.3f} % {cols[v]['inliers']:6.1f}" for v in variants))
 PY
 }
-table4 "degrade + color" rough_1  # the survey above
+t4_runs="degrade + color, seed 1=rough_1"
+table4 rough_1  # the surveys above
 if [[ "${SEAMAP_BENCH_QUICK:-0}" != 1 ]]; then
-  table4 "degrade (gray)" t4_degrade "--degrade"
-  table4 "degrade + color + haze 0.8 + noise 4" t4_haze "--degrade --color --haze 0.8 --noise 4"
+  table4 rough_2
+  table4 rough_3
+  table4 t4_degrade "--seed 1 --relief 0.15 --pitch-amp 3 --roll-amp 3 --degrade"
+  table4 t4_haze "--seed 1 --relief 0.15 --pitch-amp 3 --roll-amp 3 --degrade --color --haze 0.8 --noise 4"
+  t4_runs="$t4_runs|degrade + color, seed 2=rough_2|degrade + color, seed 3=rough_3|degrade (gray), seed 1=t4_degrade"
+  t4_runs="$t4_runs|degrade + color + haze 0.8 + noise 4, seed 1=t4_haze"
 fi
+IFS='|' read -r -a t4 <<<"$t4_runs"
+table4_print "${t4[@]}"

@@ -317,6 +317,9 @@ nlohmann::json PoseSource::Filter(std::vector<FrameSpec>* frames_in, std::vector
           {"essential", vo.essential},
           {"hover", vo.hover},
           {"failed_pairs", vo.failed_pairs},
+          {"mean_motion_inliers", vo.homography + vo.essential > 0
+                                      ? static_cast<double>(vo.motion_inliers) / (vo.homography + vo.essential)
+                                      : 0.0},
           {"low_texture_frames", vo.low_texture},
           {"missing_altitude", vo.missing_altitude},
           {"identical_frames", vo.identical},

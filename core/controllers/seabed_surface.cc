@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "core/camera/frame_projector.h"
+#include "core/controllers/stereo_seabed.h"
 #include "core/terrain/height_grid_io.h"
 #include "core/trajectory/seabed_terrain.h"
 #include "core/util/error.h"
@@ -96,8 +97,8 @@ SeabedSurface ReadSeabedSurface(const std::string& path, const LocalFrame& frame
 SeabedSurface EstimateSeabedSurface(const LocalFrame& frame, const CameraModel& camera,
                                     const std::vector<FrameSpec>& frames, const TerrainSettings& settings, int threads,
                                     bool show_progress, int64_t max_image_pixels) {
-  (void)frame;  // the frames' poses are in its local metres already
-  TerrainOptions options;
+  TerrainOptions options;  // the frames' poses are in frame's local metres already
+  if (!settings.points_file.empty()) options.extra_points = ReadStereoSeabedPoints(settings.points_file, frame);
   options.threads = threads;
   options.max_image_pixels = max_image_pixels;
   if (settings.max_relief_m != 0) options.tracks.max_relief_m = settings.max_relief_m;
@@ -119,6 +120,8 @@ SeabedSurface EstimateSeabedSurface(const LocalFrame& frame, const CameraModel& 
   SeabedSurface out;
   out.grid = std::make_shared<HeightGrid>(std::move(grid));
   out.source = "estimated from the photos";
+  if (!options.extra_points.empty())
+    out.source += " and " + std::to_string(options.extra_points.size()) + " points of " + settings.points_file;
   return out;
 }
 

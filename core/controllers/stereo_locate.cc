@@ -24,6 +24,7 @@
 #include "core/stereo/object_model.h"
 #include "core/stereo/pair_times.h"
 #include "core/stereo/stereo_calibration.h"
+#include "core/stereo/stereo_enhancement.h"
 #include "core/stereo/stereo_pairs.h"
 #include "core/util/error.h"
 #include "core/util/progress.h"
@@ -125,6 +126,7 @@ std::vector<ObjectGroup> GroupSightings(const std::vector<StereoSighting>& sight
 }  // namespace
 
 void StereoLocateOptions::Check() const {
+  feature_enhance.Check();
   if (views < 1) throw InputError("", 0, "--views", "expected a positive number of pairs");
   if (method != "features" && method != "icp") throw InputError("", 0, "--method", "expected features or icp");
   if (time_s && !nav_path && !map_path)
@@ -200,10 +202,12 @@ StereoLocation StereoLocate::Run() {
     vehicle.emplace(*pose, *trajectory->frame);
   }
 
+  const nlohmann::json enhancement = ChooseEnhancement(pairs, calibration);
   StereoLocation located;
   located.model_name = model.name;
   located.result = LocateWith(o, model, calibration, pairs);
   nlohmann::json pose_json = LocateResultToJson(located.result, model.name);
+  if (!enhancement.is_null()) pose_json["feature_enhance"] = enhancement;
   if (located.result.found && vehicle) {
     located.placed = PlaceObject(located.result.object_from_camera, o.mount, vehicle->first, vehicle->second);
     pose_json["geo"] = GeoJson(*located.placed, *o.time_s);
@@ -239,6 +243,15 @@ StereoDive StereoLocate::RunDive() {
     if (!series.PoseAt(*s.time_s))
       s.skipped = cv::format("at %.3f s, outside the trajectory's times (%.3f to %.3f s)", *s.time_s,
                              series.first_time_s(), series.last_time_s());
+
+  nlohmann::json enhancement;
+  if (o.feature_enhance.spec != "off") {  // probed on the first pairs the dive searches
+    std::vector<LoadedPair> probe;
+    for (size_t i = 0; i < files.size() && static_cast<int>(probe.size()) * 2 < o.feature_enhance.probe_frames; ++i)
+      if (dive.sightings[i].skipped.empty())
+        probe.push_back(LoadStereoPair(files[i], calibration.image_size, o.calib_path));
+    enhancement = ChooseEnhancement(probe, calibration);
+  }
 
   ProgressBar progress("pairs", static_cast<long>(files.size()), !o.quiet);
   nlohmann::json sightings = nlohmann::json::array();
@@ -302,12 +315,31 @@ StereoDive StereoLocate::RunDive() {
                   {"not_found", static_cast<int>(files.size()) - found - skipped},
                   {"skipped", skipped},
                   {"objects", objects}};
-  WriteJson(o.out, {{"format", "seamap-stereo-sightings"},
-                    {"model", model.name},
-                    {"trajectory", trajectory->text},
-                    {"sightings", sightings},
-                    {"summary", dive.summary}});
+  nlohmann::json out = {{"format", "seamap-stereo-sightings"},
+                        {"model", model.name},
+                        {"trajectory", trajectory->text},
+                        {"sightings", sightings},
+                        {"summary", dive.summary}};
+  if (!enhancement.is_null()) out["feature_enhance"] = enhancement;
+  WriteJson(o.out, out);
   return dive;
+}
+
+nlohmann::json StereoLocate::ChooseEnhancement(const std::vector<LoadedPair>& probe,
+                                               const StereoCalibration& calibration) {
+  const FeatureEnhanceOptions& o = options_.feature_enhance;
+  if (o.spec == "off") return nullptr;
+  SiftOptions& sift = options_.locate.sift;
+  const EnhancementChoice choice = ChooseStereoEnhancement(o, probe, calibration, sift, options_.locate.match);
+  sift.enhance = choice.chain;
+  nlohmann::json trials = nlohmann::json::array();
+  std::fprintf(stderr, "feature enhancement (%s): %s\n", o.spec.c_str(), choice.chain.Names().c_str());
+  for (const EnhancementTrial& t : choice.trials) {
+    std::fprintf(stderr, "  %-40s %7.1f stereo inliers/pair %7.1f features/image\n", t.chain.c_str(), t.inliers,
+                 t.features);
+    trials.push_back({{"chain", t.chain}, {"inliers_per_pair", t.inliers}, {"features_per_image", t.features}});
+  }
+  return {{"requested", o.spec}, {"chain", choice.chain.Names()}, {"trials", trials}};
 }
 
 std::vector<long long> StereoLocate::StoreDetections(const StereoDive& dive) {

@@ -17,6 +17,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/enhance/chain_choice.h"
 #include "core/geo/local_frame.h"
 #include "core/stereo/object_georef.h"
 #include "core/stereo/object_locator.h"
@@ -33,6 +34,10 @@ struct StereoLocateOptions {
   int views = 1;                    // the first N pairs of pairs_dir (sorted by name), jointly
   std::string method = "features";  // or "icp" (the baseline)
   LocateOptions locate;             // the features method's found rule, tie points, rig motion, SIFT
+  // Seed 004's chain in front of the SIFT features (--feature-enhance): off,
+  // a chain, or auto (the first pairs tell whether one raises the stereo
+  // inliers; core/stereo/stereo_enhancement.h).
+  FeatureEnhanceOptions feature_enhance;
   // Where the object is on the Earth: the navigation (else the mission's
   // trajectory) and when the first pair used was taken (in its clock), and
   // the rig on the vehicle.
@@ -114,6 +119,8 @@ class StereoLocate {
   struct Trajectory;
   std::unique_ptr<Trajectory> OpenTrajectory();
   Detection SightingDetection(const PlacedObject& placed, double time_s) const;
+  // Sets options_.locate.sift.enhance from the probe pairs; what was chosen, for the pose file.
+  nlohmann::json ChooseEnhancement(const std::vector<LoadedPair>& probe, const StereoCalibration& calibration);
 
   std::unique_ptr<TileStore> store_;  // map_path, opened by Run
 };

@@ -85,6 +85,7 @@ struct TerrainSettings {
   // For the estimate (build --max-relief, --dem-cell, --dem-max-sigma); 0:
   // the estimator's own default (seabed_terrain.h).
   double max_relief_m = 0, cell_m = 0, max_sigma_m = 0;
+  std::string points_file = "";  // build --terrain-points: seabed points from elsewhere (seamap stereo-points)
   bool enabled() const { return estimate || !file.empty(); }
 };
 

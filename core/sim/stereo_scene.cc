@@ -3,6 +3,8 @@
 #include <cmath>
 #include <random>
 
+#include "core/sim/seabed_relief.h"
+
 namespace seamap {
 namespace {
 
@@ -77,10 +79,42 @@ float ValueNoise3(const Eigen::Vector3d& p, uint32_t seed) {
   return lerp(lerp(x00, x10, ty), lerp(x01, x11, ty), tz);
 }
 
+double StereoScene::SeabedZ(double x_m, double y_m) const {
+  if (!relief) return 0;
+  // The mesh's own triangles (Plane), not the grid's bilinear surface.
+  double row = 0, col = 0;
+  relief->CellOf({x_m, y_m}, &row, &col);
+  if (!(row >= 0 && col >= 0 && row < relief->rows() - 1 && col < relief->cols() - 1)) return 0;
+  const int r = static_cast<int>(row), c = static_cast<int>(col);
+  const double fr = row - r, fc = col - c;
+  const cv::Mat1f& h = relief->height_m;
+  const double a = h(r, c), b = h(r, c + 1), cc = h(r + 1, c + 1), d = h(r + 1, c);
+  return fc >= fr ? a + fc * (b - a) + fr * (cc - b) : a + fr * (d - a) + fc * (cc - d);
+}
+
 StereoScene StereoScene::Plane(const StereoSceneOptions& options) {
   StereoScene scene;
   scene.seed_ = static_cast<uint32_t>(options.seed);
   scene.object_texture_ = options.object_texture;
+  if (options.relief_rms_m > 0) {
+    // The simulator's relief, its mesh a quad per cell between cell centres.
+    SeabedReliefOptions relief;
+    relief.rms_m = options.relief_rms_m;
+    relief.cell_m = options.relief_cell_m;
+    const double size = options.seabed_size_m;
+    const HeightGrid grid = MakeSeabedRelief(relief, {-size / 2, -size / 2, size, size}, 0, options.seed * 31 + 7);
+    scene.relief = std::make_shared<const HeightGrid>(grid);
+    const auto vertex = [&](int row, int col) {
+      const LocalXY p = grid.CellCentre(row, col);
+      return Eigen::Vector3d(p.east, p.north, grid.height_m(row, col));
+    };
+    for (int r = 0; r + 1 < grid.rows(); ++r)
+      for (int c = 0; c + 1 < grid.cols(); ++c)
+        AddQuad(&scene.triangles, vertex(r, c), vertex(r, c + 1), vertex(r + 1, c + 1), vertex(r + 1, c),
+                SceneMaterial::kSeabed);
+    scene.layout = cv::format("bare seabed, relief %.2f m rms", options.relief_rms_m);
+    return scene;
+  }
   // The seabed as 2 m tiles: small triangles keep the rasteriser's boxes tight.
   const double half = options.seabed_size_m / 2;
   const int tiles = std::max(1, static_cast<int>(std::ceil(options.seabed_size_m / 2)));

@@ -9,10 +9,13 @@
 // Scene frame (= the truth's object frame): origin on the seabed under the
 // object, x east, y north, z up, metres. The layout varies with the seed.
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
+
+#include "core/terrain/height_grid.h"
 
 namespace seamap {
 
@@ -30,13 +33,20 @@ struct StereoSceneOptions {
   double object_texture = 1;
   double seabed_size_m = 20;
   bool with_object = true;  // false: bare seabed (tests)
+  // Relief of the seabed (core/sim/seabed_relief.h: rms height, wavelengths
+  // 0.5-4 m) about z = 0, as a mesh of relief_cell_m squares; 0: a plane.
+  double relief_rms_m = 0;
+  double relief_cell_m = 0.1;
 };
 
 class StereoScene {
  public:
   static StereoScene Wellhead(const StereoSceneOptions& options);
-  // A bare textured plane z = 0 (tests): seabed material only.
+  // A bare textured plane z = 0 (tests): seabed material only; with
+  // options.relief_rms_m the relief's mesh instead.
   static StereoScene Plane(const StereoSceneOptions& options);
+  // The seabed's true height (z) at scene point (x, y): 0 on a plane.
+  double SeabedZ(double x_m, double y_m) const;
 
   // Reflectance (0-1) of a material at a scene point.
   float Albedo(SceneMaterial material, const Eigen::Vector3d& p) const;
@@ -46,6 +56,8 @@ class StereoScene {
   double top_z_m = 0;                                                 // the cover's top
   double footprint_m = 0;                                             // the object's width
   std::string layout;                                                 // short description
+  // relief_rms_m > 0: heights on the scene's x (east) and y (north), metres up.
+  std::shared_ptr<const HeightGrid> relief;
 
  private:
   uint32_t seed_ = 1;

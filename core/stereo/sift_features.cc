@@ -19,7 +19,7 @@ void SiftOptions::Check() const {
 }
 
 ImageFeatures DetectSift(const cv::Mat& image, const SiftOptions& options) {
-  cv::Mat gray = ToGray8(image);
+  cv::Mat gray = ToGray8(options.enhance.empty() ? image : options.enhance.Apply(image));
   if (options.clahe_clip > 0) cv::createCLAHE(options.clahe_clip, {8, 8})->apply(gray, gray);
   auto sift = cv::SIFT::create(options.max_features, 3, options.contrast_threshold, 10, 1.6, CV_8U);
   std::vector<cv::KeyPoint> keypoints;

@@ -9,6 +9,8 @@
 
 #include <opencv2/core.hpp>
 
+#include "core/enhance/enhance_chain.h"
+
 namespace seamap {
 
 // The offset of OpenCV 4.6's SIFT keypoints in x and y, pixels (subtracted).
@@ -19,6 +21,7 @@ struct SiftOptions {
   double contrast_threshold = 0.02;  // low: the sea's contrast is low
   double offset_px = kSiftOffsetPx;  // subtracted from x and y (0 leaves OpenCV's positions)
   double clahe_clip = 0;             // > 0: CLAHE (8x8 tiles) before detection, for haze
+  EnhanceChain enhance;              // seed 004's chain before detection (--feature-enhance); empty: none
   void Check() const;                // InputError naming the option
 };
 
@@ -30,7 +33,8 @@ struct ImageFeatures {
   size_t size() const { return raw_px.size(); }
 };
 
-// 8- or 16-bit gray or colour image. Keypoints strongest first.
+// 8- or 16-bit gray or colour image. Keypoints strongest first. Positions are
+// the raw image's: the chain changes pixel values, not geometry.
 ImageFeatures DetectSift(const cv::Mat& image, const SiftOptions& options);
 
 // The constant offset (x, y) of SIFT keypoints in `image`, pixels, found

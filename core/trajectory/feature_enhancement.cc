@@ -3,17 +3,7 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/features2d.hpp>
 
-#include "core/util/error.h"
-
 namespace seamap {
-
-void FeatureEnhanceOptions::Check() const {
-  if (spec.empty()) throw InputError("", 0, "--feature-enhance", "expected off, auto or an op list");
-  if (spec != "off" && spec != "auto") EnhanceChain::FromOpList(spec, "--feature-enhance");  // throws naming the op
-  if (probe_frames < 2) throw InputError("", 0, "--feature-enhance", "auto needs at least two probe frames");
-  if (!(min_gain >= 0) || !(enough_inliers > 0))
-    throw InputError("", 0, "--feature-enhance", "auto needs a gain >= 0 and an inlier level > 0");
-}
 
 EnhancementTrial MeasureInliers(const std::vector<cv::Mat>& frames, const CameraModel& camera,
                                 const FeatureOptions& options) {
@@ -51,34 +41,11 @@ EnhancementTrial MeasureInliers(const std::vector<cv::Mat>& frames, const Camera
 
 EnhancementChoice ChooseFeatureEnhancement(const FeatureEnhanceOptions& options, const std::vector<cv::Mat>& probe,
                                            const CameraModel& camera, const FeatureOptions& features) {
-  options.Check();
-  EnhancementChoice choice;
-  if (options.spec == "off") return choice;
-  if (options.spec != "auto") {
-    choice.chain = EnhanceChain::FromOpList(options.spec, "--feature-enhance");
-    if (choice.chain.SeedFrames() > 0) choice.chain.Seed(probe);
-    return choice;
-  }
-  if (probe.size() < 2) return choice;
-  FeatureOptions tried = features;
-  tried.enhance = EnhanceChain();
-  choice.trials.push_back(MeasureInliers(probe, camera, tried));
-  if (choice.trials.front().inliers >= options.enough_inliers) return choice;
-  double best = choice.trials.front().inliers * (1 + options.min_gain);
-  for (const std::string& list : options.candidates) {
-    EnhanceChain chain = EnhanceChain::FromOpList(list, "--feature-enhance");
-    if (chain.SeedFrames() > 0) chain.Seed(probe);
+  return ChooseEnhancementByInliers(options, probe, [&](const EnhanceChain& chain) {
+    FeatureOptions tried = features;
     tried.enhance = chain;
-    choice.trials.push_back(MeasureInliers(probe, camera, tried));
-    if (choice.trials.back().inliers > best) {
-      best = choice.trials.back().inliers;
-      // A fresh copy for the survey: the probe's frames taught the flat
-      // field once already (Seed), not twice.
-      choice.chain = EnhanceChain::FromOpList(list, "--feature-enhance");
-      if (choice.chain.SeedFrames() > 0) choice.chain.Seed(probe);
-    }
-  }
-  return choice;
+    return MeasureInliers(probe, camera, tried);
+  });
 }
 
 }  // namespace seamap

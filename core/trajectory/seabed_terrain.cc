@@ -122,7 +122,14 @@ HeightGrid EstimateSeabedTerrainFromFeatures(const std::vector<VehiclePose>& pos
   }
   HeightFitOptions fit = options.fit;
   if (fit.gsd_m <= 0 && !altitudes.empty()) fit.gsd_m = GroundSampleDistance(camera, Median(altitudes));
-  HeightGrid grid = FitHeightGrid(tracks.points, wide_swath, has_depth, fit, &r.fit);
+  HeightGrid grid;
+  if (options.extra_points.empty()) {
+    grid = FitHeightGrid(tracks.points, wide_swath, has_depth, fit, &r.fit);
+  } else {
+    SeabedPoints all = tracks.points;
+    all.insert(all.end(), options.extra_points.begin(), options.extra_points.end());
+    grid = FitHeightGrid(all, wide_swath, has_depth, fit, &r.fit);
+  }
   if (!grid.empty()) {
     std::vector<std::vector<LocalXY>> swath;
     for (const VehiclePose& p : poses)

@@ -15,6 +15,7 @@
 #include "core/nav/frame_list.h"
 #include "core/terrain/height_fit.h"
 #include "core/terrain/height_grid.h"
+#include "core/terrain/seabed_point.h"
 #include "core/trajectory/frame_features.h"
 #include "core/trajectory/seabed_tracks.h"
 
@@ -27,6 +28,9 @@ struct TerrainOptions {
   int threads = 0;       // feature detection; 0: one per core
   // Photos whose header claims more pixels are not decoded (the build's max_image_pixels).
   int64_t max_image_pixels = kDefaultMaxImagePixels;
+  // Points from elsewhere fitted with the tracks' (a stereo rig's pairs,
+  // core/stereo/stereo_seabed_points.h; build --terrain-points), same datum.
+  SeabedPoints extra_points;
   void Check() const;  // InputError naming the option
 };
 

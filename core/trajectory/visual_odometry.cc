@@ -165,6 +165,7 @@ std::optional<VoMeasurement> VisualOdometry::Add(const FrameFeatures& features, 
   m.inliers = motion.inliers;
   ++counts_.measurements;
   (motion.model == MotionModel::kHomography ? counts_.homography : counts_.essential)++;
+  counts_.motion_inliers += m.inliers;
   return m;
 }
 

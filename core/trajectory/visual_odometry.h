@@ -65,6 +65,7 @@ class VisualOdometry {
     int low_texture = 0;       // frames with too few keypoints or matches
     int missing_altitude = 0;  // no usable altitude: no measurement
     int identical = 0;         // the same photo as the reference, bit for bit (a frozen camera): no measurement
+    long motion_inliers = 0;   // summed over the homography and essential measurements (seed 004's Table 4)
   };
   const Counts& counts() const { return counts_; }
   const ModelSwitch& models() const { return models_; }

@@ -50,6 +50,8 @@ const char* kHelp =
     "  --max-relief M      with --terrain: how far the seabed may lie from the plane at the altitude (1.5)\n"
     "  --dem-cell M        with --terrain: the height model's cell (default: from the points' density)\n"
     "  --dem-max-sigma M   with --terrain: a cell less certain than this is a hole (0.05)\n"
+    "  --terrain-rematch   with --refine-nav --terrain: match and triangulate the photos again for the height\n"
+    "                      model instead of fitting the seabed points the bundle adjustment estimated\n"
     "  --feature-enhance off|auto|LIST  with --refine-nav: enhance the frames before their features are\n"
     "                      detected (seamap trajectory --help)\n"
     "  --detect            search tiles for objects as they are finished (seamap detect's recogniser)\n"
@@ -122,6 +124,11 @@ int RunBuild(int argc, char** argv, int first) {
     if (!(*value > 0 && *value <= 1000))
       throw InputError("", 0, std::string("--") + name, "expected metres in (0, 1000]");
   }
+  if (args.Flag("terrain-rematch")) {
+    if (!options.config.terrain.estimate)
+      throw InputError("", 0, "--terrain-rematch", "applies to the height model --terrain estimates; add --terrain");
+    options.config.terrain.rematch = true;
+  }
   options.poses.feature_enhance = ReadFeatureEnhance(args);
   options.poses.quiet = quiet;
   options.poses.max_image_pixels = options.config.frames.max_image_pixels;  // guards refine's reads too
@@ -169,7 +176,9 @@ int RunBuild(int argc, char** argv, int first) {
       figures["terrain"] = {{"source", surface.source},
                             {"cells", {surface.grid->cols(), surface.grid->rows()}},
                             {"cell_m", surface.grid->cell_m},
-                            {"hole_share", surface.hole_share}};
+                            {"hole_share", surface.hole_share},
+                            {"painted_hole_share", surface.painted_hole_share},
+                            {"painted_cell_m", surface.grid->cell_m / surface.painted_refine}};
     WriteReport(*report, figures);
   }
   if (trajectory_out) WriteTrajectoryOut(*mission.store(), *trajectory_out);

@@ -85,6 +85,9 @@ struct TerrainSettings {
   // For the estimate (build --max-relief, --dem-cell, --dem-max-sigma); 0:
   // the estimator's own default (seabed_terrain.h).
   double max_relief_m = 0, cell_m = 0, max_sigma_m = 0;
+  // After --refine-nav's bundle adjustment: triangulate the photos again
+  // (--terrain-rematch) instead of fitting the bundle's seabed points.
+  bool rematch = false;
   bool enabled() const { return estimate || !file.empty(); }
 };
 

@@ -89,7 +89,8 @@ std::string CommandLine(int argc, char** argv, int first) {
 }  // namespace
 
 int RunBuild(int argc, char** argv, int first) {
-  Args args(argc, argv, first, {"append", "overwrite", "resume", "quiet", "refine-nav", "terrain", "detect", "help"});
+  Args args(argc, argv, first,
+            {"append", "overwrite", "resume", "quiet", "refine-nav", "terrain", "terrain-rematch", "detect", "help"});
   if (args.Flag("help")) {
     std::printf("%s%s", kHelp, kNavigationNoiseHelp);
     return 0;

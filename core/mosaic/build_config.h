@@ -34,6 +34,9 @@ struct BlendSettings {
   // from their midpoint to the neighbour's centre.
   double seam_band = 0.5;
   bool blend_all_overlaps = false;  // no handover: every overlapping frame blends everywhere (slower)
+  // Over a height model: hand over to the frame whose ray at the point is
+  // nearest the vertical (false: nearest the image centre, as a flat build).
+  bool nadir_seams = true;
   void Check(const std::string& source) const;
 };
 

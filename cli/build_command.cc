@@ -52,6 +52,8 @@ const char* kHelp =
     "  --dem-max-sigma M   with --terrain: a cell less certain than this is a hole (0.05)\n"
     "  --terrain-points CSV with --terrain: seabed points from a stereo rig (seamap stereo-points) fitted\n"
     "                      with the photos' own\n"
+    "  --terrain-from-bundle with --refine-nav --terrain: fit the height model to the seabed points the\n"
+    "                      bundle adjustment estimated instead of matching the photos again\n"
     "  --feature-enhance off|auto|LIST  with --refine-nav: enhance the frames before their features are\n"
     "                      detected (seamap trajectory --help)\n"
     "  --detect            search tiles for objects as they are finished (seamap detect's recogniser)\n"
@@ -89,7 +91,9 @@ std::string CommandLine(int argc, char** argv, int first) {
 }  // namespace
 
 int RunBuild(int argc, char** argv, int first) {
-  Args args(argc, argv, first, {"append", "overwrite", "resume", "quiet", "refine-nav", "terrain", "detect", "help"});
+  Args args(
+      argc, argv, first,
+      {"append", "overwrite", "resume", "quiet", "refine-nav", "terrain", "terrain-from-bundle", "detect", "help"});
   if (args.Flag("help")) {
     std::printf("%s%s", kHelp, kNavigationNoiseHelp);
     return 0;
@@ -128,6 +132,12 @@ int RunBuild(int argc, char** argv, int first) {
     if (!options.config.terrain.estimate)
       throw InputError("", 0, "--terrain-points", "applies to the height model --terrain estimates; add --terrain");
     options.config.terrain.points_file = *points;
+  }
+  if (args.Flag("terrain-from-bundle")) {
+    if (!options.config.terrain.estimate)
+      throw InputError("", 0, "--terrain-from-bundle",
+                       "applies to the height model --terrain estimates; add --terrain");
+    options.config.terrain.from_bundle = true;
   }
   options.poses.feature_enhance = ReadFeatureEnhance(args);
   options.poses.quiet = quiet;
@@ -176,7 +186,9 @@ int RunBuild(int argc, char** argv, int first) {
       figures["terrain"] = {{"source", surface.source},
                             {"cells", {surface.grid->cols(), surface.grid->rows()}},
                             {"cell_m", surface.grid->cell_m},
-                            {"hole_share", surface.hole_share}};
+                            {"hole_share", surface.hole_share},
+                            {"painted_hole_share", surface.painted_hole_share},
+                            {"painted_cell_m", surface.grid->cell_m / surface.painted_refine}};
     WriteReport(*report, figures);
   }
   if (trajectory_out) WriteTrajectoryOut(*mission.store(), *trajectory_out);

@@ -3,9 +3,13 @@
 # issue's survey (exact navigation, 0.3 m rms relief, 2 m altitude, lanes
 # 0.9 m, JPEG), the base map's texture against its true ground position
 # (seamap map-eval) for a flat build, `build --terrain-file truth/terrain.tif`
-# and `build --terrain` (the height model from the photos), over SEEDS seeds:
-# median and worst of the per-seed median and p90 offsets, the issue's
-# target beside them; and the CPU of a terrain build against a flat one.
+# and `build --terrain` (the height model from the photos), and
+# `build --refine-nav --refine-method bundle --terrain` with the model fitted
+# to the bundle's seabed points and matched again (the default), over
+# SEEDS seeds: median and worst of the per-seed median and p90 offsets, the
+# issue's target beside them; the stored model's height rms against the truth
+# (dem_eval --dem, mean offset removed); and the CPU of a terrain build
+# against a flat one.
 #   scripts/bench_ortho.sh [SEAMAP_BINARY [OUT_DIR [SEEDS [FRAMES]]]]
 # Defaults: build/seamap, out/bench/ortho, 3 seeds, 200 frames.
 set -euo pipefail
@@ -15,8 +19,10 @@ mkdir -p "$out"
 
 json() { python3 -c "import json,sys; print(json.load(open(sys.argv[1]))$2)" "$1"; }
 
-modes=(flat file estimate)
-declare -A args=([flat]="" [file]="--terrain-file TRUTH" [estimate]="--terrain")
+modes=(flat file estimate bundle rematch)
+declare -A args=([flat]="" [file]="--terrain-file TRUTH" [estimate]="--terrain"
+  [bundle]="--refine-nav --refine-method bundle --terrain --terrain-from-bundle" [rematch]="--refine-nav --refine-method bundle --terrain")
+dem_eval="$(dirname "$seamap")/dem_eval"
 for seed in $(seq 1 "$seeds"); do
   sim="$out/sim_$seed"
   if [[ ! -f "$sim/truth/terrain.tif" ]] || [[ "$(($(wc -l <"$sim/nav.csv") - 1))" != "$frames" ]]; then
@@ -31,6 +37,11 @@ for seed in $(seq 1 "$seeds"); do
     if /usr/bin/time -f "%U %S" -o "$out/${mode}_$seed.time" "$seamap" build --images "$sim/photo" --nav "$sim/nav.csv" --camera "$sim/camera.json" --origin 43.1,131.9 \
       --out "$map" --overwrite --quiet --report "$out/${mode}_$seed.report.json" $extra >"$out/${mode}_$seed.log" 2>&1; then
       "$seamap" map-eval "$map" "$sim" --json "$out/${mode}_$seed.eval.json" >/dev/null
+      rm -f "$out/${mode}_$seed.dem.txt"
+      if [[ "$mode" != flat && "$mode" != file && -x "$dem_eval" ]] &&
+        "$seamap" export "$map" "$out/${mode}_$seed.dem.tif" --dem --overwrite >/dev/null 2>&1; then
+        "$dem_eval" "$sim" --dem "$out/${mode}_$seed.dem.tif" >"$out/${mode}_$seed.dem.txt" 2>/dev/null || true
+      fi
     fi
   done
 done
@@ -38,12 +49,18 @@ done
 python3 - "$out" "$seeds" <<'PY'
 import json, os, statistics, sys
 out, seeds = sys.argv[1], int(sys.argv[2])
-names = {"flat": "flat projection", "file": "--terrain-file truth", "estimate": "--terrain (from the photos)"}
+names = {"flat": "flat projection", "file": "--terrain-file truth", "estimate": "--terrain (from the photos)",
+         "bundle": "--refine-nav --terrain --terrain-from-bundle", "rematch": "--refine-nav --terrain (matched again)"}
 def load(mode, seed, kind):
     p = os.path.join(out, f"{mode}_{seed}.{kind}.json")
     return json.load(open(p)) if os.path.exists(p) else None
 cpu = {}
-for mode in ("flat", "file", "estimate"):
+def dem_rms(mode, seed):
+    p = os.path.join(out, f"{mode}_{seed}.dem.txt")
+    if not os.path.exists(p): return None
+    f = open(p).read().split()
+    return float(f[f.index("rms_mm") + 1]) if "rms_mm" in f else None
+for mode in ("flat", "file", "estimate", "bundle", "rematch"):
     evals = [load(mode, s, "eval") for s in range(1, seeds + 1)]
     reports = [load(mode, s, "report") for s in range(1, seeds + 1)]
     if not all(evals):
@@ -58,10 +75,14 @@ for mode in ("flat", "file", "estimate"):
     print(f"ortho {names[mode]}: texture offset median {statistics.median(med):.2f} px (worst {max(med):.2f}), "
           f"p90 {statistics.median(p90):.2f} px = {statistics.median(p90) * mm:.1f} mm (worst {max(p90):.2f} px) "
           f"over {seeds} seeds, {min(e['measured_blocks'] for e in evals)}+ blocks each [{target}]")
+    rms = [dem_rms(mode, s) for s in range(1, seeds + 1)]
+    if all(r is not None for r in rms):
+        print(f"ortho {names[mode]}: height model rms vs truth {statistics.median(rms):.1f} mm (worst {max(rms):.1f}) "
+              f"[target <= 20 mm]")
     # The whole process's CPU (user + system), the height model's estimate included.
     cpu[mode] = [sum(map(float, open(os.path.join(out, f"{mode}_{s}.time")).read().split()[-2:])) / r["frames_seen"] * 1000
                  for s, r in zip(range(1, seeds + 1), reports)]
-for mode in ("file", "estimate"):
+for mode in ("file", "estimate", "bundle", "rematch"):
     if mode in cpu and "flat" in cpu:
         ratio = [c / f for c, f in zip(cpu[mode], cpu["flat"])]
         print(f"ortho speed {names[mode]}: {statistics.median(cpu[mode]):.1f} CPU ms/frame vs flat "

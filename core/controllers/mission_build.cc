@@ -76,7 +76,7 @@ bool MissionBuild::Open() {
   const auto estimate_surface = [&] {
     if (observer_.on_note) observer_.on_note("estimating the seabed's shape from the photos");
     surface_ = EstimateSeabedSurface(options_.frame, options_.camera, frames, config.terrain, config.threads,
-                                     !options_.poses.quiet, config.frames.max_image_pixels);
+                                     !options_.poses.quiet, config.frames.max_image_pixels, &poses_.seabed_points());
   };
   // On the navigation's poses it comes before the map is created, so photos
   // that give no seabed leave no map behind; refined poses are placed once
@@ -191,7 +191,7 @@ void MissionBuild::Start() {
     start.frames_total = static_cast<int>(options_.survey.frames.size());
     start.command = options_.command;
   }
-  enhance_.surface = surface_.grid;  // both layers paint onto the same seabed
+  enhance_.surface = surface_.painted;  // both layers paint onto the same seabed
   BuildHooks hooks = both_ ? BuildHooks{} : enhance_;
   hooks.on_frame = observer_.on_frame_placed;
   if (options_.refine_live) {
@@ -199,7 +199,7 @@ void MissionBuild::Start() {
     repaint_.camera = options_.camera;
     repaint_.frame = options_.frame;
     repaint_.plan = *plan_;
-    repaint_.hooks.surface = surface_.grid;
+    repaint_.hooks.surface = surface_.painted;
     repaint_.hooks.preprocess = both_ ? nullptr : enhance_.preprocess;
     hooks.on_frame = [this](const FrameRecord& record, const TrackPoint& point) {
       {  // which frames the worker may correct: those recorded as painted
@@ -218,7 +218,7 @@ void MissionBuild::Start() {
     refiner_ = std::make_unique<LiveRefiner>(options_.camera, live,
                                              [this](const LiveCorrection& correction) { Repaint(correction); });
   }
-  hooks.surface = surface_.grid;
+  hooks.surface = surface_.painted;
   TileStore* raw_store = output_.store.get();
   if (options_.start_detector) {
     detector_ = options_.start_detector(*plan_, raw_store);

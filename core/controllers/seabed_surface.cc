@@ -7,20 +7,34 @@
 #include "core/camera/frame_projector.h"
 #include "core/controllers/stereo_seabed.h"
 #include "core/terrain/height_grid_io.h"
+#include "core/terrain/painting_surface.h"
 #include "core/trajectory/seabed_terrain.h"
 #include "core/util/error.h"
 #include "core/util/progress.h"
 #include "core/util/statistics.h"
 
 namespace seamap {
+namespace {
+
+// The painted surface's cells: about this many ground pixels (finer makes the
+// line-of-sight march slower and follows nothing the model knows), at most
+// kMaxRefine per model cell and kMaxPaintedCells in all (4 bytes each).
+constexpr double kPaintedCellGsd = 10;
+constexpr int kMaxRefine = 4;
+constexpr double kMaxPaintedCells = 64.0 * 1024 * 1024;
+
+}  // namespace
 
 std::string SeabedSurface::Summary() const {
   if (!grid) return "flat seabed (the plane at each frame's altitude)";
-  char line[256];
+  char line[400];
   std::snprintf(line, sizeof line,
-                "terrain %s: %dx%d cells of %.0f mm; %.1f %% of the frames' footprint without a height, painted on "
-                "the frame's own plane there; %+.2f m from the navigation's seabed (median)",
-                source.c_str(), grid->cols(), grid->rows(), grid->cell_m * 1000, hole_share * 100, datum_offset_m);
+                "terrain %s: %dx%d cells of %.0f mm, painted on cells of %.0f mm; %.1f %% of the frames' footprint "
+                "without a height, continued from the model there but %.1f %% painted on the frame's own plane; "
+                "%+.2f m from the navigation's seabed (median)",
+                source.c_str(), grid->cols(), grid->rows(), grid->cell_m * 1000,
+                grid->cell_m * 1000 / std::max(1, painted_refine), hole_share * 100, painted_hole_share * 100,
+                datum_offset_m);
   return line;
 }
 
@@ -48,6 +62,23 @@ void CheckAgainstNavigation(const CameraModel& camera, const std::vector<FrameSp
                             SeabedSurface* surface) {
   const HeightGrid& grid = *surface->grid;
   surface->hole_share = HoleShare(grid, camera, frames);
+  // What the frames are painted onto: holes near data continued, cells
+  // refined to about kPaintedCellGsd ground pixels (painting_surface.h).
+  std::vector<double> altitudes_m;
+  for (const FrameSpec& f : frames) altitudes_m.push_back(f.pose.altitude_m);
+  PaintingSurfaceOptions painting;
+  if (!altitudes_m.empty() && camera.fx > 0) {
+    const double gsd_m = Median(altitudes_m) / camera.fx;
+    painting.refine = std::clamp(static_cast<int>(grid.cell_m / (kPaintedCellGsd * gsd_m)), 1, kMaxRefine);
+    while (painting.refine > 1 &&
+           static_cast<double>(grid.rows()) * grid.cols() * painting.refine * painting.refine > kMaxPaintedCells)
+      --painting.refine;
+  }
+  PaintingSurfaceReport painted_report;
+  auto painted = std::make_shared<HeightGrid>(PaintingSurface(grid, painting, &painted_report));
+  surface->painted_hole_share = HoleShare(*painted, camera, frames);
+  surface->painted_refine = painting.refine;
+  surface->painted = std::move(painted);
   std::vector<double> offsets, altitudes;
   for (const FrameSpec& f : frames) {
     double up = 0;
@@ -96,7 +127,7 @@ SeabedSurface ReadSeabedSurface(const std::string& path, const LocalFrame& frame
 
 SeabedSurface EstimateSeabedSurface(const LocalFrame& frame, const CameraModel& camera,
                                     const std::vector<FrameSpec>& frames, const TerrainSettings& settings, int threads,
-                                    bool show_progress, int64_t max_image_pixels) {
+                                    bool show_progress, int64_t max_image_pixels, const SeabedPoints* bundle_points) {
   TerrainOptions options;  // the frames' poses are in frame's local metres already
   if (!settings.points_file.empty()) options.extra_points = ReadStereoSeabedPoints(settings.points_file, frame);
   options.threads = threads;
@@ -105,6 +136,23 @@ SeabedSurface EstimateSeabedSurface(const LocalFrame& frame, const CameraModel& 
   if (settings.cell_m != 0) options.fit.cell_m = settings.cell_m;
   if (settings.max_sigma_m != 0) options.fit.max_sigma_m = settings.max_sigma_m;
   options.Check();  // InputError naming --max-relief, --dem-cell or --dem-max-sigma
+  SeabedSurface out;
+  const bool reuse = bundle_points && !bundle_points->empty() && settings.from_bundle;
+  if (reuse) {
+    // The bundle estimated these points with the poses the frames are
+    // painted with: fitting them keeps poses and terrain one estimate, and
+    // reads no photo again.
+    std::vector<VehiclePose> poses;
+    poses.reserve(frames.size());
+    for (const FrameSpec& f : frames) poses.push_back(f.pose);
+    HeightGrid grid = FitSeabedTerrain(*bundle_points, poses, camera, options.fit, options.tracks.max_relief_m);
+    if (!grid.empty()) {
+      out.grid = std::make_shared<HeightGrid>(std::move(grid));
+      out.source = "fitted to the bundle adjustment's " + std::to_string(bundle_points->size()) + " seabed points";
+      return out;
+    }
+    // Too few of them for a model: the photos are matched again below.
+  }
   TerrainReport report;
   ProgressBar bar("frames triangulated", static_cast<long>(frames.size()), show_progress);
   HeightGrid grid =
@@ -117,11 +165,11 @@ SeabedSurface EstimateSeabedSurface(const LocalFrame& frame, const CameraModel& 
                      "no seabed point could be triangulated from the photos (" +
                          std::to_string(report.frames_unreadable) + " of " + std::to_string(report.frames) +
                          " frames unreadable): too little texture or overlap; give a height model with --terrain-file");
-  SeabedSurface out;
   out.grid = std::make_shared<HeightGrid>(std::move(grid));
   out.source = "estimated from the photos";
   if (!options.extra_points.empty())
     out.source += " and " + std::to_string(options.extra_points.size()) + " points of " + settings.points_file;
+  if (settings.from_bundle) out.source += " (the bundle's points fitted no model)";
   return out;
 }
 

@@ -17,14 +17,14 @@ float InverseSeamWidth(double seam_band, float spacing) {
 }
 
 float BlendWeight(const ImageShape& shape, const FeatherCurve& feather, float u, float v,
-                  const NeighbourView* neighbours, int neighbour_count) {
+                  const NeighbourView* neighbours, int neighbour_count, float slant) {
   const float tent = shape.Tent(u, v);
   if (tent <= 0) return tent;
   float weight = feather(tent);
   for (int k = 0; k < neighbour_count; ++k) {
     const NeighbourView& n = neighbours[k];
     if (!shape.Sees(n.u, n.v)) continue;
-    weight *= std::clamp(shape.Ramp(n.u, n.v, u, v, n.inv_seam), 0.0f, 1.0f);
+    weight *= std::clamp(shape.Handover(n.u, n.v, n.slant, u, v, slant, n.inv_seam), 0.0f, 1.0f);
   }
   return weight;
 }

@@ -19,9 +19,16 @@
 //   a run of frames keeps it. Survey lines side by side are not neighbours:
 //   their overlap blends in full by feather weight.
 //
+// Over a height model (build --terrain) the handover compares how far from
+// the vertical each frame's ray to the seabed point is (ImageShape::by_slant,
+// RawPosition::slant: tan^2 of that angle) instead of the image positions:
+// the frame that keeps a pixel is the most nadir view of that point, whatever
+// the pitch and roll. Flat builds keep the image-centre rule, byte for byte.
+//
 // These functions are the reference: one pixel at a time, as readable as it
 // gets. The warper computes the same numbers a row at a time (row_kernels.h)
 // and its tests hold that fast path to these functions.
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -32,6 +39,7 @@ namespace seamap {
 // Image geometry for the weights, in raw pixels.
 struct ImageShape {
   float width, height, inv_half_w, inv_half_h, centre_u, centre_v;
+  bool by_slant = false;  // the handover compares slants (angle to the vertical), not Centrality
   explicit ImageShape(const CameraModel& c)
       : width(static_cast<float>(c.width)),
         height(static_cast<float>(c.height)),
@@ -61,6 +69,16 @@ struct ImageShape {
   float Ramp(float nu, float nv, float u, float v, float inv_seam) const {
     return (Centrality(nu, nv) - Centrality(u, v)) * inv_seam + 1.0f;
   }
+  // The same by whichever measure the shape hands over by: Centrality of the
+  // positions, or (by_slant) the slants ns, s of the neighbour's and this frame's rays.
+  float Handover(float nu, float nv, float ns, float u, float v, float s, float inv_seam) const {
+    return by_slant ? (ns - s) * inv_seam + 1.0f : Ramp(nu, nv, u, v, inv_seam);
+  }
+  // How far apart two frames are for the seam's width: the neighbour's
+  // measure at this frame's centre, less this frame's own there.
+  float Spacing(float nu, float nv, float ns, float s) const {
+    return by_slant ? std::fabs(ns - s) : Centrality(nu, nv);
+  }
   // Whether a neighbour sees the pixel: strictly inside its image.
   bool Sees(float u, float v) const { return u > 0 && u < width - 1 && v > 0 && v < height - 1; }
 };
@@ -83,6 +101,7 @@ class FeatherCurve {
 struct NeighbourView {
   float u = 0, v = 0;  // its raw image position of the pixel
   float inv_seam = 1;  // 1 / the seam's width in Centrality units (see SeamWidth)
+  float slant = 0;     // its ray's slant there (by_slant)
 };
 
 // The seam's width for a neighbour whose centre this frame sees at
@@ -91,8 +110,9 @@ float InverseSeamWidth(double seam_band, float spacing);
 
 // A frame's weight at a pixel it sees at (u, v): > 0 where it paints the
 // pixel, <= 0 where it does not.
+// slant: this frame's ray's (by_slant).
 float BlendWeight(const ImageShape& shape, const FeatherCurve& feather, float u, float v,
-                  const NeighbourView* neighbours, int neighbour_count);
+                  const NeighbourView* neighbours, int neighbour_count, float slant = 0);
 
 // The weight as a warped frame keeps it: 0 not painted, else 1..255.
 inline uint8_t CanvasWeight(float weight) {

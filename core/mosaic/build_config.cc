@@ -184,6 +184,8 @@ void ApplyBuildConfig(const json& s, const std::string& source, BuildConfig* c) 
       c->blend.feather_power = Number(v, source, key);
     else if (key == "seam_band")
       c->blend.seam_band = Number(v, source, key);
+    else if (key == "nadir_seams")
+      c->blend.nadir_seams = Bool(v, source, key);
     else if (key == "blend_all_overlaps")
       c->blend.blend_all_overlaps = Bool(v, source, key);
     else if (key == "linger_frames")

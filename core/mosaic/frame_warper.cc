@@ -13,6 +13,7 @@ FrameWarper::FrameWarper(const CameraModel& camera, const LocalFrame& frame, int
   if (surface) {
     surface_ = std::make_unique<SurfaceProjection>(projection_, std::move(surface));
     options_.grid_step = options_.surface_grid_step;
+    shape_.by_slant = options_.nadir_seams;  // over relief the most nadir view keeps a pixel
   }
   options_.grid_step = std::clamp(options_.grid_step, 1, kMaxGridStep);
 }
@@ -59,10 +60,11 @@ std::optional<WarpedFrame> FrameWarper::Warp(const RowSource& rows, const Vehicl
   std::vector<const BoxMapping*> neighbour_maps;
   float inv_seam[kMaxNeighbours] = {1, 1};
   const cv::Point2d centre(outline->centre.x - out.box_x0, outline->centre.y - out.box_y0);
+  const RawPosition own_centre = maps[0]->ToRaw(centre.x, centre.y);
   for (size_t k = 1; k < maps.size(); ++k) {
     const RawPosition c = maps[k]->ToRaw(centre.x, centre.y);
     inv_seam[neighbour_maps.size()] =
-        InverseSeamWidth(options_.seam_band, c.valid ? shape_.Centrality(c.u, c.v) : 1.0f);
+        InverseSeamWidth(options_.seam_band, c.valid ? shape_.Spacing(c.u, c.v, c.slant, own_centre.slant) : 1.0f);
     neighbour_maps.push_back(maps[k].get());
   }
   const MappingGrid grid(*maps[0], shape_, neighbour_maps, inv_seam, width, height, options_.grid_step);

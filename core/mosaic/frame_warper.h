@@ -46,6 +46,8 @@ struct WarpOptions {
   // rms relief (docs/TERRAIN.md): p90 offset 0.14 / 0.16 / 0.23 px at
   // steps 4 / 8 / 16, for 6.2 / 2.2 / 1.3 times a flat build's CPU.
   int surface_grid_step = 8;
+  // Over a surface: seams by the rays' angle to the vertical (blend_rule.h).
+  bool nadir_seams = true;
   KernelPath kernels = KernelPath::kFast;  // the reference path is for tests and measurements
 };
 

@@ -45,8 +45,8 @@ bool MappingGrid::InsideBy(float u, float v, const Reach& r) const {
   return u > r.u - 0.5f && u < shape_.width - 0.5f - r.u && v > r.v - 0.5f && v < shape_.height - 0.5f - r.v;
 }
 
-bool MappingGrid::TakenBy(float nu, float nv, float u, float v, int k, const Reach& r) const {
-  return InsideBy(nu, nv, r) && shape_.Ramp(nu, nv, u, v, inv_seam_[k]) < -0.25f;
+bool MappingGrid::TakenBy(float nu, float nv, float ns, float u, float v, float s, int k, const Reach& r) const {
+  return InsideBy(nu, nv, r) && shape_.Handover(nu, nv, ns, u, v, s, inv_seam_[k]) < -0.25f;
 }
 
 bool MappingGrid::MayKeepBlock(int bx, int by) const {
@@ -60,7 +60,7 @@ bool MappingGrid::MayKeepBlock(int bx, int by) const {
     bool all_taken = true;
     for (const GridPoint* g : corners) {
       const RawPosition& n = g->neighbour[k];
-      all_taken = all_taken && n.valid && TakenBy(n.u, n.v, g->own.u, g->own.v, k, block_reach_);
+      all_taken = all_taken && n.valid && TakenBy(n.u, n.v, n.slant, g->own.u, g->own.v, g->own.slant, k, block_reach_);
     }
     if (all_taken) return false;
   }
@@ -72,8 +72,9 @@ bool MappingGrid::MayKeepRow(const BlockRow& row) const {
   const float u1 = row.u0 + row.du * length, v1 = row.v0 + row.dv * length;
   if (Outside(row.u0, row.v0, row_reach_) && Outside(u1, v1, row_reach_)) return false;
   for (int k = 0; k < neighbours_; ++k)
-    if (row.neighbour[k] && TakenBy(row.nu0[k], row.nv0[k], row.u0, row.v0, k, row_reach_) &&
-        TakenBy(row.nu0[k] + row.ndu[k] * length, row.nv0[k] + row.ndv[k] * length, u1, v1, k, row_reach_))
+    if (row.neighbour[k] && TakenBy(row.nu0[k], row.nv0[k], row.ns0[k], row.u0, row.v0, row.s0, k, row_reach_) &&
+        TakenBy(row.nu0[k] + row.ndu[k] * length, row.nv0[k] + row.ndv[k] * length, row.ns0[k] + row.nds[k] * length,
+                u1, v1, row.s0 + row.ds * length, k, row_reach_))
       return false;
   return true;
 }
@@ -93,17 +94,20 @@ MappingGrid::Block MappingGrid::BlockAt(int bx, int by) const {
   };
   set(0, g00.own.u, g10.own.u, g01.own.u, g11.own.u);
   set(1, g00.own.v, g10.own.v, g01.own.v, g11.own.v);
+  set(2, g00.own.slant, g10.own.slant, g01.own.slant, g11.own.slant);
   for (int k = 0; k < kMaxNeighbours; ++k) {
     const auto n = [k](const GridPoint& g) -> const RawPosition& { return g.neighbour[k]; };
     b.neighbour_[k] = k < neighbours_ && n(g00).valid && n(g10).valid && n(g01).valid && n(g11).valid;
-    set(2 + 2 * k, n(g00).u, n(g10).u, n(g01).u, n(g11).u);
-    set(3 + 2 * k, n(g00).v, n(g10).v, n(g01).v, n(g11).v);
+    set(3 + 3 * k, n(g00).u, n(g10).u, n(g01).u, n(g11).u);
+    set(4 + 3 * k, n(g00).v, n(g10).v, n(g01).v, n(g11).v);
+    set(5 + 3 * k, n(g00).slant, n(g10).slant, n(g01).slant, n(g11).slant);
     // A neighbour that sees the whole block less centrally (its ramp is past
     // 1 by a quarter at every corner) leaves every weight as it is.
     if (b.neighbour_[k] && inv_seam_[k] <= 100.0f) {  // a vanishing seam is a step: no margin to trust
       bool behind = true;
       for (const GridPoint* g : {&g00, &g10, &g01, &g11})
-        behind = behind && shape_.Ramp(n(*g).u, n(*g).v, g->own.u, g->own.v, inv_seam_[k]) >= 1.25f;
+        behind = behind && shape_.Handover(n(*g).u, n(*g).v, n(*g).slant, g->own.u, g->own.v, g->own.slant,
+                                           inv_seam_[k]) >= 1.25f;
       if (behind) b.neighbour_[k] = false;
     }
   }
@@ -123,12 +127,16 @@ BlockRow MappingGrid::Block::Row(int j) const {
   r.du = step[0];
   r.v0 = start[1];
   r.dv = step[1];
+  r.s0 = start[2];
+  r.ds = step[2];
   for (int k = 0; k < kMaxNeighbours; ++k) {
     r.neighbour[k] = neighbour_[k];
-    r.nu0[k] = start[2 + 2 * k];
-    r.ndu[k] = step[2 + 2 * k];
-    r.nv0[k] = start[3 + 2 * k];
-    r.ndv[k] = step[3 + 2 * k];
+    r.nu0[k] = start[3 + 3 * k];
+    r.ndu[k] = step[3 + 3 * k];
+    r.nv0[k] = start[4 + 3 * k];
+    r.ndv[k] = step[4 + 3 * k];
+    r.ns0[k] = start[5 + 3 * k];
+    r.nds[k] = step[5 + 3 * k];
   }
   return r;
 }

@@ -31,11 +31,14 @@ struct GridPoint {
 // linear in the pixel index i (u0 + du * i).
 struct BlockRow {
   float u0 = 0, du = 0, v0 = 0, dv = 0;
+  float s0 = 0, ds = 0;  // the slant (RawPosition::slant), linear too
   float nu0[kMaxNeighbours] = {0, 0}, ndu[kMaxNeighbours] = {0, 0};
   float nv0[kMaxNeighbours] = {0, 0}, ndv[kMaxNeighbours] = {0, 0};
+  float ns0[kMaxNeighbours] = {0, 0}, nds[kMaxNeighbours] = {0, 0};
   bool neighbour[kMaxNeighbours] = {false, false};  // false: this neighbour does not matter in the block
   float U(float i) const { return u0 + du * i; }
   float V(float i) const { return v0 + dv * i; }
+  float S(float i) const { return s0 + ds * i; }
 };
 
 // How far (raw pixels) the mapping moves across a block, or along a row
@@ -68,7 +71,7 @@ class MappingGrid {
 
    private:
     friend class MappingGrid;
-    static constexpr int kValues = 2 + 2 * kMaxNeighbours;  // u, v, then each neighbour's u and v
+    static constexpr int kValues = 3 + 3 * kMaxNeighbours;  // u, v, slant, then each neighbour's
     // At the block's top-left and top-right corners, and their change down the block.
     float left_[kValues], left_step_[kValues], right_[kValues], right_step_[kValues];
     bool neighbour_[kMaxNeighbours];
@@ -83,8 +86,9 @@ class MappingGrid {
   const GridPoint& At(int gx, int gy) const { return points_[static_cast<size_t>(gy) * nx_ + gx]; }
   bool Outside(float u, float v, const Reach& r) const;
   bool InsideBy(float u, float v, const Reach& r) const;
-  // Neighbour k, at (nu, nv), clearly sees the pixel this frame sees at (u, v), and more centrally.
-  bool TakenBy(float nu, float nv, float u, float v, int k, const Reach& r) const;
+  // Neighbour k, at (nu, nv) with slant ns, clearly sees the pixel this frame
+  // sees at (u, v) with slant s, and more centrally (or more nadir).
+  bool TakenBy(float nu, float nv, float ns, float u, float v, float s, int k, const Reach& r) const;
 
   const ImageShape& shape_;
   int neighbours_;

@@ -17,6 +17,7 @@ WarpOptions WarpOptionsOf(const BuildConfig& config, const MosaicPlan& plan) {
   o.channels = plan.channels;
   o.feather_power = config.blend.feather_power;
   o.seam_band = config.blend.blend_all_overlaps ? 0.0 : config.blend.seam_band;
+  o.nadir_seams = config.blend.nadir_seams;
   return o;
 }
 

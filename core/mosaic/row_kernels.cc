@@ -18,8 +18,9 @@ void RowWeightsReference(const ImageShape& shape, const FeatherCurve& feather, c
     NeighbourView views[kMaxNeighbours];
     int count = 0;
     for (int k = 0; k < neighbours; ++k)
-      if (r.neighbour[k]) views[count++] = {r.nu0[k] + r.ndu[k] * f, r.nv0[k] + r.ndv[k] * f, inv_seam[k]};
-    w[i] = BlendWeight(shape, feather, r.U(f), r.V(f), views, count);
+      if (r.neighbour[k])
+        views[count++] = {r.nu0[k] + r.ndu[k] * f, r.nv0[k] + r.ndv[k] * f, inv_seam[k], r.ns0[k] + r.nds[k] * f};
+    w[i] = BlendWeight(shape, feather, r.U(f), r.V(f), views, count, r.S(f));
   }
 }
 
@@ -50,7 +51,7 @@ void RowWeightsFast(const ImageShape& sh, const FeatherCurve& feather, const Blo
   const v_float32x4 zero = cv::v_setzero_f32(), one = cv::v_setall_f32(1.0f), half = cv::v_setall_f32(0.5f);
   const v_float32x4 right = cv::v_setall_f32(sh.width - 0.5f), bottom = cv::v_setall_f32(sh.height - 0.5f);
   const v_float32x4 inv_hw = cv::v_setall_f32(sh.inv_half_w), inv_hh = cv::v_setall_f32(sh.inv_half_h);
-  // Centrality along the row: c0 + c1 i + c2 i^2.
+  // Centrality along the row: c0 + c1 i + c2 i^2 (by_slant: the slant, linear).
   auto centrality = [&](float u0, float du, float v0, float dv, float* c) {
     const float a0 = (u0 - sh.centre_u) * sh.inv_half_w, a1 = du * sh.inv_half_w;
     const float b0 = (v0 - sh.centre_v) * sh.inv_half_h, b1 = dv * sh.inv_half_h;
@@ -59,14 +60,23 @@ void RowWeightsFast(const ImageShape& sh, const FeatherCurve& feather, const Blo
     c[2] = a1 * a1 + b1 * b1;
   };
   float own[3];
-  centrality(r.u0, r.du, r.v0, r.dv, own);
+  const auto measure = [&](float u0, float du, float v0, float dv, float s0, float ds, float* c) {
+    if (sh.by_slant) {
+      c[0] = s0;
+      c[1] = ds;
+      c[2] = 0;
+    } else {
+      centrality(u0, du, v0, dv, c);
+    }
+  };
+  measure(r.u0, r.du, r.v0, r.dv, r.s0, r.ds, own);
   // Per neighbour: the ramp's coefficients and the interval of i it sees.
   v_float32x4 q0[kMaxNeighbours], q1[kMaxNeighbours], q2[kMaxNeighbours], lo[kMaxNeighbours], hi[kMaxNeighbours];
   int active = 0;
   for (int k = 0; k < neighbours; ++k) {
     if (!r.neighbour[k]) continue;
     float c[3], from = -1e30f, to = 1e30f;
-    centrality(r.nu0[k], r.ndu[k], r.nv0[k], r.ndv[k], c);
+    measure(r.nu0[k], r.ndu[k], r.nv0[k], r.ndv[k], r.ns0[k], r.nds[k], c);
     OpenInterval(r.nu0[k], r.ndu[k], sh.width - 1.0f, &from, &to);
     OpenInterval(r.nv0[k], r.ndv[k], sh.height - 1.0f, &from, &to);
     q0[active] = cv::v_setall_f32((c[0] - own[0]) * inv_seam[k] + 1.0f);

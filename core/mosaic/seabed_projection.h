@@ -25,6 +25,9 @@ namespace seamap {
 struct RawPosition {
   float u = 0, v = 0;
   bool valid = false;
+  // tan^2 of the angle between the ray to the seabed point and the vertical
+  // (SurfaceMapping's: seams on relief go to the most nadir view; 0 elsewhere).
+  float slant = 0;
 };
 
 class SeabedProjection {

@@ -73,7 +73,10 @@ RawPosition SurfaceMapping::ToRaw(double x, double y) const {
   Eigen::Vector3d point;
   const bool known = PointAt(x, y, &point);
   RawPosition raw = See(point);
-  if (!raw.valid || !known) return raw;  // a hole: the plane, seen as the flat projection sees it
+  if (!raw.valid) return raw;
+  const Eigen::Vector3d ray = point - camera_.eye_enu;
+  raw.slant = static_cast<float>(ray.head<2>().squaredNorm() / std::max(ray.z() * ray.z(), 1e-12));
+  if (!known) return raw;  // a hole: the plane, seen as the flat projection sees it
   // Only what the frame could paint needs the line-of-sight test (the
   // margin: the grid interpolates between points a few pixels apart).
   const CameraModel& c = flat_.camera();

@@ -95,6 +95,34 @@ void TerrainOptions::Check() const {
   fit.Check();
 }
 
+HeightGrid FitSeabedTerrain(const SeabedPoints& points, const std::vector<VehiclePose>& poses,
+                            const CameraModel& camera, const HeightFitOptions& options, double max_relief_m,
+                            HeightFitReport* report) {
+  options.Check();
+  HeightFitReport local;
+  HeightFitReport* fit_report = report ? report : &local;
+  // Fitted within the footprints on the expected seabed widened by the relief
+  // allowed, then clipped to the footprints on the fitted surface.
+  std::vector<std::array<LocalXY, 4>> wide_swath;
+  std::vector<double> altitudes;
+  bool has_depth = false;
+  for (const VehiclePose& p : poses) {
+    has_depth |= p.depth_m != 0;
+    altitudes.push_back(p.altitude_m);
+    if (auto corners = Footprint(camera, p)) wide_swath.push_back(Widened(*corners, p, max_relief_m));
+  }
+  HeightFitOptions fit = options;
+  if (fit.gsd_m <= 0 && !altitudes.empty()) fit.gsd_m = GroundSampleDistance(camera, Median(altitudes));
+  HeightGrid grid = FitHeightGrid(points, wide_swath, has_depth, fit, fit_report);
+  if (!grid.empty()) {
+    std::vector<std::vector<LocalXY>> swath;
+    for (const VehiclePose& p : poses)
+      if (Footprint(camera, p)) swath.push_back(FootprintOnGrid(camera, p, grid));
+    ClipHeightGrid(swath, &grid, fit_report);
+  }
+  return grid;
+}
+
 HeightGrid EstimateSeabedTerrainFromFeatures(const std::vector<VehiclePose>& poses, const CameraModel& camera,
                                              const FeatureSource& features, const TerrainOptions& options,
                                              TerrainReport* report, const TerrainProgress& progress,
@@ -110,31 +138,13 @@ HeightGrid EstimateSeabedTerrainFromFeatures(const std::vector<VehiclePose>& pos
   r.seconds_features_and_tracks = Since(start);
 
   start = Clock::now();
-  // Fitted within the footprints on the expected seabed widened by the relief
-  // allowed, then clipped to the footprints on the fitted surface.
-  std::vector<std::array<LocalXY, 4>> wide_swath;
-  std::vector<double> altitudes;
-  bool has_depth = false;
-  for (const VehiclePose& p : poses) {
-    has_depth |= p.depth_m != 0;
-    altitudes.push_back(p.altitude_m);
-    if (auto corners = Footprint(camera, p)) wide_swath.push_back(Widened(*corners, p, options.tracks.max_relief_m));
-  }
-  HeightFitOptions fit = options.fit;
-  if (fit.gsd_m <= 0 && !altitudes.empty()) fit.gsd_m = GroundSampleDistance(camera, Median(altitudes));
   HeightGrid grid;
   if (options.extra_points.empty()) {
-    grid = FitHeightGrid(tracks.points, wide_swath, has_depth, fit, &r.fit);
+    grid = FitSeabedTerrain(tracks.points, poses, camera, options.fit, options.tracks.max_relief_m, &r.fit);
   } else {
     SeabedPoints all = tracks.points;
     all.insert(all.end(), options.extra_points.begin(), options.extra_points.end());
-    grid = FitHeightGrid(all, wide_swath, has_depth, fit, &r.fit);
-  }
-  if (!grid.empty()) {
-    std::vector<std::vector<LocalXY>> swath;
-    for (const VehiclePose& p : poses)
-      if (Footprint(camera, p)) swath.push_back(FootprintOnGrid(camera, p, grid));
-    ClipHeightGrid(swath, &grid, &r.fit);
+    grid = FitSeabedTerrain(all, poses, camera, options.fit, options.tracks.max_relief_m, &r.fit);
   }
   r.seconds_fit = Since(start);
   if (progress) progress("fit", 1, 1);

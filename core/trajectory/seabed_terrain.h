@@ -53,6 +53,14 @@ HeightGrid EstimateSeabedTerrain(const std::vector<FrameSpec>& frames, const Cam
                                  const TerrainOptions& options, TerrainReport* report,
                                  const TerrainProgress& progress = nullptr, SeabedTracks* tracks = nullptr);
 
+// The height model fitted to seabed points triangulated elsewhere (the
+// bundle adjustment's, PoseSource::seabed_points()) over the swath of
+// `poses`, as EstimateSeabedTerrain fits its own: no photo is read.
+// max_relief_m: how far the swath is widened (TrackOptions::max_relief_m).
+HeightGrid FitSeabedTerrain(const SeabedPoints& points, const std::vector<VehiclePose>& poses,
+                            const CameraModel& camera, const HeightFitOptions& options, double max_relief_m,
+                            HeightFitReport* report = nullptr);
+
 // The same from features a caller already has (or a test makes), one frame
 // at a time in order; options.features and options.threads are not used.
 HeightGrid EstimateSeabedTerrainFromFeatures(const std::vector<VehiclePose>& poses, const CameraModel& camera,

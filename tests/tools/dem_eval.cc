@@ -2,6 +2,7 @@
 // truth (scripts/bench_dem.sh), until `build --terrain` stores one.
 //
 //   dem_eval SURVEY [--nav nav_truth.csv] [--threads N] [--cell M] [--dump PREFIX] [--quiet]
+//   dem_eval SURVEY --dem DEM.tif     (a model a build stored: seamap export MAP DEM.tif --dem)
 //
 // SURVEY is a `seamap simulate --relief M` folder. The frames are placed with
 // --nav (default nav_truth.csv: exact navigation), the height model
@@ -33,13 +34,15 @@ int Run(int argc, char** argv) {
   using namespace seamap;
   if (argc < 2) {
     std::fprintf(stderr,
-                 "usage: dem_eval SURVEY [--nav nav_truth.csv] [--threads N] [--cell M] [--dump PREFIX] [--quiet]\n");
+                 "usage: dem_eval SURVEY [--nav nav_truth.csv] [--threads N] [--cell M] [--dump PREFIX] [--quiet]\n"
+                 "       dem_eval SURVEY --dem DEM.tif\n");
     return 2;
   }
   const std::string survey = argv[1];
   std::string nav_name = "nav_truth.csv";
   TerrainOptions options;
   bool quiet = false;
+  std::string dem;   // a stored model to compare instead of estimating one
   std::string dump;  // prefix: DUMP_grid.csv and DUMP_points.csv with the truth beside
   for (int k = 2; k < argc; ++k) {
     const std::string a = argv[k];
@@ -49,6 +52,8 @@ int Run(int argc, char** argv) {
       nav_name = argv[++k];
     } else if (k + 1 < argc && a == "--threads") {
       options.threads = std::atoi(argv[++k]);
+    } else if (k + 1 < argc && a == "--dem") {
+      dem = argv[++k];
     } else if (k + 1 < argc && a == "--dump") {
       dump = argv[++k];
     } else if (k + 1 < argc && a == "--cell") {
@@ -65,6 +70,28 @@ int Run(int argc, char** argv) {
   nav_options.origin = origin;
   const NavTable nav = ReadNavigation(survey + "/" + nav_name, nav_options);
   const FrameList frames = MatchFrames(nav, survey + "/photo", std::nullopt);
+  if (!dem.empty()) {  // the model's cells against the truth, the mean offset removed
+    const HeightGrid model = ReadHeightGridGeotiff(dem, origin);
+    const HeightGrid truth = ReadHeightGridGeotiff(survey + "/truth/terrain.tif", origin);
+    std::vector<double> error;
+    for (int r = 0; r < model.rows(); ++r)
+      for (int c = 0; c < model.cols(); ++c) {
+        double t = 0;
+        if (std::isfinite(model.height_m(r, c)) && truth.Sample(model.CellCentre(r, c), &t))
+          error.push_back(model.height_m(r, c) - t);
+      }
+    double mean = 0, sum = 0;
+    for (double e : error) mean += e / error.size();
+    std::vector<double> absolute;
+    for (double e : error) {
+      sum += (e - mean) * (e - mean);
+      absolute.push_back(std::fabs(e - mean));
+    }
+    std::printf("rms_mm %.2f p90_mm %.2f offset_mm %.1f cells %zu cell_m %.3f\n",
+                1000 * std::sqrt(sum / std::max<size_t>(1, error.size())), 1000 * Percentile(absolute, 0.9),
+                1000 * mean, error.size(), model.cell_m);
+    return error.empty() ? 1 : 0;
+  }
 
   ProgressBar bar("frames", static_cast<long>(frames.frames.size()), !quiet);
   TerrainReport report;

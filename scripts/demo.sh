@@ -69,10 +69,10 @@ PY
   touch "$dive/ready"
 fi
 echo "demo: replaying the dive live; open the URL below in a browser (Ctrl-C to stop)"
-# Add --refine-nav to correct the map as passes cross.
+# --refine-nav corrects the map as passes cross (and refines the whole dive at its end).
 exec "$seamap" replay "$dive/survey" --speed "${SEAMAP_DEMO_SPEED:-2}" \
   --config "$root/config/demo_dive.json" --out "$out/mission.mbtiles" --overwrite \
-  --nav-mode ekf --detect \
+  --nav-mode ekf --refine-nav --detect \
   --stereo "$dive/wellhead/dive" --pair-times "$dive/pair_times.csv" \
   --calib "$dive/wellhead/stereo.yaml" --model "$dive/wellhead.json" --rig down \
   --port "${SEAMAP_PORT:-8080}"

@@ -113,7 +113,7 @@ void RefineOptions::Check() const {
   if (!(altitude_noise_m > 0) || !std::isfinite(altitude_noise_m))
     throw InputError("", 0, "--altitude-noise", "expected metres > 0");
   if (!(pixel_sigma > 0)) throw InputError("", 0, "pixel_sigma", "expected pixels > 0");
-  WindowedBundleOptions{bundle_window_frames, bundle_overlap_frames}.Check();
+  WindowedBundleOptions{bundle_window_frames, bundle_window_frames / 4}.Check();
   features.Check();
   registration.Check();
 }
@@ -362,7 +362,7 @@ std::vector<RefinedFrame> RefineSurvey(const std::vector<FrameSpec>& frames, con
     WindowedBundleReport windows;
     const SurveyBundleResult adjusted =
         SolveWindowedBundle(bundle_frames, camera, points_start, observations, b,
-                            {options.bundle_window_frames, options.bundle_overlap_frames}, &windows,
+                            {options.bundle_window_frames, options.bundle_window_frames / 4}, &windows,
                             [&](int done, int total) { tick("bundle", done, total); });
     r.bundle_windows = windows.windows;
     r.bundle_seam_jump_max_mm = 1000 * windows.max_seam_jump_m;

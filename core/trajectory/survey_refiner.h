@@ -54,11 +54,11 @@ struct RefineOptions {
   double attitude_noise_deg = 0.5;  // AHRS pitch/roll noise
   double depth_noise_m = 0.02, altitude_noise_m = 0.01;  // depth sensor, DVL altitude (metres, 1 sigma)
   double pixel_sigma = 0.7;                              // feature noise, pixels
-  // Past this many frames the bundle is solved in windows of it (windowed_bundle.h): memory bounded,
+  // Past this many frames the bundle is solved in windows of it, each solving
+  // a quarter more that the next one keeps (windowed_bundle.h): memory bounded,
   // time linear; 0: one bundle however long the survey.
   int bundle_window_frames = 400;
-  int bundle_overlap_frames = 100;  // frames each window solves past its own, kept by the next
-  void Check() const;               // InputError naming the option as the command line spells it
+  void Check() const;  // InputError naming the option as the command line spells it
 };
 
 struct RefineReport {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "core/camera/frame_projector.h"
 #include "core/util/error.h"
 #include "core/util/statistics.h"
 
@@ -107,10 +108,28 @@ SurveyBundleResult SolveWindowedBundle(const std::vector<SurveyBundleFrame>& fra
     for (int p : window_points) sub_points.push_back(point_now[p]);
     std::vector<SurveyBundleObservation> sub_observations;
     std::vector<int> global_observation;
+    std::vector<Eigen::Matrix3d> camera_from_ned(window_frames.size());
+    std::vector<Eigen::Vector3d> centre_ned(window_frames.size());
+    for (size_t l = 0; l < window_frames.size(); ++l) {
+      const VehiclePose& pose = sub_frames[l].start;
+      camera_from_ned[l] = NedFromCamera(camera, pose).transpose();
+      centre_ned[l] =
+          Eigen::Vector3d(pose.north_m, pose.east_m, pose.depth_m) + NedFromBody(pose) * camera.mount_offset_m;
+    }
     for (int p : window_points)
       for (int k : by_point[p]) {
         const auto& o = observations[k];
         if (o.frame >= e) continue;  // a later window's frame
+        // Dropped by an earlier window's solve: kept out, as the global bundle keeps its rejections out of
+        // its second solve. (Its point moved on without it, possibly behind this camera, where the first
+        // evaluation of a new solve would fail.)
+        if (result.observation_rejected[k]) continue;
+        const int l = frame_local[o.frame];
+        const Eigen::Vector3d& g = point_now[p];
+        if (!((camera_from_ned[l] * (Eigen::Vector3d(g.y(), g.x(), -g.z()) - centre_ned[l])).z() > 1e-3)) {
+          result.observation_rejected[k] = true;  // behind the camera where the window starts
+          continue;
+        }
         sub_observations.push_back({frame_local[o.frame], point_local[p], o.ideal_px});
         global_observation.push_back(k);
       }

@@ -69,6 +69,7 @@ SurveyBundleResult SolveWindowedBundle(const std::vector<SurveyBundleFrame>& fra
   double before_sq = 0, after_sq = 0;
   size_t rms_count = 0;
 
+  if (progress) progress(0, static_cast<int>(kept_ranges.size()));  // the bar's rate counts from here
   for (size_t w = 0; w < kept_ranges.size(); ++w) {
     const auto [a, b] = kept_ranges[w];
     const int e = std::min(n, b + window.overlap_frames);

@@ -25,7 +25,7 @@ struct ReliefChoiceOptions {
   // bundle` remains the user's choice); 0: no limit. The bundle is solved in
   // windows past RefineOptions::bundle_window_frames, memory bounded by the
   // window and time linear in the survey (docs/TERRAIN.md), so none is set.
-  int max_bundle_frames = 0;
+  int max_bundle_frames = 1500;
 };
 
 struct ReliefChoice {

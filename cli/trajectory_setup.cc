@@ -11,7 +11,9 @@ const char* kNavigationNoiseHelp =
     "  --refine-method M   refine's solve: auto (default: bundle where the navigation's depth + altitude\n"
     "                      shows relief, else planar), planar (the 2-D pose graph) or bundle (3-D poses\n"
     "                      and seabed points; slower, docs/TERRAIN.md)\n"
-    "  --attitude-noise DEG  the pitch/roll sensor's noise for the bundle (default 0.5)\n";
+    "  --attitude-noise DEG  the pitch/roll sensor's noise for the bundle (default 0.5)\n"
+    "  --bundle-window N   a longer survey's bundle is solved N frames at a time, each window holding the\n"
+    "                      frames before it fixed (default 0: one bundle over the whole survey)\n";
 
 const char* kFeatureEnhanceHelp =
     "  --feature-enhance off|auto|LIST  enhance the frames before their features are detected (seed 004;\n"
@@ -36,6 +38,7 @@ RefineOptions ReadRefineOptions(Args& args, const NavigationSettings& settings, 
                        "expected auto, bundle or planar, got '" + method->substr(0, 100) + "'");
   }
   o.attitude_noise_deg = args.GetDouble("attitude-noise", o.attitude_noise_deg);
+  o.bundle_window_frames = args.GetInt("bundle-window", o.bundle_window_frames);
   o.Check();
   return o;
 }

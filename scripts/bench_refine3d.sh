@@ -7,19 +7,23 @@
 #   SEAMAP_BIN=build/seamap            the binary
 #   SEAMAP_BENCH_SEEDS="1 2 3"         seeds of the accuracy surveys
 #   SEAMAP_BENCH_FRAMES=720            frames of an accuracy survey
-#   SEAMAP_BENCH_CASES="flat relief005 relief015 rugged"
+#   SEAMAP_BENCH_CASES="flat relief005 relief015 rugged"   ("" to skip)
 #   SEAMAP_BENCH_METHODS="auto bundle planar"   refine methods of the accuracy surveys
 #   SEAMAP_BENCH_SCALING="800 3800 20000"   frames of the scaling surveys ("" to skip)
 #   SEAMAP_BENCH_SCALING_SMALL=1       small frames (348x260) at every length (a loaded machine)
+#   SEAMAP_BENCH_SCALING_METHODS="planar bundle"   refine methods of the scaling surveys
+#   SEAMAP_BENCH_BUNDLE_WINDOW=400     --bundle-window of the scaling runs (frames a window; 0: one global bundle)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seamap=${SEAMAP_BIN:-$PWD/build/seamap}
 seeds=${SEAMAP_BENCH_SEEDS:-"1 2 3"}
 frames=${SEAMAP_BENCH_FRAMES:-720}
-cases=${SEAMAP_BENCH_CASES:-"flat relief005 relief015 rugged"}
+cases=${SEAMAP_BENCH_CASES-"flat relief005 relief015 rugged"}
 methods=${SEAMAP_BENCH_METHODS:-"auto bundle planar"}
 scaling=${SEAMAP_BENCH_SCALING-"800 3800 20000"}
 small_only=${SEAMAP_BENCH_SCALING_SMALL:-0}
+scaling_methods=${SEAMAP_BENCH_SCALING_METHODS:-"planar bundle"}
+bundle_window=${SEAMAP_BENCH_BUNDLE_WINDOW:-400}
 out=$PWD/out/bench/refine3d
 mkdir -p "$out"
 drift="--nav-drift 0.5 --nav-noise 0.005 --heading-noise 0.5"
@@ -80,8 +84,10 @@ done
 
 # Cost against the survey's length: the same lawnmower, longer. The longest
 # uses small frames (348x260) so that it fits the disk; the 800-frame survey
-# is run at both sizes so the two can be compared.
-prev_cpu=""
+# is run at both sizes so the two can be compared. The bundle past
+# --bundle-window frames is solved in windows (docs/TERRAIN.md, "Scaling"):
+# each line also says its CPU over the previous length's against the frames'.
+declare -A prev_cpu prev_n
 for n in $scaling; do
   for size in full small; do
     [[ ("$n" -ge 20000 || "$small_only" == 1) && "$size" == full ]] && continue
@@ -91,8 +97,16 @@ for n in $scaling; do
     dir="$out/scale_${n}_$size"
     [[ -f "$dir/nav_truth.csv" ]] || "$seamap" simulate --out "$dir" --frames "$n" --seed 7 --force --quiet $survey $extra \
       >/dev/null 2>&1
-    read -r cpu mb p90 ate < <(refine "$dir" "scale_${n}_$size" bundle)
-    printf "%-40s CPU %7.1f s  peak RSS %5.0f MB  p90 %5.1f mm  ATE %5.1f mm  (target: 4x frames <= 5x CPU; < 1500 MB at 20,000)\n" \
-      "scaling x$n ($size frames): refine bundle" "$cpu" "$mb" "$p90" "$ate"
+    for method in $scaling_methods; do
+      read -r cpu mb p90 ate < <(refine "$dir" "scale_${n}_${size}_$method" "$method" --bundle-window "$bundle_window")
+      growth=""
+      key="${size}_$method"
+      [[ -n "${prev_cpu[$key]:-}" ]] && growth=$(python3 -c "import sys; c, pc, n, pn = map(float, sys.argv[1:]); print(f'{n / pn:.2f}x frames, {c / pc:.2f}x CPU; ')" \
+        "$cpu" "${prev_cpu[$key]}" "$n" "${prev_n[$key]}")
+      prev_cpu[$key]=$cpu
+      prev_n[$key]=$n
+      printf "%-44s CPU %7.1f s  peak RSS %5.0f MB  p90 %5.1f mm  ATE %5.1f mm  (%starget: 4x frames <= 5x CPU; < 1500 MB at 20,000)\n" \
+        "scaling x$n ($size frames): refine $method" "$cpu" "$mb" "$p90" "$ate" "$growth"
+    done
   done
 done

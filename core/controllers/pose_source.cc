@@ -113,7 +113,7 @@ cv::Mat PoseSource::Place(FrameSpec* frame) {
 nlohmann::json PoseSource::Refine(std::vector<FrameSpec>* frames, std::vector<std::string>* flags) {
   std::fprintf(stderr, "refining the navigation of %zu frames from the photos\n", frames->size());
   ProgressBar features("frames", static_cast<long>(frames->size()), !options_.quiet);
-  std::unique_ptr<ProgressBar> pairs;
+  std::unique_ptr<ProgressBar> pairs, windows;
   RefineReport report;
   const std::vector<RefinedFrame> refined = RefineSurvey(
       *frames, camera_, options_.refine, &report,
@@ -126,10 +126,14 @@ nlohmann::json PoseSource::Refine(std::vector<FrameSpec>* frames, std::vector<st
             pairs = std::make_unique<ProgressBar>("pairs", total, !options_.quiet);
           }
           pairs->Update(done);
+        } else if (now == "bundle") {  // the bundle's windows (windowed_bundle.h)
+          if (!windows) windows = std::make_unique<ProgressBar>("bundle windows", total, !options_.quiet);
+          windows->Update(done);
         }
       },
       &seabed_points_);
   if (pairs) pairs->Finish();
+  if (windows) windows->Finish();
   int corrected = 0;
   for (size_t i = 0; i < frames->size(); ++i) {
     FrameSpec& f = (*frames)[i];
@@ -232,7 +236,10 @@ nlohmann::json PoseSource::Refine(std::vector<FrameSpec>* frames, std::vector<st
             {"reprojection_before_px", report.reprojection_before_px},
             {"reprojection_after_px", report.reprojection_after_px},
             {"linear_solver", report.bundle_solver},
-            {"iterations", report.bundle_iterations}}},
+            {"iterations", report.bundle_iterations},
+            {"windows", report.bundle_windows},
+            {"seam_jump_max_mm", report.bundle_seam_jump_max_mm},
+            {"seam_jump_median_mm", report.bundle_seam_jump_median_mm}}},
           {"peak_feature_mb", report.peak_feature_bytes / 1e6},
           {"seconds",
            {{"features", report.seconds_features},

@@ -46,7 +46,8 @@ ReliefChoice ChooseRefineMethod(const std::vector<FrameSpec>& frames, const std:
   choice.relief_rms_m = std::sqrt(std::max(0.0, sum_sq / n - (sum / n) * (sum / n)));
   choice.method = *choice.relief_rms_m > options.min_relief_share * choice.altitude_m ? RefineMethod::kBundle
                                                                                       : RefineMethod::kPlanar;
-  if (choice.method == RefineMethod::kBundle && frames.size() > static_cast<size_t>(options.max_bundle_frames)) {
+  if (choice.method == RefineMethod::kBundle && options.max_bundle_frames > 0 &&
+      frames.size() > static_cast<size_t>(options.max_bundle_frames)) {
     choice.method = RefineMethod::kPlanar;
     char note[256];
     std::snprintf(note, sizeof note,

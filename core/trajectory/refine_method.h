@@ -21,9 +21,10 @@ enum class RefineMethod { kPlanar, kBundle, kAuto };
 struct ReliefChoiceOptions {
   double window_s = 5;              // the local mean's half-width, seconds
   double min_relief_share = 0.005;  // of the median altitude: relief above it picks the bundle
-  // The bundle's memory grows ~0.65 MB a frame and its time faster than the
-  // survey (docs/TERRAIN.md): past this many frames auto stays planar, says
-  // so, and `--refine-method bundle` remains the user's choice.
+  // Past this many frames auto stays planar and says so (`--refine-method
+  // bundle` remains the user's choice); 0: no limit. The bundle is solved in
+  // windows past RefineOptions::bundle_window_frames, memory bounded by the
+  // window and time linear in the survey (docs/TERRAIN.md), so none is set.
   int max_bundle_frames = 1500;
 };
 

@@ -308,6 +308,7 @@ SurveyBundleResult SolveSurveyBundle(const std::vector<SurveyBundleFrame>& frame
     }
     for (int i = 0; i < n_frames; ++i) {
       problem.AddParameterBlock(poses[i].data(), 6);
+      if (frames[i].fixed) problem.SetParameterBlockConstant(poses[i].data());
     }
     for (int p = 0; p < n_points; ++p) {
       if (point_views[p] < 2) continue;  // one ray places nothing
@@ -413,7 +414,7 @@ SurveyBundleResult SolveSurveyBundle(const std::vector<SurveyBundleFrame>& frame
     };
     for (int i = 0; i < n_frames; ++i) {
       const VehiclePose& nav = frames[i].nav;
-      const double tau_s = frames[i].time_s - frames[0].time_s;
+      const double tau_s = frames[i].time_s - options.prior_origin_time_s.value_or(frames[0].time_s);
       problem.AddResidualBlock(new ceres::AutoDiffCostFunction<NavPositionResidual, 1 * 2, 6>(new NavPositionResidual{
                                    nav.east_m, nav.north_m, 1 / std::hypot(sigma_n, rho * tau_s)}),
                                &prior_loss, poses[i].data());

@@ -57,6 +57,9 @@ struct SurveyBundleOptions {
   double prior_loss_scale = 3;         // HuberLoss on absolute priors
   double reject_px = 4;                // observations reprojecting further are dropped before the second solve
   int max_iterations = 50, threads = 2;
+  // The time the absolute position priors' drift grows from; none: the first
+  // frame's (a window of a longer survey gives the survey's start).
+  std::optional<double> prior_origin_time_s;
   void Check() const;  // InputError naming the option
 };
 
@@ -64,6 +67,7 @@ struct SurveyBundleFrame {
   VehiclePose nav;    // as navigated: the priors
   VehiclePose start;  // where the solve starts (e.g. the planar refinement)
   double time_s = 0;
+  bool fixed = false;  // held at `start` (solved in an earlier window, windowed_bundle.h)
 };
 
 struct SurveyBundleObservation {

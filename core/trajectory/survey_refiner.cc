@@ -14,6 +14,7 @@
 #include "core/trajectory/pair_candidates.h"
 #include "core/trajectory/pose_graph.h"
 #include "core/trajectory/survey_bundle.h"
+#include "core/trajectory/windowed_bundle.h"
 #include "core/util/error.h"
 #include "core/util/statistics.h"
 #include "core/util/thread_pool.h"
@@ -112,6 +113,7 @@ void RefineOptions::Check() const {
   if (!(altitude_noise_m > 0) || !std::isfinite(altitude_noise_m))
     throw InputError("", 0, "--altitude-noise", "expected metres > 0");
   if (!(pixel_sigma > 0)) throw InputError("", 0, "pixel_sigma", "expected pixels > 0");
+  WindowedBundleOptions{bundle_window_frames, bundle_window_frames / 4}.Check();
   features.Check();
   registration.Check();
 }
@@ -357,7 +359,14 @@ std::vector<RefinedFrame> RefineSurvey(const std::vector<FrameSpec>& frames, con
     b.altitude_sigma_m = options.altitude_noise_m;
     b.pixel_sigma = options.pixel_sigma;
     b.threads = pool.size();
-    const SurveyBundleResult adjusted = SolveSurveyBundle(bundle_frames, camera, points_start, observations, b);
+    WindowedBundleReport windows;
+    const SurveyBundleResult adjusted =
+        SolveWindowedBundle(bundle_frames, camera, points_start, observations, b,
+                            {options.bundle_window_frames, options.bundle_window_frames / 4}, &windows,
+                            [&](int done, int total) { tick("bundle", done, total); });
+    r.bundle_windows = windows.windows;
+    r.bundle_seam_jump_max_mm = 1000 * windows.max_seam_jump_m;
+    r.bundle_seam_jump_median_mm = 1000 * windows.median_seam_jump_m;
     r.bundle = true;
     r.points = static_cast<int>(points_start.size());
     r.tracks_spread = tracks_spread;
@@ -383,7 +392,6 @@ std::vector<RefinedFrame> RefineSurvey(const std::vector<FrameSpec>& frames, con
         if (p.views >= 2) seabed_points->push_back(p);
     }
     r.seconds_bundle = Since(start);
-    tick("bundle", 1, 1);
   }
   for (const RefinedFrame& f : out) r.nav_only += f.nav_only;
   if (report) *report = r;

@@ -10,7 +10,8 @@
 // start a bundle adjustment (survey_bundle.h) over every frame's full
 // pose and the seabed points tracked through the registered pairs
 // (match_tracks.h); registration looks for matches off the mean plane
-// (RegistrationOptions::parallax_share). kPlanar stops at the planar graph:
+// (RegistrationOptions::parallax_share); a survey longer than
+// bundle_window_frames is solved in windows (windowed_bundle.h). kPlanar stops at the planar graph:
 // the fast path for a flat seabed. kAuto (the default) picks one of them from
 // the relief the navigation's depth + altitude shows (refine_method.h).
 //
@@ -53,7 +54,11 @@ struct RefineOptions {
   double attitude_noise_deg = 0.5;  // AHRS pitch/roll noise
   double depth_noise_m = 0.02, altitude_noise_m = 0.01;  // depth sensor, DVL altitude (metres, 1 sigma)
   double pixel_sigma = 0.7;                              // feature noise, pixels
-  void Check() const;                                    // InputError naming the option as the command line spells it
+  // Past this many frames the bundle is solved in windows of it, each solving
+  // a quarter more that the next one keeps (windowed_bundle.h): memory bounded,
+  // time linear; 0: one bundle however long the survey.
+  int bundle_window_frames = 0;  // opt-in: 720 rugged frames in windows of 400 regressed (docs/TERRAIN.md)
+  void Check() const;            // InputError naming the option as the command line spells it
 };
 
 struct RefineReport {
@@ -74,6 +79,9 @@ struct RefineReport {
   double seconds_bundle = 0;
   std::string bundle_solver;
   int bundle_iterations = 0;
+  int bundle_windows = 0;              // 1: one bundle over the whole survey
+  double bundle_seam_jump_max_mm = 0;  // windows: how far a window's first frame moved from the one before's solve
+  double bundle_seam_jump_median_mm = 0;
   size_t peak_feature_bytes = 0;                      // features held at once
   std::vector<std::pair<std::string, int>> failures;  // registration failures by reason
 };

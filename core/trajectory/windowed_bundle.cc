@@ -1,0 +1,195 @@
+#include "core/trajectory/windowed_bundle.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "core/camera/frame_projector.h"
+#include "core/util/error.h"
+#include "core/util/statistics.h"
+
+namespace seamap {
+
+void WindowedBundleOptions::Check() const {
+  if (window_frames < 0 || (window_frames > 0 && window_frames < 20))
+    throw InputError("", 0, "--bundle-window", "expected 0 (one bundle) or at least 20 frames");
+  if (overlap_frames < 0) throw InputError("", 0, "bundle_overlap_frames", "expected at least 0 frames");
+}
+
+SurveyBundleResult SolveWindowedBundle(const std::vector<SurveyBundleFrame>& frames, const CameraModel& camera,
+                                       const std::vector<Eigen::Vector3d>& points_start,
+                                       const std::vector<SurveyBundleObservation>& observations,
+                                       const SurveyBundleOptions& options, const WindowedBundleOptions& window,
+                                       WindowedBundleReport* report, const std::function<void(int, int)>& progress) {
+  window.Check();
+  options.Check();
+  const int n = static_cast<int>(frames.size()), n_points = static_cast<int>(points_start.size());
+  WindowedBundleReport r;
+  if (window.window_frames == 0 || n <= window.window_frames) {
+    // The reference: one bundle over the whole survey.
+    r.windows = 1;
+    r.max_window_frames = n;
+    if (report) *report = r;
+    SurveyBundleResult whole = SolveSurveyBundle(frames, camera, points_start, observations, options);
+    if (progress) progress(1, 1);
+    return whole;
+  }
+  std::vector<std::vector<int>> by_frame(n), by_point(n_points);
+  for (size_t k = 0; k < observations.size(); ++k) {
+    const auto& o = observations[k];
+    if (o.frame < 0 || o.frame >= n || o.point < 0 || o.point >= n_points)
+      throw InputError("", 0, "observations[" + std::to_string(k) + "]", "frame or point index out of range");
+    by_frame[o.frame].push_back(static_cast<int>(k));
+    by_point[o.point].push_back(static_cast<int>(k));
+  }
+
+  // Windows of window_frames kept frames; a short remainder joins the last one.
+  std::vector<std::pair<int, int>> kept_ranges;
+  for (int a = 0; a < n;) {
+    int b = std::min(n, a + window.window_frames);
+    if (n - b < window.window_frames / 2) b = n;
+    kept_ranges.emplace_back(a, b);
+    a = b;
+  }
+
+  SurveyBundleOptions window_options = options;
+  window_options.prior_origin_time_s = options.prior_origin_time_s.value_or(frames.front().time_s);
+  SurveyBundleResult result;
+  result.poses.resize(n);
+  result.nav_only.assign(n, true);
+  result.observation_rejected.assign(observations.size(), false);
+  result.points.resize(n_points);
+  for (int p = 0; p < n_points; ++p) result.points[p].east_north_up_m = points_start[p];
+  result.converged = true;
+  std::vector<VehiclePose> current(n);  // the latest solve of each frame (its start before any)
+  for (int i = 0; i < n; ++i) current[i] = frames[i].start;
+  std::vector<Eigen::Vector3d> point_now = points_start;
+  std::vector<int> frame_local(n, -1), point_local(n_points, -1);  // reset after each window
+  std::vector<double> seam_jumps_m;
+  double before_sq = 0, after_sq = 0;
+  size_t rms_count = 0;
+
+  if (progress) progress(0, static_cast<int>(kept_ranges.size()));  // the bar's rate counts from here
+  for (size_t w = 0; w < kept_ranges.size(); ++w) {
+    const auto [a, b] = kept_ranges[w];
+    const int e = std::min(n, b + window.overlap_frames);
+    // The points the window's frames observe, and every frame observing them
+    // up to the window's end: the earlier ones are held where they were kept.
+    std::vector<int> window_points, window_frames;
+    for (int i = a; i < e; ++i)
+      for (int k : by_frame[i]) {
+        const int p = observations[k].point;
+        if (point_local[p] >= 0) continue;
+        point_local[p] = static_cast<int>(window_points.size());
+        window_points.push_back(p);
+      }
+    auto add_frame = [&](int i) {
+      if (frame_local[i] >= 0) return;
+      frame_local[i] = 0;
+      window_frames.push_back(i);
+    };
+    if (a > 0) add_frame(a - 1);  // the navigation's relative motion ties the window to the one before
+    for (int i = a; i < e; ++i) add_frame(i);
+    for (int p : window_points)
+      for (int k : by_point[p])
+        if (observations[k].frame < e) add_frame(observations[k].frame);
+    std::sort(window_frames.begin(), window_frames.end());  // acquisition order, as the navigation chain needs
+    std::vector<SurveyBundleFrame> sub_frames;
+    sub_frames.reserve(window_frames.size());
+    for (size_t l = 0; l < window_frames.size(); ++l) {
+      const int i = window_frames[l];
+      frame_local[i] = static_cast<int>(l);
+      SurveyBundleFrame f = frames[i];
+      f.start = current[i];
+      f.fixed = i < a;
+      sub_frames.push_back(f);
+    }
+    std::vector<Eigen::Vector3d> sub_points;
+    sub_points.reserve(window_points.size());
+    for (int p : window_points) sub_points.push_back(point_now[p]);
+    std::vector<SurveyBundleObservation> sub_observations;
+    std::vector<int> global_observation;
+    std::vector<Eigen::Matrix3d> camera_from_ned(window_frames.size());
+    std::vector<Eigen::Vector3d> centre_ned(window_frames.size());
+    for (size_t l = 0; l < window_frames.size(); ++l) {
+      const VehiclePose& pose = sub_frames[l].start;
+      camera_from_ned[l] = NedFromCamera(camera, pose).transpose();
+      centre_ned[l] =
+          Eigen::Vector3d(pose.north_m, pose.east_m, pose.depth_m) + NedFromBody(pose) * camera.mount_offset_m;
+    }
+    for (int p : window_points)
+      for (int k : by_point[p]) {
+        const auto& o = observations[k];
+        if (o.frame >= e) continue;  // a later window's frame
+        // Dropped by an earlier window's solve: kept out, as the global bundle keeps its rejections out of
+        // its second solve. (Its point moved on without it, possibly behind this camera, where the first
+        // evaluation of a new solve would fail.)
+        if (result.observation_rejected[k]) continue;
+        const int l = frame_local[o.frame];
+        const Eigen::Vector3d& g = point_now[p];
+        if (!((camera_from_ned[l] * (Eigen::Vector3d(g.y(), g.x(), -g.z()) - centre_ned[l])).z() > 1e-3)) {
+          result.observation_rejected[k] = true;  // behind the camera where the window starts
+          continue;
+        }
+        sub_observations.push_back({frame_local[o.frame], point_local[p], o.ideal_px});
+        global_observation.push_back(k);
+      }
+
+    const SurveyBundleResult solved =
+        SolveSurveyBundle(sub_frames, camera, sub_points, sub_observations, window_options);
+
+    // The seam: how far the first kept frame moved from where the window before left it.
+    if (w > 0 && window.overlap_frames > 0) {
+      const VehiclePose& now = solved.poses[frame_local[a]];
+      const VehiclePose& before = current[a];
+      seam_jumps_m.push_back(std::sqrt(std::pow(now.east_m - before.east_m, 2) +
+                                       std::pow(now.north_m - before.north_m, 2) +
+                                       std::pow(now.depth_m - before.depth_m, 2)));
+    }
+    for (int i = a; i < e; ++i) {
+      const int l = frame_local[i];
+      current[i] = solved.poses[l];
+      if (i < b) {
+        result.poses[i] = solved.poses[l];
+        result.nav_only[i] = solved.nav_only[l];
+      }
+    }
+    for (size_t l = 0; l < window_points.size(); ++l) {
+      if (solved.points[l].views < 2) continue;  // a point this window could not place keeps its earlier solve
+      point_now[window_points[l]] = solved.points[l].east_north_up_m;
+      result.points[window_points[l]] = solved.points[l];
+    }
+    for (size_t k = 0; k < global_observation.size(); ++k)
+      result.observation_rejected[global_observation[k]] = solved.observation_rejected[k];
+    const size_t kept =
+        static_cast<size_t>(std::count(solved.observation_rejected.begin(), solved.observation_rejected.end(), false));
+    before_sq += solved.rms_px_before * solved.rms_px_before * kept;
+    after_sq += solved.rms_px_after * solved.rms_px_after * kept;
+    rms_count += kept;
+    result.cost_before += solved.cost_before;
+    result.cost_after += solved.cost_after;
+    result.iterations += solved.iterations;
+    result.converged = result.converged && solved.converged;
+    result.linear_solver = solved.linear_solver;
+    result.points_solved += solved.points_solved;
+    result.points_eliminated += solved.points_eliminated;
+    r.max_window_frames = std::max(r.max_window_frames, static_cast<int>(window_frames.size()));
+    ++r.windows;
+
+    for (int i : window_frames) frame_local[i] = -1;
+    for (int p : window_points) point_local[p] = -1;
+    if (progress) progress(static_cast<int>(w + 1), static_cast<int>(kept_ranges.size()));
+  }
+  if (rms_count) {
+    result.rms_px_before = std::sqrt(before_sq / rms_count);
+    result.rms_px_after = std::sqrt(after_sq / rms_count);
+  }
+  if (!seam_jumps_m.empty()) {
+    r.max_seam_jump_m = *std::max_element(seam_jumps_m.begin(), seam_jumps_m.end());
+    r.median_seam_jump_m = Median(seam_jumps_m);
+  }
+  if (report) *report = r;
+  return result;
+}
+
+}  // namespace seamap

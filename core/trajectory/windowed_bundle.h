@@ -1,0 +1,45 @@
+#pragma once
+// The bundle adjustment of a long survey in windows (docs/TERRAIN.md,
+// "Scaling"): one global bundle (survey_bundle.h) grows ~0.65 MB a frame and
+// its time faster than the survey, so past `window_frames` the frames are
+// solved in acquisition order, a window at a time. Each window solves its
+// frames plus `overlap_frames` beyond them (so that its last frames see what
+// follows), every seabed point those frames observe, and holds fixed every
+// frame already solved that observes one of those points: the frames just
+// before (the seam) and the earlier lanes' cross-pass partners. Only the
+// window's own frames are kept; the overlap is solved again, from there, by
+// the next window. Memory is bounded by the window, time grows with the
+// survey. A survey of at most window_frames frames is one global bundle,
+// exactly as SolveSurveyBundle solves it.
+#include <functional>
+#include <vector>
+
+#include "core/trajectory/survey_bundle.h"
+
+namespace seamap {
+
+struct WindowedBundleOptions {
+  int window_frames = 400;   // frames kept per window; 0: one global bundle however long the survey
+  int overlap_frames = 100;  // frames solved past the window's end, kept by the next window
+  void Check() const;        // InputError naming the option as the command line spells it
+};
+
+struct WindowedBundleReport {
+  int windows = 0;
+  // Where consecutive windows meet: how far the first frame a window keeps
+  // moved from where the window before solved it (its overlap), metres; the
+  // step between the two windows' frames differs from one solve's by this much.
+  double max_seam_jump_m = 0, median_seam_jump_m = 0;
+  int max_window_frames = 0;  // frames in the largest window's problem, fixed ones included
+};
+
+// As SolveSurveyBundle (same inputs, same result), in windows past
+// window.window_frames frames. progress(done, total) counts windows.
+SurveyBundleResult SolveWindowedBundle(const std::vector<SurveyBundleFrame>& frames, const CameraModel& camera,
+                                       const std::vector<Eigen::Vector3d>& points_start,
+                                       const std::vector<SurveyBundleObservation>& observations,
+                                       const SurveyBundleOptions& options, const WindowedBundleOptions& window,
+                                       WindowedBundleReport* report = nullptr,
+                                       const std::function<void(int, int)>& progress = nullptr);
+
+}  // namespace seamap

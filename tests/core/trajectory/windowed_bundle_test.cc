@@ -1,0 +1,249 @@
+#include "core/trajectory/windowed_bundle.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "core/camera/frame_projector.h"
+#include "core/util/error.h"
+
+namespace seamap {
+namespace {
+
+constexpr double kSeaDepthM = 30;
+constexpr int kLaneFrames = 40;
+
+CameraModel Camera() {
+  CameraModel c;
+  c.width = 480;
+  c.height = 360;
+  c.fx = c.fy = 420;
+  c.cx = 239.5;
+  c.cy = 179.5;
+  return c;
+}
+
+double SeabedUp(double east, double north) {
+  return -kSeaDepthM + 0.15 * std::sin(1.7 * east + 0.3) * std::cos(1.1 * north) +
+         0.1 * std::sin(2.9 * north - 0.8 * east);
+}
+
+// A 4-beam DVL (beams 30 deg off vertical) over that seabed: the mean vertical range of its beams.
+double DvlAltitude(const VehiclePose& pose) {
+  const Eigen::Matrix3d r_nb = NedFromBody(pose);
+  double sum = 0;
+  for (int b = 0; b < 4; ++b) {
+    const double az = (45 + 90 * b) * M_PI / 180, tilt = 30 * M_PI / 180;
+    const Eigen::Vector3d ray =
+        r_nb * Eigen::Vector3d(std::cos(az) * std::sin(tilt), std::sin(az) * std::sin(tilt), std::cos(tilt));
+    double range = 2;
+    for (int it = 0; it < 50; ++it) {
+      const double t = range / ray.z();
+      range = -pose.depth_m - SeabedUp(pose.east_m + t * ray.y(), pose.north_m + t * ray.x());
+    }
+    sum += range;
+  }
+  return sum / 4;
+}
+
+bool Project(const CameraModel& camera, const VehiclePose& pose, const Eigen::Vector3d& enu, cv::Point2f* px) {
+  const Eigen::Vector3d centre(pose.north_m, pose.east_m, pose.depth_m);
+  const Eigen::Vector3d d =
+      NedFromCamera(camera, pose).transpose() * (Eigen::Vector3d(enu.y(), enu.x(), -enu.z()) - centre);
+  if (d.z() <= 0) return false;
+  *px = cv::Point2f(static_cast<float>(camera.fx * d.x() / d.z() + camera.cx),
+                    static_cast<float>(camera.fy * d.y() / d.z() + camera.cy));
+  return px->x >= 0 && px->y >= 0 && px->x < camera.width && px->y < camera.height;
+}
+
+struct Scene {
+  std::vector<VehiclePose> truth;
+  std::vector<SurveyBundleFrame> frames;
+  std::vector<Eigen::Vector3d> points_start;
+  std::vector<SurveyBundleObservation> observations;
+};
+
+// `lanes` lawnmower lanes 0.9 m apart of 40 frames at 2 m over 0.15 m of
+// relief, pitch and roll of 3 deg; navigation drifting 1 m/min with noisy
+// heading; seabed points seen with 0.3 px noise.
+Scene MakeScene(int lanes) {
+  Scene s;
+  const CameraModel camera = Camera();
+  std::mt19937 rng(38);
+  std::normal_distribution<double> unit(0, 1);
+  const double speed = 0.5, fps = 5;
+  for (int lane = 0; lane < lanes; ++lane)
+    for (int k = 0; k < kLaneFrames; ++k) {
+      VehiclePose p;
+      const double along = k * speed / fps;
+      p.east_m = 0.9 * lane;
+      p.north_m = lane % 2 == 0 ? along : 3.9 - along;
+      p.heading_deg = lane % 2 == 0 ? 0 : 180;
+      const int i = static_cast<int>(s.truth.size());
+      p.pitch_deg = 3 * std::sin(0.3 * i);
+      p.roll_deg = 3 * std::cos(0.23 * i);
+      p.altitude_m = 2 + 0.1 * std::sin(0.1 * i);
+      p.depth_m = -(SeabedUp(p.east_m, p.north_m) + p.altitude_m);
+      p.altitude_m = DvlAltitude(p);
+      s.truth.push_back(p);
+    }
+  const double drift_m_per_s = 1.0 / 60;
+  for (size_t i = 0; i < s.truth.size(); ++i) {
+    SurveyBundleFrame f;
+    f.time_s = i / fps + (i / kLaneFrames) * 5.0;  // turns take 5 s
+    f.nav = s.truth[i];
+    f.nav.east_m += 0.6 * drift_m_per_s * f.time_s;
+    f.nav.north_m += 0.8 * drift_m_per_s * f.time_s;
+    f.nav.heading_deg += 0.3 * unit(rng);
+    f.nav.pitch_deg += 0.2 * unit(rng);
+    f.nav.roll_deg += 0.2 * unit(rng);
+    f.start = f.nav;
+    s.frames.push_back(f);
+  }
+  std::uniform_real_distribution<double> east(-0.8, 0.9 * (lanes - 1) + 0.8), north(-0.8, 4.7);
+  for (int k = 0; k < 140 * lanes; ++k) {
+    const double e = east(rng), n = north(rng);
+    const Eigen::Vector3d point(e, n, SeabedUp(e, n));
+    std::vector<SurveyBundleObservation> seen;
+    for (size_t i = 0; i < s.truth.size(); ++i) {
+      cv::Point2f px;
+      if (!Project(camera, s.truth[i], point, &px)) continue;
+      px.x += static_cast<float>(0.3 * unit(rng));
+      px.y += static_cast<float>(0.3 * unit(rng));
+      seen.push_back({static_cast<int>(i), static_cast<int>(s.points_start.size()), px});
+    }
+    if (seen.size() < 2) continue;
+    Eigen::Vector3d start = Eigen::Vector3d::Zero();
+    for (const auto& o : seen) start += *FlatSeabedPoint(camera, s.frames[o.frame].nav, o.ideal_px);
+    s.points_start.push_back(start / seen.size());
+    s.observations.insert(s.observations.end(), seen.begin(), seen.end());
+  }
+  return s;
+}
+
+SurveyBundleOptions SceneOptions() {
+  SurveyBundleOptions options;
+  options.nav_sigma_m = 0.005;
+  options.nav_drift_m_per_s = 1.0 / 60;
+  options.heading_sigma_rad = 0.5 * M_PI / 180;
+  options.attitude_sigma_rad = 0.3 * M_PI / 180;
+  options.altitude_sigma_m = 0.01;
+  options.depth_sigma_m = 0.01;
+  options.pixel_sigma = 0.3;
+  options.threads = 1;
+  return options;
+}
+
+Eigen::Vector2d Horizontal(const VehiclePose& p) {
+  return {p.east_m, p.north_m};
+}
+
+// RMS horizontal error of the poses' shape (after their mean offset), metres.
+double ShapeError(const std::vector<VehiclePose>& poses, const std::vector<VehiclePose>& truth) {
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (size_t i = 0; i < truth.size(); ++i) mean += Horizontal(poses[i]) - Horizontal(truth[i]);
+  mean /= truth.size();
+  double sum = 0;
+  for (size_t i = 0; i < truth.size(); ++i) sum += (Horizontal(poses[i]) - Horizontal(truth[i]) - mean).squaredNorm();
+  return std::sqrt(sum / truth.size());
+}
+
+// How far the step from frame i - 1 to i is from the true one, metres.
+double StepError(const std::vector<VehiclePose>& poses, const std::vector<VehiclePose>& truth, int i) {
+  return ((Horizontal(poses[i]) - Horizontal(poses[i - 1])) - (Horizontal(truth[i]) - Horizontal(truth[i - 1]))).norm();
+}
+
+TEST(WindowedBundle, ASurveyThatFitsOneWindowIsTheGlobalBundle) {
+  const Scene s = MakeScene(3);
+  const SurveyBundleOptions options = SceneOptions();
+  const SurveyBundleResult global = SolveSurveyBundle(s.frames, Camera(), s.points_start, s.observations, options);
+  WindowedBundleReport report;
+  const SurveyBundleResult windowed = SolveWindowedBundle(s.frames, Camera(), s.points_start, s.observations, options,
+                                                          {static_cast<int>(s.frames.size()), 20}, &report);
+  EXPECT_EQ(report.windows, 1);
+  ASSERT_EQ(windowed.poses.size(), global.poses.size());
+  for (size_t i = 0; i < global.poses.size(); ++i) {
+    EXPECT_EQ(windowed.poses[i].east_m, global.poses[i].east_m) << i;
+    EXPECT_EQ(windowed.poses[i].north_m, global.poses[i].north_m) << i;
+    EXPECT_EQ(windowed.poses[i].heading_deg, global.poses[i].heading_deg) << i;
+  }
+  EXPECT_EQ(windowed.points.size(), global.points.size());
+}
+
+TEST(WindowedBundle, WindowsAgreeAtTheirSeamsAndKeepTheShape) {
+  // Five lanes (200 frames) in windows of 50 frames and 20 more: four windows,
+  // each holding the frames before it and the earlier lane's partners fixed.
+  const Scene s = MakeScene(5);
+  const SurveyBundleOptions options = SceneOptions();
+  WindowedBundleReport report;
+  WindowedBundleOptions window;
+  window.window_frames = 50;
+  window.overlap_frames = 20;
+  const SurveyBundleResult r =
+      SolveWindowedBundle(s.frames, Camera(), s.points_start, s.observations, options, window, &report);
+  ASSERT_EQ(r.poses.size(), s.truth.size());
+  EXPECT_EQ(report.windows, 4);
+  EXPECT_LT(report.max_window_frames, 200);  // a window's problem holds part of the survey
+  std::vector<VehiclePose> nav;
+  for (const auto& f : s.frames) nav.push_back(f.nav);
+  const double nav_error = ShapeError(nav, s.truth), windowed_error = ShapeError(r.poses, s.truth);
+  std::printf("windowed bundle: shape %.2f mm (navigation %.1f mm), seam jump max %.2f mm median %.2f mm, %d windows\n",
+              1000 * windowed_error, 1000 * nav_error, 1000 * report.max_seam_jump_m, 1000 * report.median_seam_jump_m,
+              report.windows);
+  EXPECT_GT(nav_error, 0.04);
+  EXPECT_LT(windowed_error, 0.005);
+  EXPECT_LT(r.rms_px_after, 0.5);
+  // The seams: the first kept frame of a window lands within 2 mm of where
+  // the window before solved it, and the step across each seam is as right
+  // as the steps within the windows and as the global bundle's (whose own
+  // steps are off by ~2 mm: the poses' noise).
+  EXPECT_LT(report.max_seam_jump_m, 0.002);
+  const SurveyBundleResult global = SolveSurveyBundle(s.frames, Camera(), s.points_start, s.observations, options);
+  EXPECT_LT(windowed_error, ShapeError(global.poses, s.truth) + 0.001);
+  std::vector<double> steps_m;
+  for (int i = 1; i < static_cast<int>(s.truth.size()); ++i) steps_m.push_back(StepError(r.poses, s.truth, i));
+  std::sort(steps_m.begin(), steps_m.end());
+  const double p90_step_m = steps_m[steps_m.size() * 9 / 10];
+  for (int seam : {50, 100, 150}) {
+    const Eigen::Vector2d step = Horizontal(r.poses[seam]) - Horizontal(r.poses[seam - 1]);
+    const Eigen::Vector2d global_step = Horizontal(global.poses[seam]) - Horizontal(global.poses[seam - 1]);
+    EXPECT_LT((step - global_step).norm(), 0.001) << seam;
+    EXPECT_LE(StepError(r.poses, s.truth, seam), p90_step_m) << seam;
+  }
+  // Cross-pass: a seabed point seen from two lanes lands in one place; the
+  // points' heights within 10 mm rms of the truth after the mean offset.
+  int kept = 0;
+  for (const auto& p : r.points) kept += p.views >= 2;
+  EXPECT_GT(kept, 500);
+  double offset = 0, sq = 0;
+  int n = 0;
+  for (const auto& p : r.points)
+    if (p.views >= 2) {
+      offset += p.east_north_up_m.z() - SeabedUp(p.east_north_up_m.x(), p.east_north_up_m.y());
+      ++n;
+    }
+  offset /= n;
+  for (const auto& p : r.points)
+    if (p.views >= 2)
+      sq += std::pow(p.east_north_up_m.z() - SeabedUp(p.east_north_up_m.x(), p.east_north_up_m.y()) - offset, 2);
+  EXPECT_LT(std::sqrt(sq / n), 0.01);
+}
+
+TEST(WindowedBundle, BadOptionsAreAnErrorNamingThem) {
+  const Scene s = MakeScene(2);
+  try {
+    SolveWindowedBundle(s.frames, Camera(), s.points_start, s.observations, SceneOptions(), {5, 0});
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--bundle-window"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(SolveWindowedBundle(s.frames, Camera(), s.points_start, s.observations, SceneOptions(), {20, -1}),
+               InputError);
+  std::vector<SurveyBundleObservation> bad = {{0, 99999, cv::Point2f(1, 1)}};
+  EXPECT_THROW(SolveWindowedBundle(s.frames, Camera(), s.points_start, bad, SceneOptions(), {20, 5}), InputError);
+}
+
+}  // namespace
+}  // namespace seamap

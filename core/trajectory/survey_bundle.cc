@@ -311,6 +311,11 @@ SurveyBundleResult SolveSurveyBundle(const std::vector<SurveyBundleFrame>& frame
     std::vector<double*> plane_blocks;
     std::vector<int> point_views(n_points, 0), frame_views(n_frames, 0);
     for (size_t k = 0; k < observations.size(); ++k) {
+      // Ceres stops at once when a residual cannot be evaluated where it starts:
+      // a point (a wrong match's) behind a camera is dropped first.
+      if (!std::isfinite(ErrorPx(reprojection[k], poses[observations[k].frame], points[observations[k].point],
+                                 options.pixel_sigma)))
+        result.observation_rejected[k] = true;
       if (result.observation_rejected[k]) continue;
       ++point_views[observations[k].point];
       ++frame_views[observations[k].frame];
@@ -399,6 +404,15 @@ SurveyBundleResult SolveSurveyBundle(const std::vector<SurveyBundleFrame>& frame
         altitude.beams_body.push_back(body);
         altitude.anchors.emplace_back(east, north);
         planned.push_back(std::move(beam));
+      }
+      {
+        // A beam that grazes its plane from where the solve starts has no reading to compare.
+        std::vector<BeamBlock> start_planes;
+        std::vector<const double*> start_blocks = {poses[i].data()};
+        for (const Beam& b : planned) start_planes.push_back({b.plane(0), b.plane(1), b.plane(2)});
+        for (const BeamBlock& b : start_planes) start_blocks.push_back(b.data());
+        double residual = 0;
+        if (planned.empty() || !altitude(start_blocks.data(), &residual)) return;
       }
       std::vector<double*> blocks = {poses[i].data()};
       for (size_t b = 0; b < planned.size(); ++b) {

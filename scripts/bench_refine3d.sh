@@ -7,7 +7,7 @@
 #   SEAMAP_BIN=build/seamap            the binary
 #   SEAMAP_BENCH_SEEDS="1 2 3"         seeds of the accuracy surveys
 #   SEAMAP_BENCH_FRAMES=720            frames of an accuracy survey
-#   SEAMAP_BENCH_CASES="flat relief005 relief015 rugged"   ("" to skip)
+#   SEAMAP_BENCH_CASES="rugged relief015 relief005 flat"   (the target case first; "" to skip)
 #   SEAMAP_BENCH_METHODS="auto bundle planar"   refine methods of the accuracy surveys
 #   SEAMAP_BENCH_SCALING="800 3800 20000"   frames of the scaling surveys ("" to skip)
 #   SEAMAP_BENCH_SCALING_SMALL=1       small frames (348x260) at every length (a loaded machine)
@@ -18,7 +18,7 @@ cd "$(dirname "$0")/.."
 seamap=${SEAMAP_BIN:-$PWD/build/seamap}
 seeds=${SEAMAP_BENCH_SEEDS:-"1 2 3"}
 frames=${SEAMAP_BENCH_FRAMES:-720}
-cases=${SEAMAP_BENCH_CASES-"flat relief005 relief015 rugged"}
+cases=${SEAMAP_BENCH_CASES-"rugged relief015 relief005 flat"}
 methods=${SEAMAP_BENCH_METHODS:-"auto bundle planar"}
 scaling=${SEAMAP_BENCH_SCALING-"800 3800 20000"}
 small_only=${SEAMAP_BENCH_SCALING_SMALL:-0}

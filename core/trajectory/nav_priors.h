@@ -48,4 +48,42 @@ struct NavRelativeResidual {
   }
 };
 
+// The navigation as the truth plus a drift that varies slowly with time plus
+// white noise: its position less the drift, interpolated linearly between the
+// two knots around the frame's time, against the pose, over the noise alone.
+struct DriftedNavPositionResidual {
+  double east_m, north_m, share_next, inv_sigma_m;  // share_next: the frame's place between the knots, 0..1
+
+  template <typename T>
+  bool operator()(const T* pose, const T* drift, const T* drift_next, T* residual) const {
+    residual[0] = (pose[0] + (1 - share_next) * drift[0] + share_next * drift_next[0] - east_m) * inv_sigma_m;
+    residual[1] = (pose[1] + (1 - share_next) * drift[1] + share_next * drift_next[1] - north_m) * inv_sigma_m;
+    return true;
+  }
+};
+
+// The drift from one knot to the next, within what the drift rate allows.
+struct NavDriftStepResidual {
+  double inv_sigma_m;
+
+  template <typename T>
+  bool operator()(const T* drift, const T* drift_next, T* residual) const {
+    residual[0] = (drift_next[0] - drift[0]) * inv_sigma_m;
+    residual[1] = (drift_next[1] - drift[1]) * inv_sigma_m;
+    return true;
+  }
+};
+
+// The drift at the first knot: the navigation starts where the vehicle is, up to its noise.
+struct NavDriftStartResidual {
+  double inv_sigma_m;
+
+  template <typename T>
+  bool operator()(const T* drift, T* residual) const {
+    residual[0] = drift[0] * inv_sigma_m;
+    residual[1] = drift[1] * inv_sigma_m;
+    return true;
+  }
+};
+
 }  // namespace seamap

@@ -224,6 +224,7 @@ void SurveyBundleOptions::Check() const {
   Require(altitude_points >= 1, "altitude_points", "expected at least 1");
   Require(positive(beam_plane_sigma_share), "beam_plane_sigma_share", "expected a number > 0");
   Require(dvl_beam_angle_deg >= 0 && dvl_beam_angle_deg < 60, "dvl_beam_angle_deg", "expected degrees in [0, 60)");
+  Require(finite_non_negative(drift_knot_s), "drift_knot_s", "expected seconds >= 0");
   Require(threads >= 1, "threads", "expected at least 1");
 }
 
@@ -291,6 +292,16 @@ SurveyBundleResult SolveSurveyBundle(const std::vector<SurveyBundleFrame>& frame
   result.rms_px_before = rms_px();
 
   std::vector<BeamBlock> beam_planes;  // the altimeter's seabed, per beam and frame (solve_once)
+  // The navigation's drift at its knots (east, north), kept from one solve to the next.
+  std::vector<std::array<double, 2>> drift;
+  double knot_s = 0;
+  // Not in a window of a longer survey (prior_origin_time_s): its drift does
+  // not start near zero there, so the growing absolute prior stays.
+  if (options.drift_knot_s > 0 && n_frames > 0 && !options.prior_origin_time_s) {
+    const double span_s = frames.back().time_s - frames[0].time_s;
+    knot_s = std::max(options.drift_knot_s, span_s / n_frames);  // never more knots than frames
+    drift.assign(static_cast<size_t>(std::ceil(span_s / knot_s)) + 2, {0, 0});
+  }
   auto solve_once = [&]() {
     ceres::Problem::Options problem_options;
     problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
@@ -302,6 +313,11 @@ SurveyBundleResult SolveSurveyBundle(const std::vector<SurveyBundleFrame>& frame
     std::vector<double*> plane_blocks;
     std::vector<int> point_views(n_points, 0), frame_views(n_frames, 0);
     for (size_t k = 0; k < observations.size(); ++k) {
+      // Ceres stops at once when a residual cannot be evaluated where it starts:
+      // a point (a wrong match's) behind a camera is dropped first.
+      if (!std::isfinite(ErrorPx(reprojection[k], poses[observations[k].frame], points[observations[k].point],
+                                 options.pixel_sigma)))
+        result.observation_rejected[k] = true;
       if (result.observation_rejected[k]) continue;
       ++point_views[observations[k].point];
       ++frame_views[observations[k].frame];
@@ -392,6 +408,15 @@ SurveyBundleResult SolveSurveyBundle(const std::vector<SurveyBundleFrame>& frame
         altitude.anchors.emplace_back(east, north);
         planned.push_back(std::move(beam));
       }
+      {
+        // A beam that grazes its plane from where the solve starts has no reading to compare.
+        std::vector<BeamBlock> start_planes;
+        std::vector<const double*> start_blocks = {poses[i].data()};
+        for (const Beam& b : planned) start_planes.push_back({b.plane(0), b.plane(1), b.plane(2)});
+        for (const BeamBlock& b : start_planes) start_blocks.push_back(b.data());
+        double residual = 0;
+        if (planned.empty() || !altitude(start_blocks.data(), &residual)) return;
+      }
       std::vector<double*> blocks = {poses[i].data()};
       for (size_t b = 0; b < planned.size(); ++b) {
         beam_planes.push_back({planned[b].plane(0), planned[b].plane(1), planned[b].plane(2)});
@@ -412,12 +437,37 @@ SurveyBundleResult SolveSurveyBundle(const std::vector<SurveyBundleFrame>& frame
       cost->SetNumResiduals(1);
       to->AddResidualBlock(cost, loss, blocks);
     };
+    // The navigation's drift (east, north) at knots knot_s apart from the
+    // first frame's time: it starts within the noise and each step stays
+    // within what the drift rate allows. A constant offset of the whole map
+    // changes only the first knot's residual, so the map is held where the
+    // navigation starts, not pulled along by its drift.
+    if (!drift.empty()) {
+      for (auto& d : drift) problem.AddParameterBlock(d.data(), 2);
+      problem.AddResidualBlock(
+          new ceres::AutoDiffCostFunction<NavDriftStartResidual, 2, 2>(new NavDriftStartResidual{1 / sigma_n}), nullptr,
+          drift[0].data());
+      const double step_sigma_m = std::max(sigma_n, rho * knot_s);
+      for (size_t k = 0; k + 1 < drift.size(); ++k)
+        problem.AddResidualBlock(
+            new ceres::AutoDiffCostFunction<NavDriftStepResidual, 2, 2, 2>(new NavDriftStepResidual{1 / step_sigma_m}),
+            nullptr, drift[k].data(), drift[k + 1].data());
+    }
     for (int i = 0; i < n_frames; ++i) {
       const VehiclePose& nav = frames[i].nav;
       const double tau_s = frames[i].time_s - options.prior_origin_time_s.value_or(frames[0].time_s);
-      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<NavPositionResidual, 1 * 2, 6>(new NavPositionResidual{
-                                   nav.east_m, nav.north_m, 1 / std::hypot(sigma_n, rho * tau_s)}),
-                               &prior_loss, poses[i].data());
+      if (!drift.empty()) {
+        // The navigation's position less its drift at this time, up to its noise.
+        const double at = tau_s / knot_s;
+        const int k = std::min(static_cast<int>(at), static_cast<int>(drift.size()) - 2);
+        problem.AddResidualBlock(new ceres::AutoDiffCostFunction<DriftedNavPositionResidual, 2, 6, 2, 2>(
+                                     new DriftedNavPositionResidual{nav.east_m, nav.north_m, at - k, 1 / sigma_n}),
+                                 &prior_loss, poses[i].data(), drift[k].data(), drift[k + 1].data());
+      } else {
+        problem.AddResidualBlock(new ceres::AutoDiffCostFunction<NavPositionResidual, 1 * 2, 6>(new NavPositionResidual{
+                                     nav.east_m, nav.north_m, 1 / std::hypot(sigma_n, rho * tau_s)}),
+                                 &prior_loss, poses[i].data());
+      }
       auto absolute = [&](int index, double value, double sigma, bool angle) {
         problem.AddResidualBlock(new ceres::AutoDiffCostFunction<AbsoluteResidual, 1, 6>(
                                      new AbsoluteResidual{index, value, 1 / sigma, angle}),
@@ -445,6 +495,7 @@ SurveyBundleResult SolveSurveyBundle(const std::vector<SurveyBundleFrame>& frame
       if (point_views[p] >= 2) ordering->AddElementToGroup(points[p].data(), 0);
     for (int i = 0; i < n_frames; ++i) ordering->AddElementToGroup(poses[i].data(), 1);
     for (double* plane : plane_blocks) ordering->AddElementToGroup(plane, 1);
+    for (auto& d : drift) ordering->AddElementToGroup(d.data(), 1);
     solver.linear_solver_ordering = ordering;
     solver.num_threads = options.threads;
     solver.max_num_iterations = options.max_iterations;

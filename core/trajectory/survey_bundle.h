@@ -7,10 +7,14 @@
 //  - reprojection: the point in the camera (core/camera/frame_projector.h's
 //    NedFromCamera, mount offset included) against the observed ideal pixel,
 //    in normalised coordinates over the pixel sigma, under CauchyLoss;
-//  - navigation, as the planar pose graph has them (pose_graph.h): relative
-//    east/north of consecutive frames over sqrt(2 sigma_n^2 + (rho dt)^2),
-//    absolute east/north over sqrt(sigma_n^2 + (rho tau)^2) and heading under
-//    HuberLoss, heading change over sqrt(2) sigma_psi;
+//  - navigation: relative east/north of consecutive frames over
+//    sqrt(2 sigma_n^2 + (rho dt)^2) and heading change over sqrt(2) sigma_psi,
+//    as the planar pose graph has them (pose_graph.h); absolute heading and
+//    absolute east/north under HuberLoss, the latter as the navigation less
+//    its drift over sigma_n, the drift a few unknowns of time (knots
+//    drift_knot_s apart, steps within rho x the spacing, starting at zero;
+//    nav_priors.h), or (drift_knot_s 0) as the pose graph has it, over
+//    sqrt(sigma_n^2 + (rho tau)^2);
 //  - AHRS pitch and roll (absolute), depth (absolute), all under HuberLoss;
 //  - altitude, as a 4-beam DVL measures it (core/terrain/dvl_altitude.h):
 //    the vehicle's height above the mean seabed height at its four beams'
@@ -20,8 +24,8 @@
 //    nearest the footprint lie on up to the seabed's curvature, one residual
 //    per point: no residual holds two points, so all of them are eliminated.
 // Points are eliminated by the Schur complement (SPARSE_SCHUR, or
-// ITERATIVE_SCHUR without a sparse library); poses and beam planes form the
-// reduced system, 6 + 12 unknowns a frame. After a first solve,
+// ITERATIVE_SCHUR without a sparse library); poses, beam planes and drift
+// knots form the reduced system, 6 + 12 unknowns a frame. After a first solve,
 // observations reprojecting further than reject_px are dropped and the
 // problem solved again.
 #include <optional>
@@ -56,6 +60,13 @@ struct SurveyBundleOptions {
   double reprojection_loss_scale = 2;  // CauchyLoss on whitened reprojection residuals
   double prior_loss_scale = 3;         // HuberLoss on absolute priors
   double reject_px = 4;                // observations reprojecting further are dropped before the second solve
+  // The navigation's drift as unknowns: east and north at knots this far apart
+  // in time, linear between them, each step within nav_drift x the spacing
+  // (at least nav_sigma), the first within nav_sigma of zero; the absolute
+  // position prior is then the navigation less its drift, within nav_sigma.
+  // 0: the pose graph's absolute prior instead, sigma growing with the time
+  // since the first frame (its drifted early frames then hold the map).
+  double drift_knot_s = 10;
   int max_iterations = 50, threads = 2;
   // The time the absolute position priors' drift grows from; none: the first
   // frame's (a window of a longer survey gives the survey's start).

@@ -53,9 +53,10 @@ TEST(Refine3d, TheBundleAdjustmentRemovesTheSeamsOverRelief) {
               refined["cross_p90_mm"].get<double>(), raw["cross_p90_mm"].get<double>(), refined["ate_m"].get<double>(),
               raw["ate_m"].get<double>());
   EXPECT_GT(raw["cross_p90_mm"].get<double>(), 50);
-  // Measured 6.0 mm and 21.7 mm (issue 29: p90 <= 10 mm, ATE <= 20 mm on ~800 frames).
+  // Measured 5.1 mm and 5.5 mm (issue 29: p90 <= 10 mm, ATE <= 20 mm on ~800 frames). Before the
+  // bundle estimated the navigation's drift its first frames carried the map off: ATE 21.7 mm.
   EXPECT_LT(refined["cross_p90_mm"].get<double>(), 10);
-  EXPECT_LT(refined["ate_m"].get<double>(), 0.035);
+  EXPECT_LT(refined["ate_m"].get<double>(), 0.012);
   EXPECT_LT(refined["ate_m"].get<double>(), raw["ate_m"].get<double>() / 4);
   const auto r = nlohmann::json::parse(std::ifstream(report));
   EXPECT_EQ(r["method"], "bundle");

@@ -587,15 +587,6 @@ TowedFitResult FitTowedBuoy(const SlamPath& path, const std::vector<double>& rea
     o.reach_prior_sigma = loose.reach_prior_sigma;
     theta(7) = free_theta(7);
   });
-  // What a held parameter moved the map by beyond chance, below the freeing
-  // threshold, is an error the held fit's covariance does not know: added to
-  // every keyframe's sigma (a transect's current 2 sigmas out: 0.45 m where
-  // 0.20 was predicted, now 0.33).
-  if (best.held_bias_rmse_m > 0) {
-    const double bias_sq = best.held_bias_rmse_m * best.held_bias_rmse_m;
-    for (double& sigma : best.keyframe_sigma_m) sigma = std::sqrt(sigma * sigma + bias_sq);
-    best.predicted_rmse_m = std::sqrt(best.predicted_rmse_m * best.predicted_rmse_m + bias_sq);
-  }
   return best;
 }
 

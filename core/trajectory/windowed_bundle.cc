@@ -53,7 +53,10 @@ SurveyBundleResult SolveWindowedBundle(const std::vector<SurveyBundleFrame>& fra
   }
 
   SurveyBundleOptions window_options = options;
-  window_options.prior_origin_time_s = options.prior_origin_time_s.value_or(frames.front().time_s);
+  // Windows share one time origin for their absolute priors; a survey that
+  // fits one window is solved as the global bundle is (drift knots included).
+  if (kept_ranges.size() > 1)
+    window_options.prior_origin_time_s = options.prior_origin_time_s.value_or(frames.front().time_s);
   SurveyBundleResult result;
   result.poses.resize(n);
   result.nav_only.assign(n, true);

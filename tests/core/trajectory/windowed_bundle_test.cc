@@ -165,9 +165,11 @@ TEST(WindowedBundle, ASurveyThatFitsOneWindowIsTheGlobalBundle) {
   EXPECT_EQ(report.windows, 1);
   ASSERT_EQ(windowed.poses.size(), global.poses.size());
   for (size_t i = 0; i < global.poses.size(); ++i) {
-    EXPECT_EQ(windowed.poses[i].east_m, global.poses[i].east_m) << i;
-    EXPECT_EQ(windowed.poses[i].north_m, global.poses[i].north_m) << i;
-    EXPECT_EQ(windowed.poses[i].heading_deg, global.poses[i].heading_deg) << i;
+    // The same solve; with the drift knots its blocks are ordered otherwise,
+    // so equal up to rounding (a micrometre), not bit for bit.
+    EXPECT_NEAR(windowed.poses[i].east_m, global.poses[i].east_m, 1e-6) << i;
+    EXPECT_NEAR(windowed.poses[i].north_m, global.poses[i].north_m, 1e-6) << i;
+    EXPECT_NEAR(windowed.poses[i].heading_deg, global.poses[i].heading_deg, 1e-5) << i;
   }
   EXPECT_EQ(windowed.points.size(), global.points.size());
 }

@@ -416,6 +416,7 @@ int RunReplay(int argc, char** argv, int first) {
   build_options.append = append, build_options.overwrite = overwrite;
   build_options.live = true;
   build_options.poses = poses;
+  build_options.poses.quiet = build_options.poses.quiet || quiet;  // the final refinement's progress bars too
   build_options.refine_live = refine_live;
   HookUpDetector(detect_model, &build_options);
   LiveMission live(quiet, feed.get());

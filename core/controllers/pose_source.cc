@@ -126,7 +126,7 @@ nlohmann::json PoseSource::Refine(std::vector<FrameSpec>* frames, std::vector<st
             pairs = std::make_unique<ProgressBar>("pairs", total, !options_.quiet);
           }
           pairs->Update(done);
-        } else if (now == "bundle") {  // the bundle's windows (windowed_bundle.h)
+        } else if (now == "bundle" && total > 1) {  // the bundle's windows (windowed_bundle.h), when several
           if (!windows) windows = std::make_unique<ProgressBar>("bundle windows", total, !options_.quiet);
           windows->Update(done);
         }

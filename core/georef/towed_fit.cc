@@ -505,20 +505,14 @@ TowedFitResult FitTowedBuoy(const SlamPath& path, const std::vector<double>& rea
   // The reach and the lag both move the buoy along the track, so they are
   // tested together: both kept at their defaults unless jointly significant
   // (chi-square, 2 degrees of freedom, beyond 3 sigmas' 99.73 %); then each
-  // is kept if significant on its own, or else the more significant one;
-  // both where the geometry cannot tell them apart (correlation beyond 0.9):
-  // there the one kept took the other's share too (a transect's clock
-  // offset went to the reach, the U-turn was misfitted and the current
-  // pulled 0.07 m/s off: 0.90 m where 0.28 was predicted; both: 0.40 / 0.32).
+  // is kept if significant on its own, or else the more significant one.
   const Eigen::Matrix2d& cov = out.reach_lag_covariance;
   const Eigen::Vector2d reach_lag(std::log(out.reach_factor), out.lag_s);
-  const bool joint = reach_lag.dot(cov.inverse() * reach_lag) > 11.83;
   const double z_reach = std::fabs(reach_lag(0)) / std::sqrt(std::max(cov(0, 0), 1e-30));
   const double z_lag = std::fabs(reach_lag(1)) / std::sqrt(std::max(cov(1, 1), 1e-30));
-  const double correlation = cov(0, 1) / std::sqrt(std::max(cov(0, 0) * cov(1, 1), 1e-300));
-  const bool inseparable = std::fabs(correlation) >= 0.9;
-  bool keep_reach = joint && (inseparable || z_reach > options.reach_significance);
-  bool keep_lag = joint && (inseparable || z_lag > options.reach_significance);
+  const bool joint = reach_lag.dot(cov.inverse() * reach_lag) > 11.83;
+  bool keep_reach = joint && z_reach > options.reach_significance;
+  bool keep_lag = joint && z_lag > options.reach_significance;
   if (joint && !keep_reach && !keep_lag) (z_reach >= z_lag ? keep_reach : keep_lag) = true;
   if (!keep_reach) {
     fixed.reach_prior_sigma = 1e-5;

@@ -153,40 +153,6 @@ TEST_F(BuoyStressTest, ReachAndLagReportedAsOneShiftInTheWake) {
   EXPECT_LT(out.rmse_m, 0.3);
 }
 
-TEST_F(BuoyStressTest, AClockOffsetOnATransectGoesToTheLagNotOnlyTheReach) {
-  // Stress survey 33: a transect with fixes 2.74 s early and a current.
-  // Reach and lag were jointly significant and only the more significant,
-  // the reach, was kept: it took the clock offset too, the U-turn was then
-  // misfitted and the current pulled 0.07 m/s off (0.90 m where 0.28 m was
-  // predicted). Both are estimated now.
-  BuoySurveyOptions o = Options();
-  o.pattern = "transect";
-  o.speed_mps = 0.85;
-  o.tether_length_m = 14.4;
-  o.depth_m = 3.4;
-  o.lines = 2;
-  o.line_length_m = 107;
-  o.line_spacing_m = 16;
-  o.buoy_model = "tractrix";
-  o.current_east_mps = 0.0383;
-  o.current_north_mps = 0.0267;
-  o.clock_offset_s = -2.74;
-  o.wave_height_m = 0.12;
-  o.gps_sigma_m = 1.17;
-  o.gps_rate_hz = 2;
-  o.dropout_fraction = 0.07;
-  o.gps_outages = 2;
-  o.gps_outage_s = 23;
-  o.keyframe_interval_s = 1.43;
-  o.seed = 33;
-  o.gps_seed = 1;
-  const Outcome out = Run(o);
-  EXPECT_TRUE(out.submap.reach_estimated);
-  EXPECT_TRUE(out.submap.lag_estimated);
-  EXPECT_LT(out.rmse_m, 0.6);
-  EXPECT_LT(out.rmse_m, 1.5 * out.submap.predicted_rmse_m);
-}
-
 TEST_F(BuoyStressTest, PredictedErrorCalibratedOnRandomisedSurveys) {
   // Three surveys of the bench's stress set (scripts/bench_georef.sh ...
   // stress), each flown with two draws of GPS errors (--gps-seed): one

@@ -262,11 +262,7 @@ TEST_F(BuoySurveyTest, TetherMethodMeasuresASaggingTether) {
   Outcome out = Run(o, GeorefMethod::kTether);
   ASSERT_TRUE(out.submaps[0].fitted) << out.submaps[0].reason;
   EXPECT_TRUE(out.submaps[0].reach_estimated);
-  // The lag is estimated beside it where the two are not told apart well
-  // enough (correlation beyond 0.9), and then it is found near zero.
-  if (out.submaps[0].lag_estimated) {
-    EXPECT_NEAR(out.submaps[0].lag_s, 0, 3 * out.submaps[0].lag_sigma_s + 0.2) << out.submaps[0].lag_sigma_s;
-  }
+  EXPECT_FALSE(out.submaps[0].lag_estimated);
   EXPECT_NEAR(out.submaps[0].reach_factor, 0.95, 0.015);
   EXPECT_LT(out.rmse_m, 0.3);
   // In the wake a shorter reach and a lag are the same shift along the

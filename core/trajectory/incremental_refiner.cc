@@ -14,12 +14,6 @@ namespace {
 
 constexpr double kDegToRad = M_PI / 180;
 
-// How far the measured motion of a pair is from what the poses say, metres (as RefineSurvey measures it).
-double Disagreement(const PairConstraint& c, const PlanarPose& a, const PlanarPose& b) {
-  const cv::Point2d predicted = RotateClockwise({b.east_m - a.east_m, b.north_m - a.north_m}, -a.heading_rad);
-  return std::hypot(predicted.x - c.dt_east_m, predicted.y - c.dt_north_m);
-}
-
 }  // namespace
 
 // A frame as registration needs it (RefineSurvey prepares frames the same way).
@@ -151,22 +145,10 @@ IncrementalSolution IncrementalRefiner::Solve() const {
   graph.heading_sigma_rad = heading_noise_rad_;
   graph.threads = pool_->size();
   PoseGraphResult solved = SolvePoseGraph(nav, times_, constraints, graph);
-  double before = 0, after = 0;
-  int kept = 0;
-  for (size_t k = 0; k < constraints.size(); ++k) {
-    if (solved.pair_rejected[k]) {
-      ++s.rejected_by_graph;
-      continue;
-    }
-    const PairConstraint& c = constraints[k];
-    before += std::pow(Disagreement(c, nav[c.i], nav[c.j]), 2);
-    after += std::pow(Disagreement(c, solved.poses[c.i], solved.poses[c.j]), 2);
-    ++kept;
-  }
-  if (kept) {
-    s.residual_before_mm = 1000 * std::sqrt(before / kept);
-    s.residual_after_mm = 1000 * std::sqrt(after / kept);
-  }
+  const PairResidualRms residuals = PairResiduals(constraints, nav, solved);
+  s.rejected_by_graph += residuals.rejected;
+  s.residual_before_mm = residuals.before_mm;
+  s.residual_after_mm = residuals.after_mm;
   s.poses = std::move(solved.poses);
   s.nav_only = std::move(solved.nav_only);
   return s;

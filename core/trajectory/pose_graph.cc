@@ -9,6 +9,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 
+#include "core/trajectory/ground_offsets.h"
 #include "core/trajectory/nav_priors.h"
 #include "core/util/error.h"
 
@@ -294,6 +295,33 @@ PoseGraphResult SolvePoseGraph(const std::vector<PlanarPose>& nav, const std::ve
     if (use[k]) result.nav_only[pairs[k].i] = result.nav_only[pairs[k].j] = false;
   }
   return result;
+}
+
+PairResidualRms PairResiduals(const std::vector<PairConstraint>& pairs, const std::vector<PlanarPose>& nav,
+                              const PoseGraphResult& solved) {
+  // How far a pair's measured motion (in the first frame's axes) is from what the poses say, metres.
+  auto disagreement = [](const PairConstraint& c, const PlanarPose& a, const PlanarPose& b) {
+    const cv::Point2d predicted = RotateClockwise({b.east_m - a.east_m, b.north_m - a.north_m}, -a.heading_rad);
+    return std::hypot(predicted.x - c.dt_east_m, predicted.y - c.dt_north_m);
+  };
+  PairResidualRms r;
+  double before = 0, after = 0;
+  int kept = 0;
+  for (size_t k = 0; k < pairs.size(); ++k) {
+    if (solved.pair_rejected[k]) {
+      ++r.rejected;
+      continue;
+    }
+    const PairConstraint& c = pairs[k];
+    before += std::pow(disagreement(c, nav[c.i], nav[c.j]), 2);
+    after += std::pow(disagreement(c, solved.poses[c.i], solved.poses[c.j]), 2);
+    ++kept;
+  }
+  if (kept) {
+    r.before_mm = 1000 * std::sqrt(before / kept);
+    r.after_mm = 1000 * std::sqrt(after / kept);
+  }
+  return r;
 }
 
 }  // namespace seamap

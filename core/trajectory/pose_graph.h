@@ -49,6 +49,16 @@ struct PoseGraphResult {
   std::string linear_solver;               // e.g. "SPARSE_NORMAL_CHOLESKY/SUITE_SPARSE"; empty when no solve ran
 };
 
+// RMS over the pairs the graph kept of how far each pair's measured motion
+// is from what the poses say, before (navigation) and after (solved), in mm;
+// with how many pairs the graph rejected. RefineSurvey and the live refiner report it.
+struct PairResidualRms {
+  int rejected = 0;
+  double before_mm = 0, after_mm = 0;
+};
+PairResidualRms PairResiduals(const std::vector<PairConstraint>& pairs, const std::vector<PlanarPose>& nav,
+                              const PoseGraphResult& solved);
+
 // nav: navigation poses with their times (seconds, non-decreasing); pairs: image
 // constraints. Solves from the navigation, drops the pairs whose whitened squared
 // norm then exceeds options.reject_chi2 and, if any, solves once more without them

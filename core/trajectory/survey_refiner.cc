@@ -86,12 +86,6 @@ Prepared Prepare(const FrameSpec& f, const CandidateFrame& candidate, const Came
   return p;
 }
 
-// How far the measured motion of a pair is from what the poses say, metres.
-double Disagreement(const PairConstraint& c, const PlanarPose& a, const PlanarPose& b) {
-  const cv::Point2d predicted = RotateClockwise({b.east_m - a.east_m, b.north_m - a.north_m}, -a.heading_rad);
-  return std::hypot(predicted.x - c.dt_east_m, predicted.y - c.dt_north_m);
-}
-
 }  // namespace
 
 void RefineOptions::Check() const {
@@ -271,22 +265,10 @@ std::vector<RefinedFrame> RefineSurvey(const std::vector<FrameSpec>& frames, con
   r.seconds_solve = Since(start);
   tick("solve", 1, 1);
 
-  double before = 0, after = 0;
-  int kept = 0;
-  for (size_t k = 0; k < constraints.size(); ++k) {
-    if (solved.pair_rejected[k]) {
-      ++r.rejected_by_graph;
-      continue;
-    }
-    const PairConstraint& c = constraints[k];
-    before += std::pow(Disagreement(c, nav[c.i], nav[c.j]), 2);
-    after += std::pow(Disagreement(c, solved.poses[c.i], solved.poses[c.j]), 2);
-    ++kept;
-  }
-  if (kept) {
-    r.residual_before_mm = 1000 * std::sqrt(before / kept);
-    r.residual_after_mm = 1000 * std::sqrt(after / kept);
-  }
+  const PairResidualRms residuals = PairResiduals(constraints, nav, solved);
+  r.rejected_by_graph += residuals.rejected;
+  r.residual_before_mm = residuals.before_mm;
+  r.residual_after_mm = residuals.after_mm;
   std::vector<RefinedFrame> out(frames.size());
   for (size_t i = 0; i < frames.size(); ++i) {
     out[i].pose = frames[i].pose;

@@ -102,7 +102,9 @@ TEST(PaintingSurface, HolesAreContinuedFromTheModelWithinReach) {
       } else {
         EXPECT_TRUE(std::isnan(straight.height_m(r, c))) << "beyond reach: the plane stands in";
       }
-      if (e > 0.05 && e < 0.35) EXPECT_TRUE(std::isnan(straight.sigma_m(r, c))) << "nothing measured it";
+      if (e > 0.05 && e < 0.35) {
+        EXPECT_TRUE(std::isnan(straight.sigma_m(r, c))) << "nothing measured it";
+      }
     }
   // Level (slope_share 0): the rim's height carried on.
   HeightGrid level = model;

@@ -71,6 +71,7 @@ nlohmann::json SubmapReport(const SubmapGeoref& s) {
                          {"reach_lag_correlation", s.reach_lag_correlation},
                          {"reach_lag_separable", s.reach_lag_separable},
                          {"held_bias_rmse_m", s.held_bias_rmse_m},
+                         {"selection_spread_rmse_m", s.selection_spread_rmse_m},
                          {"wake_share", s.wake_share},
                          {"wake_share_sigma", s.wake_share_sigma},
                          {"variance_factor", s.variance_factor},

@@ -326,6 +326,7 @@ void FitTether(const SubmapContext& c, const std::vector<Keyframe>& keyframes, S
     out->reach_lag_correlation = cov(0, 1) / scale;
     out->reach_lag_separable = std::fabs(out->reach_lag_correlation) < 0.9;
     out->held_bias_rmse_m = r.held_bias_rmse_m;
+    out->selection_spread_rmse_m = r.selection_spread_rmse_m;
     if (out->along_track_offset_sigma_m > 2 * std::max(r.predicted_rmse_m, 0.01))
       out->warnings.push_back(
           out->source + ": the buoy's distance behind the vehicle (tether reach, fixes' lag) is seen only to +-" +

@@ -65,9 +65,10 @@ struct SubmapGeoref {
   // and lag together put it at, c_t (k - 1) + |v| lag: for a buoy in the
   // wake the two are one shift, and only this sum is seen.
   double along_track_offset_m = 0, along_track_offset_sigma_m = 0;
-  double reach_lag_correlation = 0;  // in the free fit
-  bool reach_lag_separable = true;   // |correlation| < 0.9
-  double held_bias_rmse_m = 0;       // tether_fit.h
+  double reach_lag_correlation = 0;    // in the free fit
+  bool reach_lag_separable = true;     // |correlation| < 0.9
+  double held_bias_rmse_m = 0;         // tether_fit.h
+  double selection_spread_rmse_m = 0;  // towed_fit.h: reach, lag or both, where they trade
   bool current_estimated = false, wake_estimated = false, lag_estimated = false;
   double wake_share = 0, wake_share_sigma = 0;
   double variance_factor = 1, correlation_factor = 1;

@@ -296,6 +296,45 @@ bool MovedBeyondChance(const SlamPath& path, const TowedFitResult& freed, TowedF
   return shift_sq > kHausmanFactor * chance_sq;
 }
 
+// One way to split the buoy's shift along the track between the reach and
+// the lag (reach only, lag only, both) and its fit.
+struct ReachLagCandidate {
+  bool reach = false, lag = false, current = false;
+  TowedFitOptions options;
+  Params theta = Params::Zero();
+  TowedFitResult fit;
+  double bic = 0;  // robust cost (chi-square units) + free parameters x ln(observations)
+};
+
+// Where the candidates' BICs are close they are about equally likely, and
+// the map may still differ between them: each keyframe's predicted error
+// gets the spread of the candidates' positions about the kept fit's,
+// weighted by exp(-dBIC / 2) (the model-averaging variance).
+void AddSelectionSpread(const SlamPath& path, const std::vector<ReachLagCandidate>& candidates, TowedFitResult* best) {
+  const size_t n = path.size();
+  if (best->keyframe_sigma_m.size() != n) return;
+  double bic_min = candidates.front().bic;
+  for (const ReachLagCandidate& c : candidates) bic_min = std::min(bic_min, c.bic);
+  std::vector<double> weight;
+  double total = 0;
+  for (const ReachLagCandidate& c : candidates) total += weight.emplace_back(std::exp(-(c.bic - bic_min) / 2));
+  double spread_sum = 0, predicted_sum = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d x = path.position(i);
+    const Eigen::Vector2d kept = best->fit.Apply(x).head<2>();
+    double spread_sq = 0;
+    for (size_t m = 0; m < candidates.size(); ++m)
+      spread_sq += weight[m] * (candidates[m].fit.fit.Apply(x).head<2>() - kept).squaredNorm();
+    spread_sq /= total;
+    spread_sum += spread_sq;
+    double& sigma = best->keyframe_sigma_m[i];
+    sigma = std::sqrt(sigma * sigma + spread_sq);
+    predicted_sum += sigma * sigma;
+  }
+  best->selection_spread_rmse_m = std::sqrt(spread_sum / std::max<size_t>(n, 1));
+  best->predicted_rmse_m = std::sqrt(predicted_sum / std::max<size_t>(n, 1));
+}
+
 }  // namespace
 
 TowedFitResult FitTowedBuoy(const SlamPath& path, const std::vector<double>& reach_m,
@@ -397,6 +436,11 @@ TowedFitResult FitTowedBuoy(const SlamPath& path, const std::vector<double>& rea
       const bool taut = sim.taut[k] && sim.settled[k];
       sigma[k] = std::hypot(fixes[k].sigma, taut ? taut_model : slack_model);
       const Eigen::Vector2d rk = r.segment<2>(2 * k);
+      {  // Huber's cost (twice, so that it reads as chi-square) against the GPS noise alone, outliers capped
+        const double z = std::min(rk.norm() / fixes[k].sigma, o.outlier_sigmas);
+        res.robust_cost += z <= o.huber_k ? z * z : 2 * o.huber_k * z - o.huber_k * o.huber_k;
+        res.cost_observations += 2;
+      }
       if (rk.norm() > o.outlier_sigmas * sigma[k]) {
         ++res.outliers;
         continue;
@@ -504,8 +548,13 @@ TowedFitResult FitTowedBuoy(const SlamPath& path, const std::vector<double>& rea
   bool refit = false;
   // The reach and the lag both move the buoy along the track, so they are
   // tested together: both kept at their defaults unless jointly significant
-  // (chi-square, 2 degrees of freedom, beyond 3 sigmas' 99.73 %); then each
-  // is kept if significant on its own, or else the more significant one.
+  // (chi-square, 2 degrees of freedom, beyond 3 sigmas' 99.73 %); both kept
+  // when each is significant on its own. Otherwise, where the two trade
+  // with each other, the one to keep is chosen by the fits' cost
+  // (ReachLagCandidate, BIC), not by significance: the more significant one could
+  // take the other's shift and misfit the turns (a clock offset taken as a
+  // shorter reach on a transect put the map 0.75 m off where 0.22 m was
+  // predicted).
   const Eigen::Matrix2d& cov = out.reach_lag_covariance;
   const Eigen::Vector2d reach_lag(std::log(out.reach_factor), out.lag_s);
   const double z_reach = std::fabs(reach_lag(0)) / std::sqrt(std::max(cov(0, 0), 1e-30));
@@ -513,17 +562,7 @@ TowedFitResult FitTowedBuoy(const SlamPath& path, const std::vector<double>& rea
   const bool joint = reach_lag.dot(cov.inverse() * reach_lag) > 11.83;
   bool keep_reach = joint && z_reach > options.reach_significance;
   bool keep_lag = joint && z_lag > options.reach_significance;
-  if (joint && !keep_reach && !keep_lag) (z_reach >= z_lag ? keep_reach : keep_lag) = true;
-  if (!keep_reach) {
-    fixed.reach_prior_sigma = 1e-5;
-    again(7) = 0;
-    refit = true;
-  }
-  if (!keep_lag) {
-    fixed.lag_prior_s = 1e-6;
-    again(11) = 0;
-    refit = true;
-  }
+  const bool choose_reach_lag = joint && !(keep_reach && keep_lag);
   for (double pure : {0.0, 1.0})
     if (std::fabs(out.wake_share - pure) <= options.reach_significance * out.wake_share_sigma) {
       fixed.wake_prior_mean = pure;
@@ -540,7 +579,20 @@ TowedFitResult FitTowedBuoy(const SlamPath& path, const std::vector<double>& rea
     refit = true;
     current_held = true;
   }
-  if (!refit) {
+  auto hold_reach = [](TowedFitOptions& o, Params& theta) {
+    o.reach_prior_sigma = 1e-5;
+    theta(7) = 0;
+  };
+  auto hold_lag = [](TowedFitOptions& o, Params& theta) {
+    o.lag_prior_s = 1e-6;
+    theta(11) = 0;
+  };
+  if (!choose_reach_lag) {
+    if (!keep_reach) hold_reach(fixed, again);
+    if (!keep_lag) hold_lag(fixed, again);
+    refit = refit || !keep_reach || !keep_lag;
+  }
+  if (!refit && !choose_reach_lag) {
     out.reach_estimated = out.wake_estimated = out.current_estimated = out.lag_estimated = true;
     return out;
   }
@@ -555,7 +607,50 @@ TowedFitResult FitTowedBuoy(const SlamPath& path, const std::vector<double>& rea
     r.free_reach_lag_covariance = out.free_reach_lag_covariance;
     return r;
   };
-  TowedFitResult best = held_fit(fixed, again);
+  // Reach only, lag only, both: each fitted, the one with the lowest BIC
+  // kept; the others' maps, weighted by their BIC, widen the error estimate.
+  std::vector<ReachLagCandidate> candidates;
+  bool keep_current = !current_held;
+  if (choose_reach_lag) {
+    // A current held for want of significance in the fit with everything
+    // free may show once the shift along the track is split: each split
+    // is also tried with the current estimated.
+    const int current_choices = current_held ? 2 : 1;
+    for (int which = 0; which < 3 * current_choices; ++which) {
+      ReachLagCandidate c;
+      c.options = fixed;
+      c.theta = again;
+      c.reach = which % 3 != 1;
+      c.lag = which % 3 != 0;
+      c.current = !current_held || which >= 3;
+      if (!c.reach) hold_reach(c.options, c.theta);
+      if (!c.lag) hold_lag(c.options, c.theta);
+      if (c.current && current_held) {
+        c.options.current_prior_mps = loose.current_prior_mps;
+        c.theta.segment<2>(9) = free_theta.segment<2>(9);
+      }
+      c.fit = held_fit(c.options, c.theta);
+      if (!c.fit.ok) continue;
+      c.bic = c.fit.robust_cost / std::max(out.variance_factor * out.correlation_factor, 1.0) +
+              (c.reach + c.lag + 2 * c.current) * std::log(std::max(c.fit.cost_observations, 2));
+      candidates.push_back(std::move(c));
+    }
+    if (candidates.empty()) return out;
+    const auto chosen = std::min_element(candidates.begin(), candidates.end(),
+                                         [](const auto& x, const auto& y) { return x.bic < y.bic; });
+    fixed = chosen->options;
+    again = chosen->theta;
+    keep_reach = chosen->reach;
+    keep_lag = chosen->lag;
+    keep_current = chosen->current;
+  }
+  TowedFitResult best;
+  if (choose_reach_lag) {
+    for (const ReachLagCandidate& c : candidates)
+      if (c.reach == keep_reach && c.lag == keep_lag && c.current == keep_current) best = c.fit;
+  } else {
+    best = held_fit(fixed, again);
+  }
   if (!best.ok) return out;
   // A parameter held at its default may still move the map more than its
   // estimate's noise would (MovedBeyondChance): the current, then the reach, each
@@ -573,7 +668,7 @@ TowedFitResult FitTowedBuoy(const SlamPath& path, const std::vector<double>& rea
     fixed = o;
     again = theta;
   };
-  try_free(current_held, [&](TowedFitOptions& o, Params& theta) {
+  try_free(!keep_current, [&](TowedFitOptions& o, Params& theta) {
     o.current_prior_mps = loose.current_prior_mps;
     theta.segment<2>(9) = free_theta.segment<2>(9);
   });
@@ -581,6 +676,7 @@ TowedFitResult FitTowedBuoy(const SlamPath& path, const std::vector<double>& rea
     o.reach_prior_sigma = loose.reach_prior_sigma;
     theta(7) = free_theta(7);
   });
+  if (candidates.size() > 1) AddSelectionSpread(path, candidates, &best);
   return best;
 }
 

@@ -79,6 +79,12 @@ struct TowedFitResult {
   double residual_rms_m = 0;             // of the taut fixes kept
   double held_bias_rmse_m = 0;           // the bias the data show in holding reach, lag, current, follower at their
                                          // defaults (RMS over the keyframes; in predicted_rmse_m when they are held)
+  // Where reach and lag trade with each other, the three fits (reach, lag,
+  // both) are compared by BIC; this is the RMS spread (over the keyframes) of
+  // their maps about the kept one, weighted by exp(-dBIC / 2); in predicted_rmse_m.
+  double selection_spread_rmse_m = 0;
+  double robust_cost = 0;  // Huber's, twice, of every fix against its GPS sigma (chi-square units)
+  int cost_observations = 0;
   int fixes = 0, taut_fixes = 0, outliers = 0, iterations = 0;
   Eigen::Vector2d along_cross_bias_m = Eigen::Vector2d::Zero();  // mean taut residual along / across towing
 };

@@ -121,6 +121,7 @@ std::unique_ptr<LiveDetector> StartLiveDetector(std::shared_ptr<const YoloModelI
   s.origin = origin;
   s.zooms = ChooseZooms(zooms, config_source + " detect.zooms", plan.min_zoom, plan.base_zoom, plan.latitude, tile_size,
                         *model);
+  s.stored_zoom = plan.base_zoom;
   std::string zoom_text;
   for (int z : s.zooms) zoom_text += (zoom_text.empty() ? "" : ",") + std::to_string(z);
   std::fprintf(stderr, "detect: %s (%s layout, %zu classes), zooms %s\n", model->name.c_str(),

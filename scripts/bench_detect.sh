@@ -8,8 +8,9 @@
 # training or validation), `seamap detect` on each, recall / precision / median error per class and condition,
 # pooled, and the worst condition. DETECT_ARGS (e.g. "--model new.onnx", "--keep-cut-views") go to
 # `seamap detect`; STRESS_ONLY=1 skips the seeds 1+2 part, STRESS=0 the stress part; STRESS_FRAMES (600) and
-# STRESS_OBJECTS (20) size the surveys; STRESS_CONDITIONS picks some; STRESS_REUSE=1 searches the maps of an
-# earlier run again instead of simulating them.
+# STRESS_OBJECTS (20) size the surveys; STRESS_CONDITIONS picks some (also altitude_1m and altitude_4m, seeds 3108
+# and 3109, not in the default seven); STRESS_REUSE=1 searches the maps of an earlier run again instead of
+# simulating them.
 set -euo pipefail
 seamap="$1" out="$2"
 read -r -a detect_args <<<"${DETECT_ARGS:-}"
@@ -42,9 +43,10 @@ frames="${STRESS_FRAMES:-600}" objects="${STRESS_OBJECTS:-20}"
 read -r -a conditions <<<"${STRESS_CONDITIONS:-clear murky altitude_3.5m jpeg_50 blur half_buried clutter}"
 declare -A extra=(
   [clear]="" [murky]="--degrade" [altitude_3.5m]="--altitude-min 3.3 --altitude-max 3.7"
-  [jpeg_50]="--image-format jpg --jpeg-quality 50" [blur]="--blur 4" [half_buried]="--bury 0.5" [clutter]="--clutter 12")
+  [jpeg_50]="--image-format jpg --jpeg-quality 50" [blur]="--blur 4" [half_buried]="--bury 0.5" [clutter]="--clutter 12"
+  [altitude_1m]="--altitude-min 0.9 --altitude-max 1.1" [altitude_4m]="--altitude-min 3.8 --altitude-max 4.2")
 declare -A seeds=([clear]=3101 [murky]=3102 [altitude_3.5m]=3103 [jpeg_50]=3104 [blur]=3105 [half_buried]=3106
-  [clutter]=3107)
+  [clutter]=3107 [altitude_1m]=3108 [altitude_4m]=3109)
 all_pairs=() keep_pairs=()
 for c in "${conditions[@]}"; do
   seed=${seeds[$c]} s="$out/stress_$c"

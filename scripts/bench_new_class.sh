@@ -6,10 +6,15 @@
 # most 2 x MINUTES CPU-minutes), then `seamap detect` with the new model on the second, unseen mission (drums:
 # recall and precision >= 0.8), and on two held-out surveys of the old classes with the shipped and the new
 # model (old classes may lose at most 0.03 of recall).
-#   scripts/bench_new_class.sh build/seamap OUT_DIR [MINUTES (15)] [CPU_MINUTES (2 x MINUTES)]
+#   scripts/bench_new_class.sh build/seamap OUT_DIR [MINUTES (15)] [CPU_MINUTES (the whole budget when given)]
+# FINETUNE_ARGS (e.g. "--lr 2e-3") go to train_detector.py. An earlier run's missions, training data and replay
+# surveys in OUT_DIR are used again.
 set -euo pipefail
+read -r -a finetune_args <<<"${FINETUNE_ARGS:-}"
 seamap="$1" out="$2" minutes="${3:-15}"
-cpu_minutes="${4:-$(python3 -c "print(2 * $minutes)")}"
+# Without CPU_MINUTES the fine-tune stops at MINUTES of wall time or 2 x MINUTES CPU-minutes, whichever first.
+cpu_args=()
+[[ -n "${4:-}" ]] && cpu_args=(--cpu-minutes "$4")
 root="$(cd "$(dirname "$0")/.." && pwd)"
 mkdir -p "$out"
 # Half the objects are drums (--object-classes takes each class once, in turn): drums among tyres in the
@@ -51,8 +56,9 @@ fi
 
 # Fine-tune (CPU time and peak memory measured; the machine may be shared, so CPU time is the cost).
 /usr/bin/time -v -o "$out/finetune.time" "$root/scripts/train_detector.py" --from-missions "$out/training_a" \
-  --base "$root/data/models/seabed_objects.onnx" --minutes "$minutes" --cpu-minutes "$cpu_minutes" \
-  --seamap "$seamap" --work "$out/work" --replay-surveys 3 --out "$out/new.onnx" >"$out/finetune.log" 2>&1 ||
+  --base "$root/data/models/seabed_objects.onnx" --minutes "$minutes" "${cpu_args[@]}" \
+  --seamap "$seamap" --work "$out/work" --replay-surveys 3 --out "$out/new.onnx" "${finetune_args[@]}" \
+  >"$out/finetune.log" 2>&1 ||
   { tail -20 "$out/finetune.log"; exit 1; }
 python3 - "$out/finetune.time" "$out/new.report.json" <<'PY'
 import json, re, sys

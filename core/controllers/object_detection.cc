@@ -37,7 +37,7 @@ std::vector<std::unique_ptr<WindowSearcher>> SearchWindows(const DetectSettings&
                                                            bool quiet) {
   std::vector<std::unique_ptr<WindowSearcher>> searchers;
   for (int i = 0; i < threads; ++i) searchers.push_back(std::make_unique<WindowSearcher>(settings));
-  const TileReader read = StoreReader(tiles);
+  const TileReader read = StoreReader(tiles, settings.stored_zoom);
   ProgressBar progress("windows", static_cast<long>(windows.size()), !quiet);
   std::atomic<long> done{0};
   std::mutex progress_mutex;
@@ -105,9 +105,10 @@ ObjectDetectionResult DetectObjects(const ObjectDetectionOptions& options) {
   settings.origin = RequireMissionOrigin(mission, path);
   settings.zooms =
       ChooseZooms(options.zooms, "--zooms", min_zoom, base_zoom, settings.origin.lat, settings.tile_size, *model);
+  settings.stored_zoom = base_zoom;
 
   cv::setNumThreads(1);  // as in a build: ms per window on one thread
-  const std::vector<WindowKey> windows = MapWindows(tiles, settings.zooms, settings.tile_size);
+  const std::vector<WindowKey> windows = MapWindows(tiles, settings.zooms, settings.tile_size, settings.stored_zoom);
   std::string zoom_text;
   for (int z : settings.zooms) zoom_text += (zoom_text.empty() ? "" : ",") + std::to_string(z);
   std::fprintf(stderr, "seamap detect: %s (%s, %s layout, %zu classes) on %s layer %s, zooms %s: %zu windows\n",

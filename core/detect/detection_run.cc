@@ -5,6 +5,7 @@
 
 #include "core/detect/detection_record.h"
 #include "core/detect/level_rule.h"
+#include "core/detect/search_levels.h"
 #include "core/tiles/tile_codec.h"
 #include "core/util/error.h"
 
@@ -14,33 +15,46 @@ std::vector<int> ChooseZooms(const std::optional<std::vector<int>>& requested, c
                              int base_zoom, double lat, int tile_size, const YoloModelInfo& model) {
   if (requested) {
     for (int z : *requested)
-      if (z < min_zoom || z > base_zoom)
+      if (z < min_zoom || z > base_zoom + 1)
         throw InputError(option, 0, "",
                          "zoom " + std::to_string(z) + " is not in the map, which has zooms " +
-                             std::to_string(min_zoom) + ".." + std::to_string(base_zoom));
+                             std::to_string(min_zoom) + ".." + std::to_string(base_zoom) + " (and " +
+                             std::to_string(base_zoom + 1) + " from them scaled up)");
     std::vector<int> zooms = *requested;
     std::sort(zooms.rbegin(), zooms.rend());
     zooms.erase(std::unique(zooms.begin(), zooms.end()), zooms.end());
     return zooms;
   }
+  std::vector<int> zooms = ScaleMatchedZooms(model.class_sizes_m, base_zoom, min_zoom, lat, tile_size);
+  if (!zooms.empty()) return zooms;
   double largest = 0;
   for (double s : model.class_sizes_m) largest = std::max(largest, s);
   if (largest <= 0) largest = 4.0;
   return DefaultZooms(base_zoom, min_zoom, largest, lat, tile_size, model.input.width);
 }
 
-TileReader StoreReader(const TileStore& store) {
-  return [&store](const TileId& id) -> std::optional<cv::Mat> {
+TileReader StoreReader(const TileStore& store, int stored_zoom) {
+  const auto decoded = [&store](const TileId& id) -> std::optional<cv::Mat> {
     const auto bytes = store.GetTile(id);
     if (!bytes) return std::nullopt;
     return DecodeTile(*bytes);
   };
+  return [decoded, stored_zoom](const TileId& id) -> std::optional<cv::Mat> {
+    if (id.z != stored_zoom + 1) return decoded(id);
+    const std::optional<cv::Mat> parent = decoded({id.z - 1, id.x / 2, id.y / 2});
+    return OverzoomedTile(id, parent, parent ? parent->cols : 0);
+  };
 }
 
-std::vector<WindowKey> MapWindows(const TileStore& store, const std::vector<int>& zooms, int tile_size) {
+std::vector<WindowKey> MapWindows(const TileStore& store, const std::vector<int>& zooms, int tile_size,
+                                  int stored_zoom) {
+  const bool over = std::find(zooms.begin(), zooms.end(), stored_zoom + 1) != zooms.end();
   std::vector<TileId> tiles;
-  for (const TileId& t : store.TileIds())
+  for (const TileId& t : store.TileIds()) {
     if (std::find(zooms.begin(), zooms.end(), t.z) != zooms.end()) tiles.push_back(t);
+    if (over && t.z == stored_zoom)
+      for (const TileId& c : ChildTiles(t)) tiles.push_back(c);
+  }
   return WindowsHoldingAny(tiles, WindowTiles(tile_size));
 }
 

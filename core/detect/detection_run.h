@@ -12,9 +12,14 @@
 
 namespace seamap {
 
+constexpr int kMaxStoredZoom = 30;
+
 struct DetectSettings {
   std::shared_ptr<const YoloModelInfo> model;
   std::vector<int> zooms;  // searched levels
+  // The map's finest stored zoom: a searched level one above it is composed
+  // from its tiles scaled up (search_levels.h).
+  int stored_zoom = kMaxStoredZoom;
   float min_score = 0.4f;
   int tile_size = 256;
   LatLon origin;  // of the mission's local frame (position_m)
@@ -24,16 +29,22 @@ struct DetectSettings {
 };
 
 // The zooms to search: `requested` (--zooms), each of which the map must
-// have (InputError naming `option` and listing the map's zooms), else
-// DefaultZooms for the model's largest class (4 m when unknown).
+// have or be one above its base (InputError naming `option` and listing the
+// map's zooms), else the
+// levels where the model's classes have their trained sizes
+// (ScaleMatchedZooms, possibly base_zoom + 1), else (class sizes unknown)
+// DefaultZooms for 4 m.
 std::vector<int> ChooseZooms(const std::optional<std::vector<int>>& requested, const std::string& option, int min_zoom,
                              int base_zoom, double lat, int tile_size, const YoloModelInfo& model);
 
-// Decoded tiles straight from a store (thread-safe like the store).
-TileReader StoreReader(const TileStore& store);
+// Decoded tiles straight from a store (thread-safe like the store); tiles one
+// zoom above `stored_zoom` are cut from their parents and scaled up.
+TileReader StoreReader(const TileStore& store, int stored_zoom = kMaxStoredZoom);
 
-// Every window holding a stored tile of one of `zooms`, in a fixed order.
-std::vector<WindowKey> MapWindows(const TileStore& store, const std::vector<int>& zooms, int tile_size);
+// Every window holding a stored tile of one of `zooms` (at stored_zoom + 1: a
+// child of a stored tile), in a fixed order.
+std::vector<WindowKey> MapWindows(const TileStore& store, const std::vector<int>& zooms, int tile_size,
+                                  int stored_zoom = kMaxStoredZoom);
 
 struct DetectStats {
   std::vector<double> window_ms;  // searched windows

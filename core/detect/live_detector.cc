@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "core/detect/search_levels.h"
+
 namespace seamap {
 namespace {
 // A window waits this long after its last change: tiles finished together
@@ -22,15 +24,25 @@ LiveDetector::~LiveDetector() {
 }
 
 void LiveDetector::OnTileWritten(const TileId& id, const cv::Mat&, uint64_t, bool final) {
-  if (std::find(settings_.zooms.begin(), settings_.zooms.end(), id.z) == settings_.zooms.end()) return;
+  const auto searched = [&](int z) {
+    return std::find(settings_.zooms.begin(), settings_.zooms.end(), z) != settings_.zooms.end();
+  };
+  // A stored tile below a searched level one zoom up changes that level's four tiles (cut from it).
+  std::vector<TileId> changed;
+  if (searched(id.z)) changed.push_back(id);
+  if (id.z == settings_.stored_zoom && searched(id.z + 1))
+    for (const TileId& c : ChildTiles(id)) changed.push_back(c);
+  if (changed.empty()) return;
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (final)
-      live_.erase(id);
-    else
-      live_.insert(id);
     const auto now = std::chrono::steady_clock::now();
-    for (const WindowKey& w : WindowsHolding(id, WindowTiles(settings_.tile_size))) dirty_[w] = now;
+    for (const TileId& t : changed) {
+      if (final)
+        live_.erase(t);
+      else
+        live_.insert(t);
+      for (const WindowKey& w : WindowsHolding(t, WindowTiles(settings_.tile_size))) dirty_[w] = now;
+    }
     backlog_peak_ = std::max(backlog_peak_, static_cast<int>(dirty_.size()));
   }
   wake_.notify_one();
@@ -54,7 +66,7 @@ bool LiveDetector::Due(const WindowKey& w) const {
 }
 
 void LiveDetector::Work() {
-  const TileReader read = StoreReader(*store_);
+  const TileReader read = StoreReader(*store_, settings_.stored_zoom);
   std::unique_lock<std::mutex> lock(mutex_);
   while (!stop_) {
     auto it = std::find_if(dirty_.begin(), dirty_.end(), [&](const auto& d) { return Due(d.first); });
@@ -102,8 +114,8 @@ std::vector<RecognisedObject> LiveDetector::Finish(const std::vector<FrameRecord
   if (worker_.joinable()) worker_.join();
   if (error_) std::rethrow_exception(error_);
   // Windows no tile of this run touched (the worker has stopped: no locks needed).
-  const TileReader read = StoreReader(*store_);
-  for (const WindowKey& w : MapWindows(*store_, settings_.zooms, settings_.tile_size))
+  const TileReader read = StoreReader(*store_, settings_.stored_zoom);
+  for (const WindowKey& w : MapWindows(*store_, settings_.zooms, settings_.tile_size, settings_.stored_zoom))
     if (!searcher_.Searched(w)) searcher_.Search(w, read);
   drain_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (error_) std::rethrow_exception(error_);

@@ -25,6 +25,7 @@ struct Mission {
   std::unique_ptr<TileStore> store;
   int tile_size = 256;
   std::vector<int> zooms;
+  int stored_zoom = kMaxStoredZoom;  // the map's finest (levels above it are scaled up)
   TrainingPlan plan;
 };
 
@@ -93,6 +94,7 @@ TrainingDataSummary WriteTrainingData(const TrainingDataOptions& options) {
     const LatLon origin = RequireMissionOrigin(mission, path);
     m.zooms = ChooseZooms(options.zooms, "--zooms", MetaInt(meta, "minzoom", path), MetaInt(meta, "maxzoom", path),
                           origin.lat, m.tile_size, *model);
+    m.stored_zoom = MetaInt(meta, "maxzoom", path);
     std::vector<int64_t> unreadable;
     std::vector<Detection> detections = m.store->Records().ReadableDetections(&unreadable);
     for (Detection& d : detections) NormaliseDetection(&d);
@@ -106,13 +108,14 @@ TrainingDataSummary WriteTrainingData(const TrainingDataOptions& options) {
     plan_options.tile_size = m.tile_size;
     plan_options.empty_per_labelled = options.empty_per_labelled;
     plan_options.seed = options.seed;
-    const TileReader read = StoreReader(*m.store);
+    const TileReader read = StoreReader(*m.store, m.stored_zoom);
     const auto painted = [&](const WindowKey& w) {
       double fraction = 0;
       ComposeWindow(w, m.tile_size, read, &fraction);
       return fraction;
     };
-    m.plan = PlanTrainingWindows(detections, plan_options, MapWindows(*m.store, m.zooms, m.tile_size), painted);
+    m.plan = PlanTrainingWindows(detections, plan_options, MapWindows(*m.store, m.zooms, m.tile_size, m.stored_zoom),
+                                 painted);
     if (m.plan.labelled == 0)
       throw InputError(path, 0, "",
                        "no confirmed or rejected detection and no operator mark with a box (" +
@@ -134,7 +137,7 @@ TrainingDataSummary WriteTrainingData(const TrainingDataOptions& options) {
   nlohmann::json windows = nlohmann::json::array(), mission_list = nlohmann::json::array();
   for (const Mission& m : missions) {
     mission_list.push_back({{"path", fs::absolute(m.path).string()}, {"name", m.name}, {"model", m.model}});
-    const TileReader read = StoreReader(*m.store);
+    const TileReader read = StoreReader(*m.store, m.stored_zoom);
     for (const TrainingWindow& w : m.plan.windows) {
       char stem[128];
       std::snprintf(stem, sizeof stem, "%s_z%d_x%d_y%d", m.name.c_str(), w.key.z, w.key.x, w.key.y);

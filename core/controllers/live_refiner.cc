@@ -42,7 +42,7 @@ LiveRefiner::LiveRefiner(const CameraModel& camera, LiveRefinerOptions options, 
     : camera_(camera),
       options_((options.Check(), std::move(options))),
       corrected_(std::move(corrected)),
-      refiner_(camera_, options_.refine),
+      refiner_(camera_, options_.refine, FeatureBound{options_.max_feature_bytes}),
       worker_([this] { Work(); }) {}
 
 LiveRefiner::~LiveRefiner() {
@@ -63,6 +63,7 @@ void LiveRefiner::Stop() {
     wake_.notify_one();
   }
   if (worker_.joinable()) worker_.join();
+  refiner_.FreeFeatures();  // the final solve extracts its own: the worker's are not kept beside them
 }
 
 LiveRefinerLag LiveRefiner::Lag() const {
@@ -99,6 +100,9 @@ void LiveRefiner::Work() {
       {
         std::lock_guard<std::mutex> lock(mutex_);
         lag_.cross_pairs += cross;
+        lag_.peak_feature_mb = static_cast<double>(refiner_.peak_feature_bytes()) / (1 << 20);
+        lag_.features_freed = refiner_.features_freed();
+        lag_.features_again = refiner_.features_again();
       }
       if (cross_since_solve_ > 0 && frames_since_solve_ >= options_.min_frames_between_solves) SolveAndHandBack();
     } catch (const std::exception& e) {  // e.g. the disk is full: frames go on being painted; the final solve follows

@@ -36,6 +36,7 @@ void LiveRefinerOptions::Check() const {
     throw InputError("", 0, "repaint_threshold_px", "expected pixels >= 0");
   if (min_frames_between_solves < 1) throw InputError("", 0, "min_frames_between_solves", "expected at least 1");
   if (!(repaint_share > 0)) throw InputError("", 0, "repaint_share", "expected > 0");
+  if (max_batch_frames < 1) throw InputError("", 0, "max_batch_frames", "expected at least 1");
 }
 
 LiveRefiner::LiveRefiner(const CameraModel& camera, LiveRefinerOptions options, Corrected corrected)
@@ -87,10 +88,13 @@ void LiveRefiner::Work() {
       wake_.wait(lock, [&] { return stop_ || !pending_.empty(); });
       if (stop_) return;
       batch_since_ = pending_.front().second;
-      for (auto& [frame, when] : pending_) batch.push_back(std::move(frame));
-      pending_.clear();
-      for (const VehiclePose& p : painted_in_) painted_.push_back(p);
-      painted_in_.clear();
+      const size_t take = std::min(pending_.size(), static_cast<size_t>(options_.max_batch_frames));
+      for (size_t k = 0; k < take; ++k) {
+        batch.push_back(std::move(pending_[k].first));
+        painted_.push_back(painted_in_[k]);
+      }
+      pending_.erase(pending_.begin(), pending_.begin() + static_cast<std::ptrdiff_t>(take));
+      painted_in_.erase(painted_in_.begin(), painted_in_.begin() + static_cast<std::ptrdiff_t>(take));
       lag_.frames_behind = static_cast<int>(batch.size());  // being refined
     }
     try {

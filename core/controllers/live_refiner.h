@@ -7,7 +7,7 @@
 // more than a base pixel since they were painted, so they can be painted
 // again. It solves when new cross-pass pairs have arrived (a loop closed)
 // and at least `min_frames_between_solves` frames came since the last solve;
-// frames that came meanwhile are taken together (it batches when behind).
+// frames that came meanwhile are taken together, up to max_batch_frames (it batches when behind).
 // At most `repaint_share` moved frames per new frame are handed back a
 // solve, the most moved first; the rest wait for the next one, so
 // repainting stays a bounded share of the painting.
@@ -34,6 +34,8 @@ struct LiveRefinerOptions {
   // The worker's resident features at most this (IncrementalRefiner's bound;
   // 0: none): about 2,000 frames at 2,000 features.
   size_t max_feature_bytes = size_t{512} << 20;
+  // Frames taken at once when behind: the features held past the bound are at most one batch's.
+  int max_batch_frames = 25;
   void Check() const;  // InputError naming the option
 };
 

@@ -108,37 +108,7 @@ int RunBuild(int argc, char** argv, int first) {
   const bool refine = args.Flag("refine-nav") || options.config.navigation.refine;
   options.poses.refine = ReadRefineOptions(args, options.config.navigation, options.config.threads);
   if (refine) options.poses.mode = PoseMode::kRefine;
-  const bool estimate_terrain = args.Flag("terrain");
-  if (auto file = args.Get("terrain-file")) {
-    if (estimate_terrain)
-      throw InputError("", 0, "--terrain-file", "and --terrain: give one (a height model's file, or estimate it)");
-    options.config.terrain = TerrainSettings{false, *file};
-  } else if (estimate_terrain) {
-    options.config.terrain = TerrainSettings{true, ""};
-  }
-  // The estimate's knobs: only where there is an estimate to tune.
-  for (const auto& [name, value] : {std::pair<const char*, double*>{"max-relief", &options.config.terrain.max_relief_m},
-                                    {"dem-cell", &options.config.terrain.cell_m},
-                                    {"dem-max-sigma", &options.config.terrain.max_sigma_m}}) {
-    if (!args.Get(name)) continue;
-    if (!options.config.terrain.estimate)
-      throw InputError("", 0, std::string("--") + name,
-                       "applies to the height model --terrain estimates; add --terrain");
-    *value = args.GetDouble(name, 0);
-    if (!(*value > 0 && *value <= 1000))
-      throw InputError("", 0, std::string("--") + name, "expected metres in (0, 1000]");
-  }
-  if (auto points = args.Get("terrain-points")) {
-    if (!options.config.terrain.estimate)
-      throw InputError("", 0, "--terrain-points", "applies to the height model --terrain estimates; add --terrain");
-    options.config.terrain.points_file = *points;
-  }
-  if (args.Flag("terrain-from-bundle")) {
-    if (!options.config.terrain.estimate)
-      throw InputError("", 0, "--terrain-from-bundle",
-                       "applies to the height model --terrain estimates; add --terrain");
-    options.config.terrain.from_bundle = true;
-  }
+  ReadTerrainOptions(args, &options.config.terrain);
   options.poses.feature_enhance = ReadFeatureEnhance(args);
   options.poses.quiet = quiet;
   options.poses.max_image_pixels = options.config.frames.max_image_pixels;  // guards refine's reads too

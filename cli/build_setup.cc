@@ -102,4 +102,38 @@ void WriteTrajectoryOut(const TileStore& store, const std::string& path) {
               rows, path.c_str());
 }
 
+void ReadTerrainOptions(Args& args, TerrainSettings* terrain) {
+  const bool estimate_terrain = args.Flag("terrain");
+  if (auto file = args.Get("terrain-file")) {
+    if (estimate_terrain)
+      throw InputError("", 0, "--terrain-file", "and --terrain: give one (a height model's file, or estimate it)");
+    *terrain = TerrainSettings{false, *file};
+  } else if (estimate_terrain) {
+    *terrain = TerrainSettings{true, ""};
+  }
+  // The estimate's knobs: only where there is an estimate to tune.
+  for (const auto& [name, value] : {std::pair<const char*, double*>{"max-relief", &terrain->max_relief_m},
+                                    {"dem-cell", &terrain->cell_m},
+                                    {"dem-max-sigma", &terrain->max_sigma_m}}) {
+    if (!args.Get(name)) continue;
+    if (!terrain->estimate)
+      throw InputError("", 0, std::string("--") + name,
+                       "applies to the height model --terrain estimates; add --terrain");
+    *value = args.GetDouble(name, 0);
+    if (!(*value > 0 && *value <= 1000))
+      throw InputError("", 0, std::string("--") + name, "expected metres in (0, 1000]");
+  }
+  if (auto points = args.Get("terrain-points")) {
+    if (!terrain->estimate)
+      throw InputError("", 0, "--terrain-points", "applies to the height model --terrain estimates; add --terrain");
+    terrain->points_file = *points;
+  }
+  if (args.Flag("terrain-from-bundle")) {
+    if (!terrain->estimate)
+      throw InputError("", 0, "--terrain-from-bundle",
+                       "applies to the height model --terrain estimates; add --terrain");
+    terrain->from_bundle = true;
+  }
+}
+
 }  // namespace seamap::cli

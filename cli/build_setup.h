@@ -45,4 +45,10 @@ void HookUpDetector(std::shared_ptr<const YoloModelInfo> model, MissionBuildOpti
 void CheckTrajectoryOut(const std::string& path);
 void WriteTrajectoryOut(const TileStore& store, const std::string& path);
 
+// --terrain (estimate the seabed) or --terrain-file DEM, and the estimate's
+// knobs (--max-relief, --dem-cell, --dem-max-sigma, --terrain-points,
+// --terrain-from-bundle: refused without --terrain). Args must know the
+// flags "terrain" and "terrain-from-bundle".
+void ReadTerrainOptions(Args& args, TerrainSettings* terrain);
+
 }  // namespace seamap::cli

@@ -52,6 +52,9 @@ const char* kHelp =
     "  --watch DIR         take frames from a folder being filled (nav.csv + photo/)\n"
     "  --idle-timeout S    with --watch: finish after S seconds without a new frame (default: Ctrl-C)\n"
     "  --exit-when-done    stop serving when the replay ends (default: keep serving until Ctrl-C)\n"
+    "  --terrain           estimate the seabed's shape from the photos at the end of the dive (after the\n"
+    "                      final refinement with --refine-nav) and paint the map again onto it, as build\n"
+    "                      --terrain paints it (takes build's --max-relief, --dem-cell, --dem-max-sigma, ...)\n"
     "  --terrain-file DEM  paint a true orthophoto onto this height model (as build --terrain-file)\n"
     "  --nav-mode vo|ekf   run the navigation filter online as frames arrive and paint with its pose\n"
     "                      (vo: visual odometry + depth, navigation positions only for the first fix;\n"
@@ -60,6 +63,9 @@ const char* kHelp =
     "                      across passes and loops) and paint again what moved; at the end the whole dive\n"
     "                      is refined as build --refine-nav refines it and the map painted again (takes\n"
     "                      build's --nav-noise, --nav-drift, --heading-noise, --refine-method, ...)\n"
+    "  --refine-features-mb N  with --refine-nav: the worker keeps at most N MB of features (default 512,\n"
+    "                      about 2,000 frames; 0: no bound); a later pass over frames whose features were\n"
+    "                      freed extracts them again from the photos\n"
     "  --trajectory-out F  at the end, write the trajectory the frames were placed with (the filter's with\n"
     "                      --nav-mode) to F, in seamap trajectory's CSV form\n"
     "  --detect            search tiles for objects as they are finished (--detect-model FILE: its\n"
@@ -285,8 +291,9 @@ void PrintRefineLag(const MissionBuild& build) {
   if (!lag) return;
   std::printf(
       "refine live: %d solves, %d cross-pass pairs, %d frames painted again; lag at most %.1f s, %d frames left to "
-      "the final solve\n",
-      lag->solves, lag->cross_pairs, lag->frames_repainted, lag->worst_seconds, lag->frames_behind);
+      "the final solve; features at most %.0f MB (%d frames freed, %d extracted again)\n",
+      lag->solves, lag->cross_pairs, lag->frames_repainted, lag->worst_seconds, lag->frames_behind,
+      lag->peak_feature_mb, lag->features_freed, lag->features_again);
 }
 
 // Runs the feed through the build; its end (complete, stopped, failed) told
@@ -310,7 +317,8 @@ int ReplayFeed(MissionBuild& build, FrameFeed& feed, LiveMission& live, bool qui
     exit_code = 1;
   }
   live.mission.LoadTerrain(*build.store());  // a height model the build stored (--terrain): /api/terrain answers
-  if (build.refine_lag()) live.mission.Load(*build.store());  // --refine-nav: the refined records and report
+  // --refine-nav, --terrain: the records of the final repaint (and the refined report) replace those served.
+  if (build.refine_lag() || build.options().config.terrain.estimate) live.mission.Load(*build.store());
   live.PublishProgress(build.stats(), complete ? "complete" : "stopped", true);
   if (!quiet) std::fprintf(stderr, "\n");
   const BuildStats& s = build.stats();
@@ -361,7 +369,9 @@ void PrintLiveStereo(LiveStereo* stereo) {
 }  // namespace
 
 int RunReplay(int argc, char** argv, int first) {
-  Args args(argc, argv, first, {"append", "overwrite", "quiet", "exit-when-done", "detect", "refine-nav", "help"});
+  Args args(argc, argv, first,
+            {"append", "overwrite", "quiet", "exit-when-done", "detect", "refine-nav", "terrain", "terrain-from-bundle",
+             "help"});
   if (args.Flag("help")) {
     std::printf("%s%s%s%s", kHelp, kLiveStereoHelp, kGeorefOverlayHelp, kServerOptionsHelp);
     return 0;
@@ -393,7 +403,10 @@ int RunReplay(int argc, char** argv, int first) {
   options.photo_dir = args.GetOr("images", "");
   PoseSourceOptions poses = ReadNavMode(args, in);
   const bool refine_live = ReadLiveRefine(args, in, &poses);
-  if (auto dem = args.Get("terrain-file")) in.config.terrain = TerrainSettings{false, *dem};
+  const double refine_features_mb = args.GetDouble("refine-features-mb", 512);
+  if (!(refine_features_mb >= 0 && refine_features_mb <= 1e6))
+    throw InputError("", 0, "--refine-features-mb", "expected megabytes >= 0 (0: no bound)");
+  ReadTerrainOptions(args, &in.config.terrain);              // --terrain: estimated at the end of the dive
   const GeorefOverlays overlays = ReadGeorefOverlays(args);  // before the map is touched
   const auto detect_model = LiveDetectArgs(args);            // checked before the map is opened
   const std::optional<std::string> trajectory_out = args.Get("trajectory-out");
@@ -418,6 +431,7 @@ int RunReplay(int argc, char** argv, int first) {
   build_options.poses = poses;
   build_options.poses.quiet = build_options.poses.quiet || quiet;  // the final refinement's progress bars too
   build_options.refine_live = refine_live;
+  build_options.refine_live_feature_bytes = static_cast<size_t>(refine_features_mb * (1 << 20));
   HookUpDetector(detect_model, &build_options);
   LiveMission live(quiet, feed.get());
   MissionObserver observer = live.Observer(detect_model);

@@ -9,12 +9,16 @@
 #   SEAMAP_BENCH_FRAMES=720          frames of the survey
 #   SEAMAP_BENCH_LINE=14             lane length, metres (a short survey needs short lanes to cross itself)
 #   SEAMAP_BENCH_PACED=1             also replay at --speed 1 (as long as the dive: 144 s for 720 frames)
+#   SEAMAP_BENCH_MEMORY_MB=0         > 0: also the worker's features bounded to this many MB against no bound
+#                                    (--refine-features-mb), both at SEAMAP_BENCH_MEMORY_SPEED (default 1)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seamap=${SEAMAP_BIN:-$PWD/build/seamap}
 frames=${SEAMAP_BENCH_FRAMES:-720}
 line=${SEAMAP_BENCH_LINE:-14}
 paced=${SEAMAP_BENCH_PACED:-1}
+memory_mb=${SEAMAP_BENCH_MEMORY_MB:-0}
+memory_speed=${SEAMAP_BENCH_MEMORY_SPEED:-1}
 out=$PWD/out/bench/refine_live
 mkdir -p "$out"
 noise="--nav-noise 0.005 --nav-drift 0.5 --heading-noise 0.5"
@@ -52,3 +56,15 @@ for speed in $speeds; do
   echo "  $(grep -m1 '^refine live:' "$out/replay$speed.out")"
   grep '^refine live: solve' "$out/replay$speed.err" | sed 's/^/  /' | tail -3 || true
 done
+
+# The worker's memory: every frame's features kept (no bound) against the bound.
+if [[ "$memory_mb" != 0 ]]; then
+  for mb in 0 "$memory_mb"; do
+    tag="memory$mb"
+    rm -rf "$out/$tag.mbtiles"*
+    run "$tag" "$seamap" replay "$survey" $noise --refine-nav --refine-features-mb "$mb" --speed "$memory_speed" \
+      --out "$out/$tag.mbtiles" --trajectory-out "$out/$tag.csv" --host 127.0.0.1 --port 0 --quiet --exit-when-done
+    echo "refine live x$frames: --refine-features-mb $mb --speed $memory_speed  cpu $(cpu "$tag") s  peak RSS $(rss "$tag") MiB  cross-pass p90 $(p90 "$out/$tag.csv") mm"
+    echo "  $(grep -m1 '^refine live:' "$out/$tag.out")"
+  done
+fi

@@ -36,13 +36,14 @@ void LiveRefinerOptions::Check() const {
     throw InputError("", 0, "repaint_threshold_px", "expected pixels >= 0");
   if (min_frames_between_solves < 1) throw InputError("", 0, "min_frames_between_solves", "expected at least 1");
   if (!(repaint_share > 0)) throw InputError("", 0, "repaint_share", "expected > 0");
+  if (max_batch_frames < 1) throw InputError("", 0, "max_batch_frames", "expected at least 1");
 }
 
 LiveRefiner::LiveRefiner(const CameraModel& camera, LiveRefinerOptions options, Corrected corrected)
     : camera_(camera),
       options_((options.Check(), std::move(options))),
       corrected_(std::move(corrected)),
-      refiner_(camera_, options_.refine),
+      refiner_(camera_, options_.refine, FeatureBound{options_.max_feature_bytes}),
       worker_([this] { Work(); }) {}
 
 LiveRefiner::~LiveRefiner() {
@@ -63,6 +64,7 @@ void LiveRefiner::Stop() {
     wake_.notify_one();
   }
   if (worker_.joinable()) worker_.join();
+  refiner_.FreeFeatures();  // the final solve extracts its own: the worker's are not kept beside them
 }
 
 LiveRefinerLag LiveRefiner::Lag() const {
@@ -86,10 +88,13 @@ void LiveRefiner::Work() {
       wake_.wait(lock, [&] { return stop_ || !pending_.empty(); });
       if (stop_) return;
       batch_since_ = pending_.front().second;
-      for (auto& [frame, when] : pending_) batch.push_back(std::move(frame));
-      pending_.clear();
-      for (const VehiclePose& p : painted_in_) painted_.push_back(p);
-      painted_in_.clear();
+      const size_t take = std::min(pending_.size(), static_cast<size_t>(options_.max_batch_frames));
+      for (size_t k = 0; k < take; ++k) {
+        batch.push_back(std::move(pending_[k].first));
+        painted_.push_back(painted_in_[k]);
+      }
+      pending_.erase(pending_.begin(), pending_.begin() + static_cast<std::ptrdiff_t>(take));
+      painted_in_.erase(painted_in_.begin(), painted_in_.begin() + static_cast<std::ptrdiff_t>(take));
       lag_.frames_behind = static_cast<int>(batch.size());  // being refined
     }
     try {
@@ -99,6 +104,9 @@ void LiveRefiner::Work() {
       {
         std::lock_guard<std::mutex> lock(mutex_);
         lag_.cross_pairs += cross;
+        lag_.peak_feature_mb = static_cast<double>(refiner_.peak_feature_bytes()) / (1 << 20);
+        lag_.features_freed = refiner_.features_freed();
+        lag_.features_again = refiner_.features_again();
       }
       if (cross_since_solve_ > 0 && frames_since_solve_ >= options_.min_frames_between_solves) SolveAndHandBack();
     } catch (const std::exception& e) {  // e.g. the disk is full: frames go on being painted; the final solve follows

@@ -7,7 +7,7 @@
 // more than a base pixel since they were painted, so they can be painted
 // again. It solves when new cross-pass pairs have arrived (a loop closed)
 // and at least `min_frames_between_solves` frames came since the last solve;
-// frames that came meanwhile are taken together (it batches when behind).
+// frames that came meanwhile are taken together, up to max_batch_frames (it batches when behind).
 // At most `repaint_share` moved frames per new frame are handed back a
 // solve, the most moved first; the rest wait for the next one, so
 // repainting stays a bounded share of the painting.
@@ -31,6 +31,11 @@ struct LiveRefinerOptions {
   double repaint_threshold_px = 1.0;  // a frame whose footprint moved more is painted again
   int min_frames_between_solves = 10;
   double repaint_share = 2.0;
+  // The worker's resident features at most this (IncrementalRefiner's bound;
+  // 0: none): about 2,000 frames at 2,000 features.
+  size_t max_feature_bytes = size_t{512} << 20;
+  // Frames taken at once when behind: the features held past the bound are at most one batch's.
+  int max_batch_frames = 25;
   void Check() const;  // InputError naming the option
 };
 
@@ -40,9 +45,12 @@ struct LiveRefinerLag {
   double seconds_behind = 0;  // since the oldest of them was handed over
   double worst_seconds = 0;   // the most seconds_behind has been
   int solves = 0;
-  int frames_repainted = 0;  // handed back as moved
-  int cross_pairs = 0;       // accepted across passes so far
-  bool failed = false;       // the worker stopped on an error (said on stderr)
+  int frames_repainted = 0;    // handed back as moved
+  int cross_pairs = 0;         // accepted across passes so far
+  bool failed = false;         // the worker stopped on an error (said on stderr)
+  double peak_feature_mb = 0;  // the most features resident at once
+  int features_freed = 0;      // frames whose features were freed (past max_feature_bytes)
+  int features_again = 0;      // frames whose features were extracted again for a later pass
 };
 
 // A solve's outcome, handed back on the worker's thread.

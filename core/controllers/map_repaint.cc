@@ -55,6 +55,7 @@ RepaintResult RepaintWholeMap(TileStore* store, const RepaintSetup& setup, const
   }
   const TileSet written = fresh.Written();
   for (const TileId& id : written) result.base_tiles += id.z == setup.plan.base_zoom;
+  result.written = written;
   // What the old poses painted and the new ones do not: empty now.
   const int ts = setup.config.map.tile_size;
   const std::vector<uint8_t> empty =
@@ -62,6 +63,7 @@ RepaintResult RepaintWholeMap(TileStore* store, const RepaintSetup& setup, const
   for (const TileId& id : before)
     if (!written.count(id) && id.z >= setup.plan.min_zoom && id.z <= setup.plan.base_zoom) {
       store->PutTile(id, empty);
+      result.written.insert(id);
       ++result.cleared;
     }
   store->Flush();
@@ -96,6 +98,7 @@ RepaintResult RepaintTiles(TileStore* store, const RepaintSetup& setup, const st
   }
   TileSet changed = fresh.Written();
   result.base_tiles = changed.size();
+  result.written = changed;
   // The overviews above them, each from its four children as the map holds them now.
   ThreadPool pool(1);
   TileWriter writer(store, &pool, setup.config.map.encoding);
@@ -111,6 +114,7 @@ RepaintResult RepaintTiles(TileStore* store, const RepaintSetup& setup, const st
         ReduceTile2x(tile).copyTo(parent(cv::Rect((q & 1) * ts / 2, (q >> 1) * ts / 2, ts / 2, ts / 2)));
       }
       writer.Submit(p, parent);
+      result.written.insert(p);
     }
     writer.Flush();
     changed = std::move(parents);

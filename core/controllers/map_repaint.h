@@ -28,6 +28,7 @@ struct RepaintResult {
   int frames_painted = 0;
   size_t base_tiles = 0;  // written again
   size_t cleared = 0;     // tiles no frame paints any more, written empty (a whole map)
+  TileSet written;  // every tile written, overviews and cleared ones included (the recogniser searches them again)
 };
 
 // The base tiles under a frame's footprint at its pose (none when the camera

@@ -25,9 +25,8 @@ void MissionBuildOptions::Check() const {
   if (refine_live && append)
     throw InputError(out, 0, "--append", "replay --refine-nav paints the whole mission again; give a new map");
   if (refine_live) poses.refine.Check();
-  if (live && config.terrain.estimate)
-    throw InputError(config_source, 0, "terrain",
-                     "estimating the seabed needs the whole survey; a live build takes a height model's file");
+  if (live && config.terrain.estimate && append)
+    throw InputError(out, 0, "--append", "replay --terrain paints the whole mission again; give a new map");
   if (static_cast<bool>(start_detector) != static_cast<bool>(finish_detector))
     throw std::logic_error("MissionBuildOptions: start_detector and finish_detector go together");
   poses.Check();
@@ -81,7 +80,8 @@ bool MissionBuild::Open() {
   // On the navigation's poses it comes before the map is created, so photos
   // that give no seabed leave no map behind; refined poses are placed once
   // the map is open (their report goes into it), and the estimate follows them.
-  const bool estimate_first = config.terrain.estimate && poses_.mode() == PoseMode::kNavigation;
+  // Live, the seabed is estimated at the end of the dive (FinishLiveMission): painted flat until then.
+  const bool estimate_first = config.terrain.estimate && poses_.mode() == PoseMode::kNavigation && !options_.live;
   if (estimate_first) estimate_surface();
   output_ = OpenOutput(options_.out, config, {options_.append, options_.overwrite, options_.resume});
   TileStore& store = *output_.store;
@@ -107,7 +107,7 @@ bool MissionBuild::Open() {
       WriteMissionMetadata(&store, mission);
     }
   }
-  if (config.terrain.estimate && !estimate_first) estimate_surface();
+  if (config.terrain.estimate && !estimate_first && !options_.live) estimate_surface();
   if (surface_.grid) {
     CheckAgainstNavigation(options_.camera, frames, config.terrain.file.empty() ? "--terrain" : "--terrain-file",
                            &surface_);
@@ -194,13 +194,15 @@ void MissionBuild::Start() {
   enhance_.surface = surface_.painted;  // both layers paint onto the same seabed
   BuildHooks hooks = both_ ? BuildHooks{} : enhance_;
   hooks.on_frame = observer_.on_frame_placed;
-  if (options_.refine_live) {
+  if (options_.refine_live || TerrainAtEnd()) {  // the whole map is painted again at the end
     repaint_.config = offline_config_;
     repaint_.camera = options_.camera;
     repaint_.frame = options_.frame;
     repaint_.plan = *plan_;
     repaint_.hooks.surface = surface_.painted;
     repaint_.hooks.preprocess = both_ ? nullptr : enhance_.preprocess;
+  }
+  if (options_.refine_live) {
     hooks.on_frame = [this](const FrameRecord& record, const TrackPoint& point) {
       {  // which frames the worker may correct: those recorded as painted
         std::lock_guard<std::mutex> lock(recorded_mutex_);
@@ -215,6 +217,7 @@ void MissionBuild::Start() {
     live.refine = options_.poses.refine;
     live.refine.max_image_pixels = config.frames.max_image_pixels;
     live.base_pixel_m = MetersPerPixel(plan_->latitude, plan_->base_zoom, config.map.tile_size);
+    live.max_feature_bytes = options_.refine_live_feature_bytes;
     refiner_ = std::make_unique<LiveRefiner>(options_.camera, live,
                                              [this](const LiveCorrection& correction) { Repaint(correction); });
   }
@@ -275,6 +278,8 @@ void MissionBuild::Run(FrameFeed& feed) {
         nav.nav_pose.reset();
         live_frames_.push_back(nav);
         refiner_->Add(nav, frame.pose);
+      } else if (TerrainAtEnd()) {  // painted again onto the seabed estimated at the end, at these poses
+        live_frames_.push_back(frame);
       }
     }
     if (observer_.on_progress) observer_.on_progress(builder_->stats());
@@ -288,7 +293,7 @@ void MissionBuild::Finish() {
   if (refiner_) refiner_->Stop();  // its last repaint done; the final solve follows
   if (enhanced_) enhanced_->Finish();
   builder_->Finish();  // last: the mission's "complete" state follows both layers
-  if (options_.refine_live) RefineLiveMission();
+  if (options_.refine_live || TerrainAtEnd()) FinishLiveMission();
   if (observer_.on_layers_finished) observer_.on_layers_finished();
   if (detector_) options_.finish_detector(*detector_, *output_.store, observer_.on_objects_found);
 }
@@ -308,6 +313,14 @@ void MissionBuild::Repaint(const LiveCorrection& correction) {
     for (const VehiclePose& pose : {before[k], placed[moved[k]].pose})
       for (const TileId& t : FrameTiles(options_.camera, options_.frame, pose, zoom, ts)) tiles.insert(t);
   const RepaintResult painted = RepaintTiles(store(), repaint_, placed, tiles);
+  SearchAgain(painted.written);  // the objects on them follow the correction
+  std::string enhanced_tiles;
+  if (enhanced_store_) {  // layers: both: the enhanced layer's tiles too, from the same frames
+    RepaintSetup enhanced = repaint_;
+    enhanced.hooks.preprocess = enhance_.preprocess;
+    enhanced_tiles =
+        ", enhanced " + std::to_string(RepaintTiles(enhanced_store_.get(), enhanced, placed, tiles).base_tiles);
+  }
   // The moved frames' records at their corrected poses (the console's track).
   int corrected = 0;
   for (int i : moved) {
@@ -358,43 +371,71 @@ void MissionBuild::Repaint(const LiveCorrection& correction) {
   const IncrementalSolution& s = correction.solution;
   std::fprintf(stderr,
                "\nrefine live: solve %d over %d frames, %d cross-pass and %d along-track pairs; pair residual RMS "
-               "%.1f mm -> %.1f mm; %zu frames moved more than a pixel painted again (%zu tiles)\n",
+               "%.1f mm -> %.1f mm; %zu frames moved more than a pixel painted again (%zu tiles%s)\n",
                correction.solve, s.frames, s.registered_cross, s.registered_along, s.residual_before_mm,
-               s.residual_after_mm, moved.size(), painted.base_tiles);
+               s.residual_after_mm, moved.size(), painted.base_tiles, enhanced_tiles.c_str());
   if (observer_.on_trajectory_corrected) observer_.on_trajectory_corrected(corrected, false);
 }
 
-void MissionBuild::RefineLiveMission() {
+void MissionBuild::SearchAgain(const TileSet& tiles) {
+  if (!detector_) return;
+  for (const TileId& id : tiles) detector_->OnTileWritten(id, cv::Mat(), 0, true);
+}
+
+bool MissionBuild::TerrainAtEnd() const {
+  return options_.live && options_.config.terrain.estimate;
+}
+
+void MissionBuild::FinishLiveMission() {
   {
-    MissionMetadata mission;  // not complete until it is refined
+    MissionMetadata mission;  // not complete until it is refined and painted again
     mission.state = "building";
     WriteMissionMetadata(output_.store.get(), mission);
     output_.store->Flush();
   }
   if (live_frames_.empty()) return;  // nothing painted, or stopped: left as it is
-  PoseSourceOptions refine = options_.poses;
-  refine.mode = PoseMode::kRefine;
-  PoseSource final_poses(options_.camera, refine);
-  pose_report_ = final_poses.PlaceSurvey(&live_frames_);
-  nlohmann::json summary = pose_report_;
-  summary.erase("nav_only");  // the frames say which, one by one
-  summary["mode"] = "refine";
-  summary["live"] = true;
-  MissionMetadata mission;
-  mission.trajectory = summary;
-  WriteMissionMetadata(output_.store.get(), mission);
-
-  RepaintSetup setup = repaint_;
-  setup.hooks.on_frame = observer_.on_frame_placed;  // the refined records, to the server too
+  std::optional<PoseSource> final_poses;
   int moved = 0;
-  for (const FrameSpec& f : live_frames_) moved += f.nav_pose.has_value();
-  RepaintWholeMap(store(), setup, live_frames_);
+  if (options_.refine_live) {  // the whole dive refined as build --refine-nav refines it
+    PoseSourceOptions refine = options_.poses;
+    refine.mode = PoseMode::kRefine;
+    final_poses.emplace(options_.camera, refine);
+    pose_report_ = final_poses->PlaceSurvey(&live_frames_);
+    nlohmann::json summary = pose_report_;
+    summary.erase("nav_only");  // the frames say which, one by one
+    summary["mode"] = "refine";
+    summary["live"] = true;
+    MissionMetadata mission;
+    mission.trajectory = summary;
+    WriteMissionMetadata(output_.store.get(), mission);
+    for (const FrameSpec& f : live_frames_) moved += f.nav_pose.has_value();
+  }
+  RepaintSetup setup = repaint_;
+  if (TerrainAtEnd()) {  // --terrain: the seabed from the photos at their final poses, as build estimates it
+    const BuildConfig& config = options_.config;
+    if (observer_.on_note) observer_.on_note("estimating the seabed's shape from the photos");
+    try {
+      surface_ = EstimateSeabedSurface(options_.frame, options_.camera, live_frames_, config.terrain, config.threads,
+                                       !options_.poses.quiet, config.frames.max_image_pixels,
+                                       final_poses ? &final_poses->seabed_points() : nullptr);
+      CheckAgainstNavigation(options_.camera, live_frames_, "--terrain", &surface_);
+      if (observer_.on_note) observer_.on_note(surface_.Summary());
+    } catch (const InputError& e) {  // the dive is not lost for it: its map stays on the plane
+      std::fprintf(stderr, "\nwarning: %s; the map stays painted on the plane\n", e.what());
+      surface_ = SeabedSurface{};
+    }
+    if (surface_.grid)
+      StoreMissionTerrain(output_.store.get(), {*surface_.grid, options_.frame.origin()}, !options_.poses.quiet);
+    setup.hooks.surface = surface_.painted;
+  }
+  setup.hooks.on_frame = observer_.on_frame_placed;  // the final records, to the server too
+  SearchAgain(RepaintWholeMap(store(), setup, live_frames_).written);
   if (enhanced_store_) {
     setup.hooks.preprocess = enhance_.preprocess;
     setup.hooks.on_frame = nullptr;
     RepaintWholeMap(enhanced_store_.get(), setup, live_frames_);
   }
-  if (observer_.on_trajectory_corrected) observer_.on_trajectory_corrected(moved, true);
+  if (options_.refine_live && observer_.on_trajectory_corrected) observer_.on_trajectory_corrected(moved, true);
 }
 
 void MissionBuild::Conclude(bool complete) {

@@ -61,6 +61,8 @@ struct MissionBuildOptions {
   // tiles of frames that moved painted again; at the end the whole survey is
   // refined as build --refine-nav refines it (poses.refine) and painted again.
   bool refine_live = false;
+  // refine_live: the worker's resident features at most this (0: no bound; LiveRefinerOptions).
+  size_t refine_live_feature_bytes = LiveRefinerOptions{}.max_feature_bytes;
   // The recogniser (--detect): made once the map is planned, drained after
   // the layers are finished (its summary is the caller's to print). Both or neither.
   std::function<std::unique_ptr<LiveDetector>(const MosaicPlan&, const TileStore* store)> start_detector;
@@ -135,9 +137,15 @@ class MissionBuild {
   void Finish();
   void SkipFramesInMap();
   void WriteLiveMetadata();
-  void RefineLiveMission();  // refine_live, at the end: the whole survey refined and painted again
+  // Live, at the end (refine_live, --terrain): the whole survey refined, its
+  // seabed estimated, the map painted again from scratch.
+  void FinishLiveMission();
+  bool TerrainAtEnd() const;  // live with config.terrain.estimate
   // refine_live, on the worker: tiles of the frames that moved painted again, their records corrected.
   void Repaint(const LiveCorrection& correction);
+  // refine_live: the recogniser searches the main layer's tiles painted again
+  // (their windows' objects replaced), so the objects follow the corrected map.
+  void SearchAgain(const TileSet& tiles);
 
   MissionBuildOptions options_;
   MissionObserver observer_;

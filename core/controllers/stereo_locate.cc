@@ -123,6 +123,19 @@ std::vector<ObjectGroup> GroupSightings(const std::vector<StereoSighting>& sight
   return groups;
 }
 
+// An object's horizontal uncertainty (1 sigma): how far its sightings lie from
+// their mean (the trajectory's error between the passes, RMS) and the stereo's
+// own (point_sigma_m, RMS over the sightings), in quadrature. One sighting has
+// no spread: its sigma is the stereo's alone.
+double GroupSigma(const ObjectGroup& g) {
+  double spread2 = 0, stereo2 = 0;
+  for (const StereoSighting* s : g.sightings) {
+    spread2 += std::pow(s->placed->local.east - g.east_m, 2) + std::pow(s->placed->local.north - g.north_m, 2);
+    stereo2 += std::pow(s->result.point_sigma_m, 2);
+  }
+  return std::sqrt((spread2 + stereo2) / static_cast<double>(g.sightings.size()));
+}
+
 }  // namespace
 
 void StereoLocateOptions::Check() const {
@@ -408,13 +421,14 @@ std::vector<Detection> StereoObjectDetections(const StereoLocateOptions& options
     placed.position = frame.ToLatLon(placed.local);
     placed.depth_m = g.depth_m;
     placed.heading_deg = g.heading_deg;
-    found.push_back(StereoSightingDetection(options, placed, *g.sightings.front()->time_s));
+    found.push_back(StereoSightingDetection(options, placed, *g.sightings.front()->time_s, GroupSigma(g)));
     found.back().class_name = model_name;
   }
   return found;
 }
 
-Detection StereoSightingDetection(const StereoLocateOptions& options, const PlacedObject& placed, double time_s) {
+Detection StereoSightingDetection(const StereoLocateOptions& options, const PlacedObject& placed, double time_s,
+                                  std::optional<double> sigma_m) {
   Detection d;
   d.source = "stereo";
   d.model = std::filesystem::path(options.model_path).filename().string();
@@ -423,6 +437,7 @@ Detection StereoSightingDetection(const StereoLocateOptions& options, const Plac
   d.position_m = std::array<double, 2>{placed.local.east, placed.local.north};  // the mission's frame
   d.heading_deg = placed.heading_deg;
   d.depth_m = placed.depth_m;
+  d.sigma_m = sigma_m;
   d.time_s = time_s;
   d.status = "unconfirmed";
   return d;

@@ -87,7 +87,9 @@ LocateResult LocateStereoPairs(const StereoLocateOptions& options, const ObjectM
                                const StereoCalibration& calibration, const std::vector<LoadedPair>& pairs);
 std::vector<StereoSighting> TimedSightings(const StereoLocateOptions& options, const std::vector<PairFiles>& files);
 // A placed object as the mission stores it (source "stereo", the model file's name as its model).
-Detection StereoSightingDetection(const StereoLocateOptions& options, const PlacedObject& placed, double time_s);
+// sigma_m: the position's horizontal uncertainty, stored on the record (none: unknown).
+Detection StereoSightingDetection(const StereoLocateOptions& options, const PlacedObject& placed, double time_s,
+                                  std::optional<double> sigma_m = std::nullopt);
 std::vector<Detection> StereoObjectDetections(const StereoLocateOptions& options,
                                               const std::vector<StereoSighting>& sightings,
                                               const std::string& model_name, const LocalFrame& frame);

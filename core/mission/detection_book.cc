@@ -47,9 +47,9 @@ LatLon ParsePoint(const nlohmann::json& geometry) {
 // `box` and `size_m` are an operator's box (operator_box.h; a recogniser's stay as found).
 void ApplyProperties(const nlohmann::json& props, Detection* d) {
   if (!props.is_object()) throw DetectionError::Invalid("properties", "expected an object");
-  static const std::set<std::string> kReadOnly = {"id",        "source",    "created",     "updated", "seq",
-                                                  "frame_id",  "model",     "level",       "levels",  "frames",
-                                                  "truncated", "alt_class", "heading_deg", "depth_m", "position_m"};
+  static const std::set<std::string> kReadOnly = {
+      "id",     "source", "created",   "updated",   "seq",         "frame_id", "model",   "level",
+      "levels", "frames", "truncated", "alt_class", "heading_deg", "depth_m",  "sigma_m", "position_m"};
   for (const auto& [key, value] : props.items()) {
     if (key == "class") {
       if (!value.is_string() || value.get<std::string>().empty() || value.get<std::string>().size() > kMaxClassLength)

@@ -49,11 +49,12 @@ const std::vector<SqlColumn> kDetectionObjectColumns =
         {"model", "text"},       {"level", "integer"}, {"levels", "text"},       {"box", "text"},
         {"east_m", "real"},      {"north_m", "real"},  {"size_ew_m", "real"},    {"size_ns_m", "real"},
         {"frames", "text"},      {"status", "text"},   {"truncated", "integer"}, {"alt_class", "text"},
-        {"heading_deg", "real"}, {"depth_m", "real"}};  // a stereo location's orientation and depth (issue 20)
+        {"heading_deg", "real"}, {"depth_m", "real"},  // a stereo location's orientation and depth (issue 20)
+        {"sigma_m", "real"}};                          // and its uncertainty (issue 30)
 const std::vector<std::string> kDetectionColumns = {
     "id",        "class",     "score",  "lat",    "lon",       "note",      "source",      "frame_id", "time_s",
     "created",   "updated",   "seq",    "model",  "level",     "levels",    "box",         "east_m",   "north_m",
-    "size_ew_m", "size_ns_m", "frames", "status", "truncated", "alt_class", "heading_deg", "depth_m"};
+    "size_ew_m", "size_ns_m", "frames", "status", "truncated", "alt_class", "heading_deg", "depth_m",  "sigma_m"};
 
 // Every column in the order rows are bound and read.
 const std::vector<std::string> kFrameColumns = {
@@ -181,6 +182,7 @@ Detection ReadDetectionRow(sqlite3_stmt* s) {
   d.alt_class = ColumnText(s, 23);
   d.heading_deg = ColumnFiniteOptional(s, 24);
   d.depth_m = ColumnFiniteOptional(s, 25);
+  d.sigma_m = ColumnFiniteOptional(s, 26);
   NormaliseDetection(&d);
   return d;
 }
@@ -592,6 +594,7 @@ void MBTilesStore::PutDetection(const Detection& d) {
   text(24, d.alt_class);
   BindOptional(s, 25, d.heading_deg);
   BindOptional(s, 26, d.depth_m);
+  BindOptional(s, 27, d.sigma_m);
   if (sqlite3_step(s) != SQLITE_DONE) Fail("write detection");
   EndWrite();
 }

@@ -68,6 +68,7 @@ struct Detection {
   std::string alt_class;              // a class that lost to this one at the same place
   std::optional<double> heading_deg;  // stereo: the object's x axis, clockwise from true north
   std::optional<double> depth_m;      // stereo: the object frame's origin below the surface
+  std::optional<double> sigma_m;      // stereo: the position's horizontal uncertainty (1 sigma), metres
   std::string created, updated;       // ISO 8601 UTC
   int64_t seq = 0;                    // change number: grows with every change
 };

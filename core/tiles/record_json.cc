@@ -162,6 +162,7 @@ nlohmann::json DetectionToJson(const Detection& original) {
           {"alt_class", d.alt_class.empty() ? nlohmann::json(nullptr) : nlohmann::json(d.alt_class)},
           {"heading_deg", OptionalToJson(d.heading_deg)},
           {"depth_m", OptionalToJson(d.depth_m)},
+          {"sigma_m", OptionalToJson(d.sigma_m)},
           {"created", d.created},
           {"updated", d.updated},
           {"seq", d.seq}};
@@ -199,6 +200,7 @@ Detection DetectionFromJson(const nlohmann::json& j) {
   if (j.contains("alt_class") && j.at("alt_class").is_string()) d.alt_class = j.at("alt_class").get<std::string>();
   d.heading_deg = OptionalFromJson(j, "heading_deg");
   d.depth_m = OptionalFromJson(j, "depth_m");
+  d.sigma_m = OptionalFromJson(j, "sigma_m");
   d.created = j.value("created", "");
   d.updated = j.value("updated", "");
   d.seq = j.value("seq", int64_t{0});

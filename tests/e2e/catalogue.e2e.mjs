@@ -94,6 +94,8 @@ await runE2E({name: 'catalogue', timeoutMs: 140000}, async ({checks, work, seama
     await page.click('.leaflet-marker-icon:has(.heading)');
     const heading = await page.textContent('.leaflet-popup .popup-heading');
     if (heading !== '123.7°') throw new Error(`popup heading "${heading}"`);
+    const sigma = await page.textContent('.leaflet-popup .popup-sigma');  // its stored uncertainty
+    if (sigma !== '± 12.3 mm') throw new Error(`popup uncertainty "${sigma}"`);
     await page.evaluate(() => window.seamap.map.closePopup());
     const other = await fetch(new URL('missions/nope/api/status', base));
     if (other.status !== 404) throw new Error(`unknown mission: ${other.status}`);

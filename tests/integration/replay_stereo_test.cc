@@ -160,6 +160,9 @@ TEST(ReplayStereo, ObjectsReachTheConsoleAsTheyAreFoundAndStayInTheMission) {
   EXPECT_EQ(first["action"], "created");
   EXPECT_EQ(first["feature"]["properties"]["class"], "scene") << first.dump();
   EXPECT_EQ(first["feature"]["properties"]["source"], "stereo") << first.dump();
+  // Its uncertainty with it (the properties GET /api/detections serves): the stereo's sigma at least.
+  ASSERT_TRUE(first["feature"]["properties"]["sigma_m"].is_number()) << first.dump();
+  EXPECT_GT(first["feature"]["properties"]["sigma_m"].get<double>(), 0) << first.dump();
 
   // Every pair inside the frames' times found, the one after them skipped, one object.
   EXPECT_NE(out.find("stereo: 4 pairs: 3 found, 0 not found, 1 outside the frames' times"), std::string::npos) << out;
@@ -183,6 +186,13 @@ TEST(ReplayStereo, ObjectsReachTheConsoleAsTheyAreFoundAndStayInTheMission) {
   EXPECT_LT(error_m, 0.02);
   ASSERT_TRUE(stereo[0].depth_m.has_value());
   EXPECT_NEAR(*stereo[0].depth_m, object["depth_m"].get<double>(), 0.02);
+  // The uncertainty stored on the record (issue 30): the printed spread and stereo sigma, combined;
+  // exact navigation, so millimetres, and the error found within a few sigma.
+  ASSERT_TRUE(stereo[0].sigma_m.has_value());
+  std::printf("replay --stereo: sigma_m %.2f mm\n", 1000 * *stereo[0].sigma_m);
+  EXPECT_GT(*stereo[0].sigma_m, 0);
+  EXPECT_LT(*stereo[0].sigma_m, 0.02);
+  EXPECT_LT(error_m, 5 * *stereo[0].sigma_m + 0.002);
 }
 
 TEST(ReplayStereo, StereoOptionsThatDoNotFitAreRefusedBeforeTheMapIsMade) {

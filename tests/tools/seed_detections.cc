@@ -3,7 +3,7 @@
 // calls), for the console's browser tests: classes tyre, crate and pipe with
 // scores 0.45-0.95 at the centres of photos, each seen by three photos.
 // --stereo: one object located by stereo instead ("manifold", heading 123.7,
-// 41.2 m deep, at the centre of the sixth photo). Prints the ids, one per line.
+// 41.2 m deep, sigma 12.3 mm, at the centre of the sixth photo). Prints the ids, one per line.
 #include <cstdio>
 #include <cstring>
 #include <exception>
@@ -33,6 +33,7 @@ int main(int argc, char** argv) {
       d.position = {(f.footprint[0].lat + f.footprint[2].lat) / 2, (f.footprint[0].lon + f.footprint[2].lon) / 2};
       d.heading_deg = 123.7;
       d.depth_m = 41.2;
+      d.sigma_m = 0.0123;  // its uncertainty, as stereo location stores it
       d.time_s = f.time_s;
       server::PublishOptions options;
       options.model_classes = {"manifold"};

@@ -260,6 +260,7 @@ export class Detections {
         p.size_m ? [el('dt', {}, 'size'), el('dd', {}, `${formatMetres(p.size_m[0])} × ${formatMetres(p.size_m[1])}`)] : null,
         Number.isFinite(p.heading_deg) ? [el('dt', {}, 'heading'), el('dd', {class: 'popup-heading'}, `${Number(p.heading_deg).toFixed(1)}°`)] : null,
         Number.isFinite(p.depth_m) ? [el('dt', {}, 'depth'), el('dd', {}, formatMetres(p.depth_m))] : null,
+        Number.isFinite(p.sigma_m) ? [el('dt', {}, 'uncertainty'), el('dd', {class: 'popup-sigma'}, `± ${(1000 * p.sigma_m).toFixed(1)} mm`)] : null,
         el('dt', {}, 'position'), el('dd', {}, where),
         el('dt', {}, 'time'), el('dd', {}, formatTime(p.time_s)),
         p.note ? [el('dt', {}, 'note'), el('dd', {}, p.note)] : null),

@@ -41,6 +41,7 @@ Detection Mark(int64_t id, const std::string& cls) {
     d.time_s = 3.5;
     d.truncated = true;
     d.alt_class = "crate";
+    d.sigma_m = 0.0123;  // a stereo object's uncertainty (any source stores it)
   }
   d.created = "2026-11-22T10:00:00Z";
   d.updated = "2026-11-22T10:05:00Z";
@@ -70,6 +71,7 @@ void ExpectSame(const Detection& a, const Detection& b) {
   EXPECT_EQ(a.status, b.status);
   EXPECT_EQ(a.truncated, b.truncated);
   EXPECT_EQ(a.alt_class, b.alt_class);
+  EXPECT_EQ(a.sigma_m, b.sigma_m);
   EXPECT_EQ(a.frame_id, b.frame_id);
   EXPECT_EQ(a.time_s, b.time_s);
   EXPECT_EQ(a.created, b.created);

@@ -12,22 +12,29 @@
 # against a flat one.
 #   scripts/bench_ortho.sh [SEAMAP_BINARY [OUT_DIR [SEEDS [FRAMES]]]]
 # Defaults: build/seamap, out/bench/ortho, 3 seeds, 200 frames.
+#   SEAMAP_BENCH_ORTHO_MODES="flat file estimate bundle rematch"   the builds;
+#     "nadir" is --terrain with "nadir_seams": true (against "estimate")
+#   SEAMAP_BENCH_ORTHO_TILT=DEG   pitch and roll amplitude of the surveys (default: the simulator's 3 / 2)
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
-seamap="${1:-$root/build/seamap}" out="${2:-$root/out/bench/ortho}" seeds="${3:-3}" frames="${4:-200}"
+tilt="${SEAMAP_BENCH_ORTHO_TILT:-}"
+seamap="${1:-$root/build/seamap}" out="${2:-$root/out/bench/ortho${tilt:+_tilt$tilt}}" seeds="${3:-3}" frames="${4:-200}"
 mkdir -p "$out"
 
 json() { python3 -c "import json,sys; print(json.load(open(sys.argv[1]))$2)" "$1"; }
 
-modes=(flat file estimate bundle rematch)
-declare -A args=([flat]="" [file]="--terrain-file TRUTH" [estimate]="--terrain"
+read -r -a modes <<<"${SEAMAP_BENCH_ORTHO_MODES:-flat file estimate bundle rematch}"
+echo '{"nadir_seams": true}' >"$out/nadir.json"
+declare -A args=([flat]="" [file]="--terrain-file TRUTH" [estimate]="--terrain" [nadir]="--terrain --config $out/nadir.json"
   [bundle]="--refine-nav --refine-method bundle --terrain --terrain-from-bundle" [rematch]="--refine-nav --refine-method bundle --terrain")
 dem_eval="$(dirname "$seamap")/dem_eval"
 for seed in $(seq 1 "$seeds"); do
-  sim="$out/sim_$seed"
+  sim="$out/sim_$seed${tilt:+_tilt$tilt}"
   if [[ ! -f "$sim/truth/terrain.tif" ]] || [[ "$(($(wc -l <"$sim/nav.csv") - 1))" != "$frames" ]]; then
+    # shellcheck disable=SC2046
     "$seamap" simulate --out "$sim" --force --seed "$seed" --frames "$frames" --relief 0.3 --altitude-min 2 \
-      --altitude-max 2 --line-spacing 0.9 --line-length 6 --image-format jpg --quiet >/dev/null
+      --altitude-max 2 --line-spacing 0.9 --line-length 6 --image-format jpg --quiet \
+      $([[ -n "$tilt" ]] && echo "--pitch-amp $tilt --roll-amp $tilt") >/dev/null
   fi
   for mode in "${modes[@]}"; do
     map="$out/${mode}_$seed.mbtiles"
@@ -46,10 +53,11 @@ for seed in $(seq 1 "$seeds"); do
   done
 done
 
-python3 - "$out" "$seeds" <<'PY'
+python3 - "$out" "$seeds" "${modes[*]}" <<'PY'
 import json, os, statistics, sys
-out, seeds = sys.argv[1], int(sys.argv[2])
+out, seeds, modes = sys.argv[1], int(sys.argv[2]), sys.argv[3].split()
 names = {"flat": "flat projection", "file": "--terrain-file truth", "estimate": "--terrain (from the photos)",
+         "nadir": "--terrain, nadir_seams true",
          "bundle": "--refine-nav --terrain --terrain-from-bundle", "rematch": "--refine-nav --terrain (matched again)"}
 def load(mode, seed, kind):
     p = os.path.join(out, f"{mode}_{seed}.{kind}.json")
@@ -60,7 +68,8 @@ def dem_rms(mode, seed):
     if not os.path.exists(p): return None
     f = open(p).read().split()
     return float(f[f.index("rms_mm") + 1]) if "rms_mm" in f else None
-for mode in ("flat", "file", "estimate", "bundle", "rematch"):
+for mode in ("flat", "file", "estimate", "nadir", "bundle", "rematch"):
+    if mode not in modes: continue
     evals = [load(mode, s, "eval") for s in range(1, seeds + 1)]
     reports = [load(mode, s, "report") for s in range(1, seeds + 1)]
     if not all(evals):
@@ -73,7 +82,8 @@ for mode in ("flat", "file", "estimate", "bundle", "rematch"):
     mm = evals[0]["pixel_mm"]
     target = "target with --terrain: median <= 0.5 px, p90 <= 1 px" if mode != "flat" else "issue: p90 ~6 px today"
     print(f"ortho {names[mode]}: texture offset median {statistics.median(med):.2f} px (worst {max(med):.2f}), "
-          f"p90 {statistics.median(p90):.2f} px = {statistics.median(p90) * mm:.1f} mm (worst {max(p90):.2f} px) "
+          f"p90 {statistics.median(p90):.2f} px = {statistics.median(p90) * mm:.1f} mm (worst {max(p90):.2f} px), "
+          f"worst block {max(e['max_px'] for e in evals):.1f} px "
           f"over {seeds} seeds, {min(e['measured_blocks'] for e in evals)}+ blocks each [{target}]")
     rms = [dem_rms(mode, s) for s in range(1, seeds + 1)]
     if all(r is not None for r in rms):
@@ -82,7 +92,7 @@ for mode in ("flat", "file", "estimate", "bundle", "rematch"):
     # The whole process's CPU (user + system), the height model's estimate included.
     cpu[mode] = [sum(map(float, open(os.path.join(out, f"{mode}_{s}.time")).read().split()[-2:])) / r["frames_seen"] * 1000
                  for s, r in zip(range(1, seeds + 1), reports)]
-for mode in ("file", "estimate", "bundle", "rematch"):
+for mode in ("file", "estimate", "nadir", "bundle", "rematch"):
     if mode in cpu and "flat" in cpu:
         ratio = [c / f for c, f in zip(cpu[mode], cpu["flat"])]
         print(f"ortho speed {names[mode]}: {statistics.median(cpu[mode]):.1f} CPU ms/frame vs flat "

@@ -10,6 +10,11 @@
 #    median, min, rmse, sse, std in metres) without and with the enhancement
 #    chain in front of the features, on degraded surveys.
 #   SEAMAP_BENCH_QUICK=1   240 frames, one seed, one Table 4 survey
+#   SEAMAP_BENCH_VO_PARTS="drift table4"   which parts run (Table 4 alone
+#                          makes the surveys and raw/auto runs it lacks)
+#   SEAMAP_BENCH_SEEDS="1 2 3"      seeds of the drift surveys and of Table 4's colour ones ("": none)
+#   SEAMAP_BENCH_TABLE4_SEEDS="1"   seeds of Table 4's gray and haze surveys
+#   SEAMAP_BENCH_VO_KEEP=1  Table 4 keeps the runs it finds (to add surveys to a table)
 #   SEAMAP_BIN=path        the seamap binary (default build/seamap, built by scripts/build.sh)
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -17,8 +22,11 @@ seamap="${SEAMAP_BIN:-$root/build/seamap}"
 [[ -x "$seamap" ]] || "$root/scripts/build.sh" >/dev/null
 out="$root/out/bench/vo"
 mkdir -p "$out"
-frames=720; seeds="1 2 3"
+frames=720; seeds=${SEAMAP_BENCH_SEEDS-"1 2 3"}
 [[ "${SEAMAP_BENCH_QUICK:-0}" == 1 ]] && { frames=240; seeds="1"; }
+parts=${SEAMAP_BENCH_VO_PARTS:-"drift table4"}
+t4_seeds=${SEAMAP_BENCH_TABLE4_SEEDS:-1}
+rough="--relief 0.15 --pitch-amp 3 --roll-amp 3 --degrade --color"
 base="--frames $frames --image-format jpg --line-length 14 --line-spacing 0.9 --nav-drift 0.5 --nav-noise 0.005 --heading-noise 0.5"
 noise="--nav-noise 0.005 --nav-drift 0.5 --heading-noise 0.5"
 
@@ -53,19 +61,22 @@ PY
 }
 
 # 1. Drift over three seeds.
-for seed in $seeds; do
-  simulate "flat_$seed" "--seed $seed"
-  simulate "relief_$seed" "--seed $seed --relief 0.15"
-  simulate "rough_$seed" "--seed $seed --relief 0.15 --pitch-amp 3 --roll-amp 3 --degrade --color"
-  for s in flat relief; do vo "${s}_$seed" "${s}_$seed"; done
-  vo "rough_$seed" "rough_${seed}_off"
-  vo "rough_$seed" "rough_${seed}_auto" "--feature-enhance auto"
-done
-runs() { for seed in $seeds; do echo -n "$1_$seed$2 "; done; }
-drift_line "flat" "0.15 % (as before)" $(runs flat)
-drift_line "relief 0.15 m rms" "<= 0.5 %" $(runs relief)
-drift_line "relief 0.15 + pitch/roll 3 + degrade + color" "<= 0.5 % (seed 003: 1.3 %)" $(runs rough _off)
-drift_line "the same, --feature-enhance auto" "<= 0.5 %" $(runs rough _auto)
+if [[ " $parts " == *" drift "* ]]; then
+  for seed in $seeds; do
+    simulate "flat_$seed" "--seed $seed"
+    simulate "relief_$seed" "--seed $seed --relief 0.15"
+    simulate "rough_$seed" "--seed $seed $rough"
+    for s in flat relief; do vo "${s}_$seed" "${s}_$seed"; done
+    vo "rough_$seed" "rough_${seed}_off"
+    vo "rough_$seed" "rough_${seed}_auto" "--feature-enhance auto"
+  done
+  runs() { for seed in $seeds; do echo -n "$1_$seed$2 "; done; }
+  drift_line "flat" "0.15 % (as before)" $(runs flat)
+  drift_line "relief 0.15 m rms" "<= 0.5 %" $(runs relief)
+  drift_line "relief 0.15 + pitch/roll 3 + degrade + color" "<= 0.5 % (seed 003: 1.3 %)" $(runs rough _off)
+  drift_line "the same, --feature-enhance auto" "<= 0.5 %" $(runs rough _auto)
+fi
+[[ " $parts " == *" table4 "* ]] || exit 0
 
 # 2. Seed 004's Table 4: the absolute trajectory error without and with the
 # enhancement chain in front of the features, on degraded surveys (relief
@@ -73,13 +84,12 @@ drift_line "the same, --feature-enhance auto" "<= 0.5 %" $(runs rough _auto)
 # max, mean, median, min, rmse, sse, std in metres) plus drift and the mean
 # inliers per VO motion, columns raw / `auto` / `default`; then one summary
 # line per survey.
-table4() {  # survey name, simulate args (none: the survey and its off and auto runs exist)
-  if [[ -n "${2:-}" ]]; then
-    simulate "$1" "$2"
-    vo "$1" "$1_off"
-    vo "$1" "$1_auto" "--feature-enhance auto"
-  fi
-  vo "$1" "$1_default" "--feature-enhance default"
+table4() {  # survey name, simulate args; the raw and auto runs part 1 made are kept
+  local keep=${SEAMAP_BENCH_VO_KEEP:-0}
+  simulate "$1" "$2"
+  [[ -f "$out/runs/$1_off.eval.json" ]] || vo "$1" "$1_off"
+  [[ -f "$out/runs/$1_auto.eval.json" ]] || vo "$1" "$1_auto" "--feature-enhance auto"
+  [[ "$keep" == 1 && -f "$out/runs/$1_default.eval.json" ]] || vo "$1" "$1_default" "--feature-enhance default"
 }
 table4_print() {  # "label=survey" ...
   python3 - "$out" "$@" <<'PY'
@@ -116,15 +126,17 @@ for label, cols in summary:
         f"{1000 * cols[v]['rmse']:6.1f} mm {cols[v]['drift %']:6.3f} % {cols[v]['inliers']:6.1f}" for v in variants))
 PY
 }
-t4_runs="degrade + color, seed 1=rough_1"
-table4 rough_1  # the surveys above
+t4_runs=""
+for seed in $seeds; do
+  table4 "rough_$seed" "--seed $seed $rough"
+  t4_runs+="degrade + color, seed $seed=rough_$seed|"
+done
 if [[ "${SEAMAP_BENCH_QUICK:-0}" != 1 ]]; then
-  table4 rough_2
-  table4 rough_3
-  table4 t4_degrade "--seed 1 --relief 0.15 --pitch-amp 3 --roll-amp 3 --degrade"
-  table4 t4_haze "--seed 1 --relief 0.15 --pitch-amp 3 --roll-amp 3 --degrade --color --haze 0.8 --noise 4"
-  t4_runs="$t4_runs|degrade + color, seed 2=rough_2|degrade + color, seed 3=rough_3|degrade (gray), seed 1=t4_degrade"
-  t4_runs="$t4_runs|degrade + color + haze 0.8 + noise 4, seed 1=t4_haze"
+  for seed in $t4_seeds; do
+    table4 "t4_degrade_$seed" "--seed $seed --relief 0.15 --pitch-amp 3 --roll-amp 3 --degrade"
+    table4 "t4_haze_$seed" "--seed $seed --relief 0.15 --pitch-amp 3 --roll-amp 3 --degrade --color --haze 0.8 --noise 4"
+    t4_runs+="degrade (gray), seed $seed=t4_degrade_$seed|degrade + color + haze 0.8 + noise 4, seed $seed=t4_haze_$seed|"
+  done
 fi
-IFS='|' read -r -a t4 <<<"$t4_runs"
+IFS='|' read -r -a t4 <<<"${t4_runs%|}"
 table4_print "${t4[@]}"

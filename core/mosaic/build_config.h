@@ -36,7 +36,9 @@ struct BlendSettings {
   bool blend_all_overlaps = false;  // no handover: every overlapping frame blends everywhere (slower)
   // Over a height model: hand over to the frame whose ray at the point is
   // nearest the vertical (false: nearest the image centre, as a flat build).
-  bool nadir_seams = true;
+  // Off by default: at +-8 deg pitch/roll it gains 0.05 px of median but
+  // fattens the tail at the swath's outer edges (docs/TERRAIN.md, "Nadir seams' worst block").
+  bool nadir_seams = false;
   void Check(const std::string& source) const;
 };
 

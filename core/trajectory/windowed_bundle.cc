@@ -53,10 +53,25 @@ SurveyBundleResult SolveWindowedBundle(const std::vector<SurveyBundleFrame>& fra
   }
 
   SurveyBundleOptions window_options = options;
-  // Windows share one time origin for their absolute priors; a survey that
-  // fits one window is solved as the global bundle is (drift knots included).
-  if (kept_ranges.size() > 1)
-    window_options.prior_origin_time_s = options.prior_origin_time_s.value_or(frames.front().time_s);
+  // Windows share one time origin for their absolute priors.
+  window_options.prior_origin_time_s = options.prior_origin_time_s.value_or(frames.front().time_s);
+  // And the survey's drift knots (survey_bundle.h): a window starts from the
+  // knots earlier windows solved and holds those before its first kept frame,
+  // so the navigation's drift goes on across the seam. (Without them each
+  // window's absolute priors would grow from the survey's start and the map
+  // follow the drifted navigation.)
+  SurveyBundleDrift drift;
+  const bool drift_knots = options.drift_knot_s > 0;
+  if (drift_knots) {
+    const double span_s = frames.back().time_s - *window_options.prior_origin_time_s;
+    drift.origin_time_s = *window_options.prior_origin_time_s;
+    drift.knot_s = std::max(options.drift_knot_s, span_s / n);  // as the global bundle spaces them
+    drift.knots.assign(static_cast<size_t>(std::ceil(std::max(0.0, span_s) / drift.knot_s)) + 2, {0, 0});
+  }
+  auto knot_of = [&](int i) {
+    return std::clamp(static_cast<int>(std::floor((frames[i].time_s - drift.origin_time_s) / drift.knot_s)), 0,
+                      static_cast<int>(drift.knots.size()) - 2);
+  };
   SurveyBundleResult result;
   result.poses.resize(n);
   result.nav_only.assign(n, true);
@@ -138,8 +153,14 @@ SurveyBundleResult SolveWindowedBundle(const std::vector<SurveyBundleFrame>& fra
         global_observation.push_back(k);
       }
 
-    const SurveyBundleResult solved =
-        SolveSurveyBundle(sub_frames, camera, sub_points, sub_observations, window_options);
+    if (drift_knots) drift.held_knots = w == 0 ? 0 : knot_of(a) + 1;
+    const SurveyBundleResult solved = SolveSurveyBundle(sub_frames, camera, sub_points, sub_observations,
+                                                        window_options, drift_knots ? &drift : nullptr);
+    if (drift_knots) {
+      // Knots past the window's reach start the next window where its last knot ended.
+      const int last = knot_of(e - 1) + 1;
+      for (size_t k = last + 1; k < drift.knots.size(); ++k) drift.knots[k] = drift.knots[last];
+    }
 
     // The seam: how far the first kept frame moved from where the window before left it.
     if (w > 0 && window.overlap_frames > 0) {

@@ -82,6 +82,8 @@ SurveyBundleResult SolveWindowedBundle(const std::vector<SurveyBundleFrame>& fra
   std::vector<VehiclePose> current(n);  // the latest solve of each frame (its start before any)
   for (int i = 0; i < n; ++i) current[i] = frames[i].start;
   std::vector<Eigen::Vector3d> point_now = points_start;
+  int solved_until = 0;                             // frames [0, solved_until) were solved by some window
+  std::vector<bool> point_placed(n_points, false);  // placed by some window
   std::vector<int> frame_local(n, -1), point_local(n_points, -1);  // reset after each window
   std::vector<double> seam_jumps_m;
   double before_sq = 0, after_sq = 0;
@@ -112,6 +114,29 @@ SurveyBundleResult SolveWindowedBundle(const std::vector<SurveyBundleFrame>& fra
       for (int k : by_point[p])
         if (observations[k].frame < e) add_frame(observations[k].frame);
     std::sort(window_frames.begin(), window_frames.end());  // acquisition order, as the navigation chain needs
+    // The frames no window has solved yet, and the points only they see,
+    // start where the planar graph and its flat seabed put them, moved by the
+    // correction the window before gave its last frame. Unmoved, they start
+    // tens of millimetres from the solved frames and points they share
+    // observations with: beyond the reprojection's robust loss, whose
+    // gradient then vanishes, so the window stayed where it started (the
+    // rugged 720-frame survey's second window: p90 143 mm).
+    if (w > 0 && solved_until < e) {
+      const VehiclePose& was = frames[solved_until - 1].start;
+      const VehiclePose& now = current[solved_until - 1];
+      const auto turn = [](double d_deg) { return std::remainder(d_deg, 360.0); };
+      for (int i = solved_until; i < e; ++i) {
+        current[i].east_m += now.east_m - was.east_m;
+        current[i].north_m += now.north_m - was.north_m;
+        current[i].depth_m += now.depth_m - was.depth_m;
+        current[i].heading_deg += turn(now.heading_deg - was.heading_deg);
+        current[i].pitch_deg += turn(now.pitch_deg - was.pitch_deg);
+        current[i].roll_deg += turn(now.roll_deg - was.roll_deg);
+      }
+      const Eigen::Vector3d moved(now.east_m - was.east_m, now.north_m - was.north_m, was.depth_m - now.depth_m);
+      for (int p : window_points)
+        if (!point_placed[p]) point_now[p] = points_start[p] + moved;
+    }
     std::vector<SurveyBundleFrame> sub_frames;
     sub_frames.reserve(window_frames.size());
     for (size_t l = 0; l < window_frames.size(); ++l) {
@@ -170,6 +195,7 @@ SurveyBundleResult SolveWindowedBundle(const std::vector<SurveyBundleFrame>& fra
                                        std::pow(now.north_m - before.north_m, 2) +
                                        std::pow(now.depth_m - before.depth_m, 2)));
     }
+    solved_until = e;
     for (int i = a; i < e; ++i) {
       const int l = frame_local[i];
       current[i] = solved.poses[l];
@@ -180,6 +206,7 @@ SurveyBundleResult SolveWindowedBundle(const std::vector<SurveyBundleFrame>& fra
     }
     for (size_t l = 0; l < window_points.size(); ++l) {
       if (solved.points[l].views < 2) continue;  // a point this window could not place keeps its earlier solve
+      point_placed[window_points[l]] = true;
       point_now[window_points[l]] = solved.points[l].east_north_up_m;
       result.points[window_points[l]] = solved.points[l];
     }

@@ -8,7 +8,8 @@
 #   SEAMAP_BENCH_SEEDS="1 2 3"         seeds of the accuracy surveys
 #   SEAMAP_BENCH_FRAMES=720            frames of an accuracy survey
 #   SEAMAP_BENCH_CASES="rugged relief015 relief005 flat"   (the target case first; "" to skip)
-#   SEAMAP_BENCH_METHODS="auto bundle planar"   refine methods of the accuracy surveys
+#   SEAMAP_BENCH_METHODS="auto bundle bundle:300 planar"   refine methods of the accuracy surveys
+#                                      (bundle:N: the bundle in windows of N frames, --bundle-window N)
 #   SEAMAP_BENCH_SCALING="800 3800 20000"   frames of the scaling surveys ("" to skip)
 #   SEAMAP_BENCH_SCALING_SMALL=1       small frames (348x260) at every length (a loaded machine)
 #   SEAMAP_BENCH_SCALING_METHODS="planar bundle"   refine methods of the scaling surveys
@@ -19,7 +20,7 @@ seamap=${SEAMAP_BIN:-$PWD/build/seamap}
 seeds=${SEAMAP_BENCH_SEEDS:-"1 2 3"}
 frames=${SEAMAP_BENCH_FRAMES:-720}
 cases=${SEAMAP_BENCH_CASES-"rugged relief015 relief005 flat"}
-methods=${SEAMAP_BENCH_METHODS:-"auto bundle planar"}
+methods=${SEAMAP_BENCH_METHODS:-"auto bundle bundle:300 planar"}
 scaling=${SEAMAP_BENCH_SCALING-"800 3800 20000"}
 small_only=${SEAMAP_BENCH_SCALING_SMALL:-0}
 scaling_methods=${SEAMAP_BENCH_SCALING_METHODS:-"planar bundle"}
@@ -42,6 +43,10 @@ case_args() {
 refine() {
   local dir=$1 tag=$2 method=$3
   shift 3
+  if [[ "$method" == *:* ]]; then  # bundle:N
+    set -- --bundle-window "${method#*:}" "$@"
+    method=${method%%:*}
+  fi
   /usr/bin/time -f "%U %S %M" -o "$out/$tag.time" "$seamap" trajectory --mode refine --images "$dir/photo" \
     --nav "$dir/nav.csv" --camera "$dir/camera.json" --origin 43.1,131.9 --quiet $drift --refine-method "$method" \
     --out "$out/$tag.csv" --report "$out/$tag.json" "$@" >/dev/null 2>"$out/$tag.log"
@@ -73,7 +78,7 @@ for c in $cases; do
       dir="$out/survey_${c}_$seed"
       [[ -f "$dir/nav_truth.csv" ]] || "$seamap" simulate --out "$dir" --frames "$frames" --seed "$seed" --force --quiet \
         $survey $(case_args "$c") >/dev/null 2>&1
-      read -r cpu mb p90 ate < <(refine "$dir" "${c}_${method}_$seed" "$method")
+      read -r cpu mb p90 ate < <(refine "$dir" "${c}_${method/:/_w}_$seed" "$method")
       rows+="$p90 $ate $cpu"$'\n'
     done
     target="target p90 <= 10 mm, ATE <= 20 mm, <= 180 s"

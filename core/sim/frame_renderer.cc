@@ -1,6 +1,8 @@
 #include "core/sim/frame_renderer.h"
 
+#include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include <Eigen/Dense>
 #include <opencv2/calib3d.hpp>
@@ -63,6 +65,49 @@ struct TerrainRays {
 };
 
 constexpr float kMiss = -1e6f;  // remap coordinate far outside any texture
+
+// cv::remap as Render needs it, on textures of any size: cv::remap takes a
+// source under 32,767 px a side (a 20,000-frame survey's texture is longer),
+// so a larger one is cut to the maps' reach plus the interpolation's
+// neighbours and the maps moved by the same whole pixels. The samples are
+// bit for bit those of the whole texture (a whole-pixel shift of a float
+// coordinate is exact), and a texture under the limit is remapped as before.
+void RemapTexture(const cv::Mat& texture, const cv::Mat1f& map_x, const cv::Mat1f& map_y, cv::Mat* frame) {
+  constexpr int kRemapLimitPx = 32767;
+  if (texture.cols < kRemapLimitPx && texture.rows < kRemapLimitPx) {
+    cv::remap(texture, *frame, map_x, map_y, cv::INTER_LINEAR, cv::BORDER_CONSTANT, cv::Scalar::all(0));
+    return;
+  }
+  double x_min = HUGE_VAL, x_max = -HUGE_VAL, y_min = HUGE_VAL, y_max = -HUGE_VAL;
+  for (int v = 0; v < map_x.rows; ++v)
+    for (int u = 0; u < map_x.cols; ++u) {
+      const float x = map_x(v, u), y = map_y(v, u);
+      if (x <= kMiss / 2 || y <= kMiss / 2 || !std::isfinite(x) || !std::isfinite(y)) continue;
+      x_min = std::min<double>(x_min, x), x_max = std::max<double>(x_max, x);
+      y_min = std::min<double>(y_min, y), y_max = std::max<double>(y_max, y);
+    }
+  const cv::Rect whole(0, 0, texture.cols, texture.rows);
+  cv::Rect reach;
+  if (x_min <= x_max && y_min <= y_max) {
+    const double x0 = std::max(-1.0, std::floor(x_min) - 2), y0 = std::max(-1.0, std::floor(y_min) - 2);
+    const double x1 = std::min<double>(texture.cols, std::ceil(x_max) + 3);
+    const double y1 = std::min<double>(texture.rows, std::ceil(y_max) + 3);
+    if (x0 < x1 && y0 < y1) {
+      reach = cv::Rect(cv::Point(static_cast<int>(x0), static_cast<int>(y0)),
+                       cv::Point(static_cast<int>(x1), static_cast<int>(y1))) &
+              whole;
+    }
+  }
+  if (reach.empty() || reach.width >= kRemapLimitPx || reach.height >= kRemapLimitPx) {
+    if (reach.empty()) {  // nothing of the texture in view: the border's black
+      *frame = cv::Mat(map_x.size(), texture.type(), cv::Scalar::all(0));
+      return;
+    }
+    throw std::runtime_error("a frame's view spans more than 32,767 texture pixels");
+  }
+  cv::Mat1f shifted_x = map_x - static_cast<float>(reach.x), shifted_y = map_y - static_cast<float>(reach.y);
+  cv::remap(texture(reach), *frame, shifted_x, shifted_y, cv::INTER_LINEAR, cv::BORDER_CONSTANT, cv::Scalar::all(0));
+}
 
 }  // namespace
 
@@ -197,7 +242,7 @@ cv::Mat FrameRenderer::Render(const SeabedTexture& texture, const VehiclePose& p
   else
     PlaneMaps(texture, pose, &map_x, &map_y, &range);
   cv::Mat frame;
-  cv::remap(texture.image, frame, map_x, map_y, cv::INTER_LINEAR, cv::BORDER_CONSTANT, cv::Scalar::all(0));
+  RemapTexture(texture.image, map_x, map_y, &frame);
   if (!deg.Any()) return frame;
 
   // Degradations, in float and 8-bit units whatever the depth, with

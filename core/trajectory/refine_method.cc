@@ -48,12 +48,12 @@ ReliefChoice ChooseRefineMethod(const std::vector<FrameSpec>& frames, const std:
                                                                                       : RefineMethod::kPlanar;
   if (choice.method == RefineMethod::kBundle && options.max_bundle_frames > 0 &&
       frames.size() > static_cast<size_t>(options.max_bundle_frames)) {
-    choice.method = RefineMethod::kPlanar;
+    choice.bundle_window_frames = options.bundle_window_frames;
     char note[256];
     std::snprintf(note, sizeof note,
-                  "relief %.3f m rms under the track, but %zu frames are more than the bundle adjustment takes "
-                  "(%d): refined planar; --refine-method bundle forces it",
-                  *choice.relief_rms_m, frames.size(), options.max_bundle_frames);
+                  "relief %.3f m rms under the track; %zu frames are more than one bundle adjustment takes "
+                  "(%d): solved in windows of %d frames (--bundle-window)",
+                  *choice.relief_rms_m, frames.size(), options.max_bundle_frames, options.bundle_window_frames);
     choice.note = note;
   }
   return choice;

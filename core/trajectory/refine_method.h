@@ -21,18 +21,21 @@ enum class RefineMethod { kPlanar, kBundle, kAuto };
 struct ReliefChoiceOptions {
   double window_s = 5;              // the local mean's half-width, seconds
   double min_relief_share = 0.005;  // of the median altitude: relief above it picks the bundle
-  // Past this many frames auto stays planar and says so (`--refine-method
-  // bundle` remains the user's choice); 0: no limit. The bundle is solved in
-  // windows past RefineOptions::bundle_window_frames, memory bounded by the
-  // window and time linear in the survey (docs/TERRAIN.md), so none is set.
+  // Past this many frames one bundle is too large (~0.65 MB a frame, time
+  // growing faster than the survey): the bundle is solved in windows of
+  // bundle_window_frames (windowed_bundle.h; memory bounded by the window,
+  // time linear in the survey) and the choice says so; 0: no limit.
   int max_bundle_frames = 1500;
+  int bundle_window_frames = 400;
 };
 
 struct ReliefChoice {
   RefineMethod method = RefineMethod::kPlanar;
   std::optional<double> relief_rms_m;  // the seabed's local variation along the track; none without altitude and depth
   double altitude_m = 0;               // median altitude
-  std::string note;                    // why relief did not pick the bundle (a survey too long for it); empty otherwise
+  // kBundle past max_bundle_frames: the window the bundle is solved in; 0: one bundle.
+  int bundle_window_frames = 0;
+  std::string note;  // the bundle in windows on a survey too long for one; empty otherwise
 };
 
 // times_s: one per frame, non-decreasing. Frames without an altitude (0) are

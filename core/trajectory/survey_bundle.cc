@@ -245,7 +245,7 @@ std::optional<Eigen::Vector3d> FlatSeabedPoint(const CameraModel& camera, const 
 SurveyBundleResult SolveSurveyBundle(const std::vector<SurveyBundleFrame>& frames, const CameraModel& camera,
                                      const std::vector<Eigen::Vector3d>& points_start,
                                      const std::vector<SurveyBundleObservation>& observations,
-                                     const SurveyBundleOptions& options) {
+                                     const SurveyBundleOptions& options, SurveyBundleDrift* window_drift) {
   options.Check();
   const int n_frames = static_cast<int>(frames.size()), n_points = static_cast<int>(points_start.size());
   for (size_t k = 0; k < observations.size(); ++k) {
@@ -294,14 +294,35 @@ SurveyBundleResult SolveSurveyBundle(const std::vector<SurveyBundleFrame>& frame
   std::vector<BeamBlock> beam_planes;  // the altimeter's seabed, per beam and frame (solve_once)
   // The navigation's drift at its knots (east, north), kept from one solve to the next.
   std::vector<std::array<double, 2>> drift;
-  double knot_s = 0;
-  // Not in a window of a longer survey (prior_origin_time_s): its drift does
-  // not start near zero there, so the growing absolute prior stays.
-  if (options.drift_knot_s > 0 && n_frames > 0 && !options.prior_origin_time_s) {
+  double knot_s = 0, knot_origin_s = n_frames > 0 ? frames[0].time_s : 0;
+  int held_knots = 0;  // knots solved by an earlier window
+  if (window_drift) {
+    Require(window_drift->knot_s > 0 && window_drift->knots.size() >= 2 && window_drift->held_knots >= 0,
+            "window_drift", "expected knots at least 2 and a positive spacing");
+    knot_s = window_drift->knot_s;
+    knot_origin_s = window_drift->origin_time_s;
+    drift = window_drift->knots;
+    held_knots = window_drift->held_knots;
+  } else if (options.drift_knot_s > 0 && n_frames > 0 && !options.prior_origin_time_s) {
+    // (A window of a longer survey without window_drift, prior_origin_time_s: the growing absolute prior.)
     const double span_s = frames.back().time_s - frames[0].time_s;
     knot_s = std::max(options.drift_knot_s, span_s / n_frames);  // never more knots than frames
     drift.assign(static_cast<size_t>(std::ceil(span_s / knot_s)) + 2, {0, 0});
   }
+  // Each frame's knot (the one before its time), and whether its drifted
+  // position prior holds anything free: a held frame between held knots does not.
+  std::vector<int> frame_knot(n_frames, 0);
+  std::vector<bool> frame_drift_prior(n_frames, !drift.empty());
+  int first_knot = static_cast<int>(drift.size()), last_knot = -1;  // the knots in the problem
+  for (int i = 0; i < n_frames && !drift.empty(); ++i) {
+    const double at = (frames[i].time_s - knot_origin_s) / knot_s;
+    frame_knot[i] = std::clamp(static_cast<int>(std::floor(at)), 0, static_cast<int>(drift.size()) - 2);
+    frame_drift_prior[i] = !(frames[i].fixed && frame_knot[i] + 1 < held_knots);
+    if (!frame_drift_prior[i]) continue;
+    first_knot = std::min(first_knot, frame_knot[i]);
+    last_knot = std::max(last_knot, frame_knot[i] + 1);
+  }
+  if (!window_drift && !drift.empty()) first_knot = 0, last_knot = static_cast<int>(drift.size()) - 1;
   auto solve_once = [&]() {
     ceres::Problem::Options problem_options;
     problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
@@ -442,27 +463,35 @@ SurveyBundleResult SolveSurveyBundle(const std::vector<SurveyBundleFrame>& frame
     // within what the drift rate allows. A constant offset of the whole map
     // changes only the first knot's residual, so the map is held where the
     // navigation starts, not pulled along by its drift.
-    if (!drift.empty()) {
-      for (auto& d : drift) problem.AddParameterBlock(d.data(), 2);
-      problem.AddResidualBlock(
-          new ceres::AutoDiffCostFunction<NavDriftStartResidual, 2, 2>(new NavDriftStartResidual{1 / sigma_n}), nullptr,
-          drift[0].data());
-      const double step_sigma_m = std::max(sigma_n, rho * knot_s);
-      for (size_t k = 0; k + 1 < drift.size(); ++k)
+    // In a window of a longer survey the knots before it are held where
+    // earlier windows solved them: the drift goes on across the seam.
+    if (first_knot <= last_knot) {
+      for (int k = first_knot; k <= last_knot; ++k) {
+        problem.AddParameterBlock(drift[k].data(), 2);
+        if (k < held_knots) problem.SetParameterBlockConstant(drift[k].data());
+      }
+      if (first_knot == 0 && held_knots == 0)
         problem.AddResidualBlock(
-            new ceres::AutoDiffCostFunction<NavDriftStepResidual, 2, 2, 2>(new NavDriftStepResidual{1 / step_sigma_m}),
-            nullptr, drift[k].data(), drift[k + 1].data());
+            new ceres::AutoDiffCostFunction<NavDriftStartResidual, 2, 2>(new NavDriftStartResidual{1 / sigma_n}),
+            nullptr, drift[0].data());
+      const double step_sigma_m = std::max(sigma_n, rho * knot_s);
+      for (int k = first_knot; k < last_knot; ++k)
+        if (k + 1 >= held_knots)
+          problem.AddResidualBlock(new ceres::AutoDiffCostFunction<NavDriftStepResidual, 2, 2, 2>(
+                                       new NavDriftStepResidual{1 / step_sigma_m}),
+                                   nullptr, drift[k].data(), drift[k + 1].data());
     }
     for (int i = 0; i < n_frames; ++i) {
       const VehiclePose& nav = frames[i].nav;
       const double tau_s = frames[i].time_s - options.prior_origin_time_s.value_or(frames[0].time_s);
       if (!drift.empty()) {
         // The navigation's position less its drift at this time, up to its noise.
-        const double at = tau_s / knot_s;
-        const int k = std::min(static_cast<int>(at), static_cast<int>(drift.size()) - 2);
-        problem.AddResidualBlock(new ceres::AutoDiffCostFunction<DriftedNavPositionResidual, 2, 6, 2, 2>(
-                                     new DriftedNavPositionResidual{nav.east_m, nav.north_m, at - k, 1 / sigma_n}),
-                                 &prior_loss, poses[i].data(), drift[k].data(), drift[k + 1].data());
+        const double at = (frames[i].time_s - knot_origin_s) / knot_s;
+        const int k = frame_knot[i];
+        if (frame_drift_prior[i])
+          problem.AddResidualBlock(new ceres::AutoDiffCostFunction<DriftedNavPositionResidual, 2, 6, 2, 2>(
+                                       new DriftedNavPositionResidual{nav.east_m, nav.north_m, at - k, 1 / sigma_n}),
+                                   &prior_loss, poses[i].data(), drift[k].data(), drift[k + 1].data());
       } else {
         problem.AddResidualBlock(new ceres::AutoDiffCostFunction<NavPositionResidual, 1 * 2, 6>(new NavPositionResidual{
                                      nav.east_m, nav.north_m, 1 / std::hypot(sigma_n, rho * tau_s)}),
@@ -495,7 +524,7 @@ SurveyBundleResult SolveSurveyBundle(const std::vector<SurveyBundleFrame>& frame
       if (point_views[p] >= 2) ordering->AddElementToGroup(points[p].data(), 0);
     for (int i = 0; i < n_frames; ++i) ordering->AddElementToGroup(poses[i].data(), 1);
     for (double* plane : plane_blocks) ordering->AddElementToGroup(plane, 1);
-    for (auto& d : drift) ordering->AddElementToGroup(d.data(), 1);
+    for (int k = first_knot; k <= last_knot; ++k) ordering->AddElementToGroup(drift[k].data(), 1);
     solver.linear_solver_ordering = ordering;
     solver.num_threads = options.threads;
     solver.max_num_iterations = options.max_iterations;
@@ -540,6 +569,7 @@ SurveyBundleResult SolveSurveyBundle(const std::vector<SurveyBundleFrame>& frame
     result.converged = true;
   }
   result.rms_px_after = rms_px();
+  if (window_drift) window_drift->knots = drift;
 
   result.poses.resize(n_frames);
   for (int i = 0; i < n_frames; ++i) {

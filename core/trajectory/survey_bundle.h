@@ -28,6 +28,7 @@
 // knots form the reduced system, 6 + 12 unknowns a frame. After a first solve,
 // observations reprojecting further than reject_px are dropped and the
 // problem solved again.
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
@@ -100,13 +101,25 @@ struct SurveyBundleResult {
   int points_eliminated = 0;  // of those, eliminated by the Schur complement (all, by design)
 };
 
+// The navigation's drift knots when the bundle is one window of a longer
+// survey (windowed_bundle.h): the knots are the survey's, those before the
+// window were solved by earlier windows and are held, so the drift goes on
+// across the seam instead of starting again at zero.
+struct SurveyBundleDrift {
+  double origin_time_s = 0;                  // knot 0's time (the survey's first frame)
+  double knot_s = 10;                        // the knots' spacing
+  std::vector<std::array<double, 2>> knots;  // drift (east, north) m per knot: start values in, solved out
+  int held_knots = 0;                        // knots [0, held_knots) are held where they are
+};
+
 // points_start: one starting position per point (east, north, up); every
 // observation's frame and point index in range. Throws InputError for bad
-// options or indices.
+// options or indices. window_drift (a window of a longer survey): the drift
+// knots to use in place of options.drift_knot_s's; solved on return.
 SurveyBundleResult SolveSurveyBundle(const std::vector<SurveyBundleFrame>& frames, const CameraModel& camera,
                                      const std::vector<Eigen::Vector3d>& points_start,
                                      const std::vector<SurveyBundleObservation>& observations,
-                                     const SurveyBundleOptions& options);
+                                     const SurveyBundleOptions& options, SurveyBundleDrift* window_drift = nullptr);
 
 // Where the ray of an ideal pixel of a frame at `pose` meets the level seabed
 // `pose.altitude_m` below the vehicle: a starting point (east, north, up with

@@ -124,11 +124,17 @@ std::vector<RefinedFrame> RefineSurvey(const std::vector<FrameSpec>& frames, con
   for (size_t i = 0; i < frames.size(); ++i)
     times[i] = frames[i].time_s ? *frames[i].time_s : static_cast<double>(i) / 5;  // no times: 5 frames/s
   RefineMethod method = options.method;
+  // Past ReliefChoiceOptions::max_bundle_frames one bundle is too large: it is
+  // solved in windows (windowed_bundle.h) unless --bundle-window says otherwise.
+  const ReliefChoiceOptions relief_choice;
+  int bundle_window = options.bundle_window_frames;
+  if (bundle_window == 0 && n > relief_choice.max_bundle_frames && relief_choice.max_bundle_frames > 0)
+    bundle_window = relief_choice.bundle_window_frames;
   if (method == RefineMethod::kAuto) {
-    const ReliefChoice choice = ChooseRefineMethod(frames, times);
+    const ReliefChoice choice = ChooseRefineMethod(frames, times, relief_choice);
     method = choice.method;
     r.navigated_relief_m = choice.relief_rms_m;
-    r.method_note = choice.note;
+    if (options.bundle_window_frames == 0) r.method_note = choice.note;
   }
   const bool bundle = method == RefineMethod::kBundle;
   // Floors keep exact navigation from dividing by zero.
@@ -343,9 +349,8 @@ std::vector<RefinedFrame> RefineSurvey(const std::vector<FrameSpec>& frames, con
     b.threads = pool.size();
     WindowedBundleReport windows;
     const SurveyBundleResult adjusted =
-        SolveWindowedBundle(bundle_frames, camera, points_start, observations, b,
-                            {options.bundle_window_frames, options.bundle_window_frames / 4}, &windows,
-                            [&](int done, int total) { tick("bundle", done, total); });
+        SolveWindowedBundle(bundle_frames, camera, points_start, observations, b, {bundle_window, bundle_window / 4},
+                            &windows, [&](int done, int total) { tick("bundle", done, total); });
     r.bundle_windows = windows.windows;
     r.bundle_seam_jump_max_mm = 1000 * windows.max_seam_jump_m;
     r.bundle_seam_jump_median_mm = 1000 * windows.median_seam_jump_m;

@@ -56,9 +56,10 @@ struct RefineOptions {
   double pixel_sigma = 0.7;                              // feature noise, pixels
   // Past this many frames the bundle is solved in windows of it, each solving
   // a quarter more that the next one keeps (windowed_bundle.h): memory bounded,
-  // time linear; 0: one bundle however long the survey.
-  int bundle_window_frames = 0;  // opt-in: 720 rugged frames in windows of 400 regressed (docs/TERRAIN.md)
-  void Check() const;            // InputError naming the option as the command line spells it
+  // time linear; 0: one bundle up to ReliefChoiceOptions::max_bundle_frames
+  // (1,500), windows of its bundle_window_frames (400) past that.
+  int bundle_window_frames = 0;
+  void Check() const;  // InputError naming the option as the command line spells it
 };
 
 struct RefineReport {

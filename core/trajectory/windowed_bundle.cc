@@ -53,10 +53,25 @@ SurveyBundleResult SolveWindowedBundle(const std::vector<SurveyBundleFrame>& fra
   }
 
   SurveyBundleOptions window_options = options;
-  // Windows share one time origin for their absolute priors; a survey that
-  // fits one window is solved as the global bundle is (drift knots included).
-  if (kept_ranges.size() > 1)
-    window_options.prior_origin_time_s = options.prior_origin_time_s.value_or(frames.front().time_s);
+  // Windows share one time origin for their absolute priors.
+  window_options.prior_origin_time_s = options.prior_origin_time_s.value_or(frames.front().time_s);
+  // And the survey's drift knots (survey_bundle.h): a window starts from the
+  // knots earlier windows solved and holds those before its first kept frame,
+  // so the navigation's drift goes on across the seam. (Without them each
+  // window's absolute priors would grow from the survey's start and the map
+  // follow the drifted navigation.)
+  SurveyBundleDrift drift;
+  const bool drift_knots = options.drift_knot_s > 0;
+  if (drift_knots) {
+    const double span_s = frames.back().time_s - *window_options.prior_origin_time_s;
+    drift.origin_time_s = *window_options.prior_origin_time_s;
+    drift.knot_s = std::max(options.drift_knot_s, span_s / n);  // as the global bundle spaces them
+    drift.knots.assign(static_cast<size_t>(std::ceil(std::max(0.0, span_s) / drift.knot_s)) + 2, {0, 0});
+  }
+  auto knot_of = [&](int i) {
+    return std::clamp(static_cast<int>(std::floor((frames[i].time_s - drift.origin_time_s) / drift.knot_s)), 0,
+                      static_cast<int>(drift.knots.size()) - 2);
+  };
   SurveyBundleResult result;
   result.poses.resize(n);
   result.nav_only.assign(n, true);
@@ -67,6 +82,8 @@ SurveyBundleResult SolveWindowedBundle(const std::vector<SurveyBundleFrame>& fra
   std::vector<VehiclePose> current(n);  // the latest solve of each frame (its start before any)
   for (int i = 0; i < n; ++i) current[i] = frames[i].start;
   std::vector<Eigen::Vector3d> point_now = points_start;
+  int solved_until = 0;                             // frames [0, solved_until) were solved by some window
+  std::vector<bool> point_placed(n_points, false);  // placed by some window
   std::vector<int> frame_local(n, -1), point_local(n_points, -1);  // reset after each window
   std::vector<double> seam_jumps_m;
   double before_sq = 0, after_sq = 0;
@@ -97,6 +114,29 @@ SurveyBundleResult SolveWindowedBundle(const std::vector<SurveyBundleFrame>& fra
       for (int k : by_point[p])
         if (observations[k].frame < e) add_frame(observations[k].frame);
     std::sort(window_frames.begin(), window_frames.end());  // acquisition order, as the navigation chain needs
+    // The frames no window has solved yet, and the points only they see,
+    // start where the planar graph and its flat seabed put them, moved by the
+    // correction the window before gave its last frame. Unmoved, they start
+    // tens of millimetres from the solved frames and points they share
+    // observations with: beyond the reprojection's robust loss, whose
+    // gradient then vanishes, so the window stayed where it started (the
+    // rugged 720-frame survey's second window: p90 143 mm).
+    if (w > 0 && solved_until < e) {
+      const VehiclePose& was = frames[solved_until - 1].start;
+      const VehiclePose& now = current[solved_until - 1];
+      const auto turn = [](double d_deg) { return std::remainder(d_deg, 360.0); };
+      for (int i = solved_until; i < e; ++i) {
+        current[i].east_m += now.east_m - was.east_m;
+        current[i].north_m += now.north_m - was.north_m;
+        current[i].depth_m += now.depth_m - was.depth_m;
+        current[i].heading_deg += turn(now.heading_deg - was.heading_deg);
+        current[i].pitch_deg += turn(now.pitch_deg - was.pitch_deg);
+        current[i].roll_deg += turn(now.roll_deg - was.roll_deg);
+      }
+      const Eigen::Vector3d moved(now.east_m - was.east_m, now.north_m - was.north_m, was.depth_m - now.depth_m);
+      for (int p : window_points)
+        if (!point_placed[p]) point_now[p] = points_start[p] + moved;
+    }
     std::vector<SurveyBundleFrame> sub_frames;
     sub_frames.reserve(window_frames.size());
     for (size_t l = 0; l < window_frames.size(); ++l) {
@@ -138,8 +178,14 @@ SurveyBundleResult SolveWindowedBundle(const std::vector<SurveyBundleFrame>& fra
         global_observation.push_back(k);
       }
 
-    const SurveyBundleResult solved =
-        SolveSurveyBundle(sub_frames, camera, sub_points, sub_observations, window_options);
+    if (drift_knots) drift.held_knots = w == 0 ? 0 : knot_of(a) + 1;
+    const SurveyBundleResult solved = SolveSurveyBundle(sub_frames, camera, sub_points, sub_observations,
+                                                        window_options, drift_knots ? &drift : nullptr);
+    if (drift_knots) {
+      // Knots past the window's reach start the next window where its last knot ended.
+      const int last = knot_of(e - 1) + 1;
+      for (size_t k = last + 1; k < drift.knots.size(); ++k) drift.knots[k] = drift.knots[last];
+    }
 
     // The seam: how far the first kept frame moved from where the window before left it.
     if (w > 0 && window.overlap_frames > 0) {
@@ -149,6 +195,7 @@ SurveyBundleResult SolveWindowedBundle(const std::vector<SurveyBundleFrame>& fra
                                        std::pow(now.north_m - before.north_m, 2) +
                                        std::pow(now.depth_m - before.depth_m, 2)));
     }
+    solved_until = e;
     for (int i = a; i < e; ++i) {
       const int l = frame_local[i];
       current[i] = solved.poses[l];
@@ -159,6 +206,7 @@ SurveyBundleResult SolveWindowedBundle(const std::vector<SurveyBundleFrame>& fra
     }
     for (size_t l = 0; l < window_points.size(); ++l) {
       if (solved.points[l].views < 2) continue;  // a point this window could not place keeps its earlier solve
+      point_placed[window_points[l]] = true;
       point_now[window_points[l]] = solved.points[l].east_north_up_m;
       result.points[window_points[l]] = solved.points[l];
     }

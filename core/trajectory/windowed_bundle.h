@@ -8,9 +8,12 @@
 // frame already solved that observes one of those points: the frames just
 // before (the seam) and the earlier lanes' cross-pass partners. Only the
 // window's own frames are kept; the overlap is solved again, from there, by
-// the next window. Memory is bounded by the window, time grows with the
-// survey. A survey of at most window_frames frames is one global bundle,
-// exactly as SolveSurveyBundle solves it.
+// the next window. The navigation's drift knots are the survey's: a window
+// holds those before its first kept frame where earlier windows solved them
+// (SurveyBundleDrift), and its frames not yet solved start moved by the
+// correction the window before gave its last frame. Memory is bounded by the
+// window, time grows with the survey. A survey of at most window_frames
+// frames is one global bundle, exactly as SolveSurveyBundle solves it.
 #include <functional>
 #include <vector>
 

@@ -1,9 +1,10 @@
 // `seamap trajectory --mode refine --bundle-window N` on the small drifting
 // survey over 0.15 m of relief (refine3d_test's): the bundle solved in
 // windows of 60 frames (three windows over three lanes, each holding the
-// frames before it and the earlier lane's cross-pass partners fixed) keeps
-// the cross-pass accuracy of the global bundle, and the windows agree at
-// their seams.
+// frames before it and the earlier lane's cross-pass partners fixed, and
+// going on from the navigation's drift the windows before solved) keeps the
+// cross-pass and absolute accuracy of the global bundle, and the windows
+// agree at their seams.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -59,9 +60,11 @@ TEST(WindowedBundle, ASurveyLongerThanOneWindowKeepsItsCrossPassAccuracy) {
       bundle["seam_jump_median_mm"].get<double>());
   EXPECT_EQ(r["method"], "bundle");
   EXPECT_EQ(bundle["windows"].get<int>(), 3);  // 60 + 60 + 40 frames kept
-  // The global bundle: 6.0 mm and 21.7 mm (refine3d_test.cc).
+  // The global bundle: p90 5.1 mm, ATE 5.5 mm (refine3d_test.cc). Windows
+  // without the drift's knots (each on absolute priors growing from the
+  // survey's start) gave ATE 22.3 mm.
   EXPECT_LT(refined["cross_p90_mm"].get<double>(), 10);
-  EXPECT_LT(refined["ate_m"].get<double>(), 0.035);
+  EXPECT_LT(refined["ate_m"].get<double>(), 0.012);
   EXPECT_LT(refined["ate_m"].get<double>(), raw["ate_m"].get<double>() / 4);
   EXPECT_LT(bundle["seam_jump_max_mm"].get<double>(), 2);
   EXPECT_GT(bundle["seam_jump_max_mm"].get<double>(), 0);  // the windows met: the overlap was solved twice

@@ -52,16 +52,22 @@ TEST(RefineMethod, ReliefUnderTheTrackPicksTheBundle) {
   EXPECT_EQ(ChooseRefineMethod(following, Times(following)).method, RefineMethod::kBundle);
 }
 
-TEST(RefineMethod, ASurveyTooLongForTheBundleStaysPlanarAndSaysWhy) {
+TEST(RefineMethod, ASurveyTooLongForOneBundleIsSolvedInWindowsAndSaysSo) {
   const auto frames = Track([](double t) { return -30 + 0.05 * std::sin(1.6 * t); });
   ReliefChoiceOptions options;
   options.max_bundle_frames = 299;  // the 300 frames are one too many
+  options.bundle_window_frames = 120;
   const ReliefChoice c = ChooseRefineMethod(frames, Times(frames), options);
-  EXPECT_EQ(c.method, RefineMethod::kPlanar);
-  EXPECT_NE(c.note.find("300 frames are more than the bundle adjustment takes (299)"), std::string::npos) << c.note;
+  EXPECT_EQ(c.method, RefineMethod::kBundle);
+  EXPECT_EQ(c.bundle_window_frames, 120);
+  EXPECT_NE(c.note.find("300 frames are more than one bundle adjustment takes (299): solved in windows of 120"),
+            std::string::npos)
+      << c.note;
   options.max_bundle_frames = 300;
-  EXPECT_EQ(ChooseRefineMethod(frames, Times(frames), options).method, RefineMethod::kBundle);
-  EXPECT_TRUE(ChooseRefineMethod(frames, Times(frames), options).note.empty());
+  const ReliefChoice one = ChooseRefineMethod(frames, Times(frames), options);
+  EXPECT_EQ(one.method, RefineMethod::kBundle);
+  EXPECT_EQ(one.bundle_window_frames, 0);  // one bundle
+  EXPECT_TRUE(one.note.empty());
 }
 
 TEST(RefineMethod, WithoutAltitudesNothingSaysTheSeabedIsRough) {

@@ -233,6 +233,41 @@ TEST(WindowedBundle, WindowsAgreeAtTheirSeamsAndKeepTheShape) {
   EXPECT_LT(std::sqrt(sq / n), 0.01);
 }
 
+// RMS horizontal error of the poses, offset included (the absolute trajectory error), metres.
+double AbsoluteError(const std::vector<VehiclePose>& poses, const std::vector<VehiclePose>& truth) {
+  double sum = 0;
+  for (size_t i = 0; i < truth.size(); ++i) sum += (Horizontal(poses[i]) - Horizontal(truth[i])).squaredNorm();
+  return std::sqrt(sum / truth.size());
+}
+
+TEST(WindowedBundle, WindowsCarryTheNavigationDriftAcrossTheirSeams) {
+  // The navigation drifts 1 m/min for a minute. The global bundle models the
+  // drift at knots and holds the map where the navigation starts; each
+  // window must go on from the drift the windows before it solved, not
+  // follow the drifted navigation (its absolute priors alone put the map
+  // where the navigation had drifted to).
+  const Scene s = MakeScene(5);
+  const SurveyBundleOptions options = SceneOptions();
+  WindowedBundleReport report;
+  const SurveyBundleResult r =
+      SolveWindowedBundle(s.frames, Camera(), s.points_start, s.observations, options, {50, 20}, &report);
+  std::vector<VehiclePose> nav;
+  for (const auto& f : s.frames) nav.push_back(f.nav);
+  const double nav_m = AbsoluteError(nav, s.truth), windowed_m = AbsoluteError(r.poses, s.truth);
+  std::printf("absolute error: windowed %.2f mm, navigation %.1f mm; seam jump max %.2f mm\n", 1000 * windowed_m,
+              1000 * nav_m, 1000 * report.max_seam_jump_m);
+  EXPECT_EQ(report.windows, 4);
+  EXPECT_GT(nav_m, 0.3);
+  // The global bundle: 5.3 mm.
+  EXPECT_LT(windowed_m, 0.008);
+  // No window's last frames end far from where the next window takes them up.
+  EXPECT_LT(report.max_seam_jump_m, 0.002);
+  // Each lane's track is as far from the truth at its end as at its start:
+  // the drift is not left to grow within a window.
+  for (int end : {49, 99, 149, 199})
+    EXPECT_LT((Horizontal(r.poses[end]) - Horizontal(s.truth[end])).norm(), 0.015) << end;
+}
+
 TEST(WindowedBundle, BadOptionsAreAnErrorNamingThem) {
   const Scene s = MakeScene(2);
   try {

@@ -7,6 +7,7 @@
 #include <Eigen/Geometry>
 
 #include "core/georef/tether_model.h"
+#include "core/georef/towed_fit_comparison.h"
 
 namespace seamap {
 namespace {
@@ -266,36 +267,6 @@ Params PriorOffset(const Params& theta, const TowedFitOptions& o) {
   return d;
 }
 
-// A parameter is held at its default when it does not show at 3 sigmas,
-// yet a current 2.9 sigmas out (0.004 m/s across a transect with a 35 m
-// tether) moves the map by 0.7 m, and a reach 0.7 % short on a 45 m
-// tether by 0.3 m on alternate legs: the map's lever on them is long. So
-// the parameter is freed after all when the map moves between the two fits
-// by more than chance would move it (a Hausman test): with the default
-// true, the squared displacement averaged over the keyframes has
-// expectation freed^2 - held^2 (the difference of the two predictions'
-// squares), and its ratio to that is about chi-square with 2 degrees of
-// freedom over 2; the parameter is freed beyond 5.9 times (11.83 / 2, the
-// 3-sigma level of the significance tests, now measured on the map: at 3
-// times, 4 of 65 bench surveys without a current or sag freed one and came
-// out worse, 0.35 m instead of 0.17 m on a transect). Sets
-// held->held_bias_rmse_m to what the displacement shows beyond chance.
-constexpr double kHausmanFactor = 11.83 / 2;
-bool MovedBeyondChance(const SlamPath& path, const TowedFitResult& freed, TowedFitResult* held) {
-  const size_t n = path.size();
-  if (held->keyframe_sigma_m.size() != n || freed.keyframe_sigma_m.size() != n) return false;
-  double shift_sq = 0, chance_sq = 0;
-  for (size_t i = 0; i < n; ++i) {
-    const Eigen::Vector3d x = path.position(i);
-    shift_sq += (freed.fit.Apply(x) - held->fit.Apply(x)).head<2>().squaredNorm();
-    chance_sq += std::max(std::pow(freed.keyframe_sigma_m[i], 2) - std::pow(held->keyframe_sigma_m[i], 2), 0.0);
-  }
-  shift_sq /= n;
-  chance_sq /= n;
-  held->held_bias_rmse_m = std::max(held->held_bias_rmse_m, std::sqrt(std::max(shift_sq - chance_sq, 0.0)));
-  return shift_sq > kHausmanFactor * chance_sq;
-}
-
 // One way to split the buoy's shift along the track between the reach and
 // the lag (reach only, lag only, both) and its fit.
 struct ReachLagCandidate {
@@ -305,35 +276,6 @@ struct ReachLagCandidate {
   TowedFitResult fit;
   double bic = 0;  // robust cost (chi-square units) + free parameters x ln(observations)
 };
-
-// Where the candidates' BICs are close they are about equally likely, and
-// the map may still differ between them: each keyframe's predicted error
-// gets the spread of the candidates' positions about the kept fit's,
-// weighted by exp(-dBIC / 2) (the model-averaging variance).
-void AddSelectionSpread(const SlamPath& path, const std::vector<ReachLagCandidate>& candidates, TowedFitResult* best) {
-  const size_t n = path.size();
-  if (best->keyframe_sigma_m.size() != n) return;
-  double bic_min = candidates.front().bic;
-  for (const ReachLagCandidate& c : candidates) bic_min = std::min(bic_min, c.bic);
-  std::vector<double> weight;
-  double total = 0;
-  for (const ReachLagCandidate& c : candidates) total += weight.emplace_back(std::exp(-(c.bic - bic_min) / 2));
-  double spread_sum = 0, predicted_sum = 0;
-  for (size_t i = 0; i < n; ++i) {
-    const Eigen::Vector3d x = path.position(i);
-    const Eigen::Vector2d kept = best->fit.Apply(x).head<2>();
-    double spread_sq = 0;
-    for (size_t m = 0; m < candidates.size(); ++m)
-      spread_sq += weight[m] * (candidates[m].fit.fit.Apply(x).head<2>() - kept).squaredNorm();
-    spread_sq /= total;
-    spread_sum += spread_sq;
-    double& sigma = best->keyframe_sigma_m[i];
-    sigma = std::sqrt(sigma * sigma + spread_sq);
-    predicted_sum += sigma * sigma;
-  }
-  best->selection_spread_rmse_m = std::sqrt(spread_sum / std::max<size_t>(n, 1));
-  best->predicted_rmse_m = std::sqrt(predicted_sum / std::max<size_t>(n, 1));
-}
 
 }  // namespace
 
@@ -676,7 +618,11 @@ TowedFitResult FitTowedBuoy(const SlamPath& path, const std::vector<double>& rea
     o.reach_prior_sigma = loose.reach_prior_sigma;
     theta(7) = free_theta(7);
   });
-  if (candidates.size() > 1) AddSelectionSpread(path, candidates, &best);
+  if (candidates.size() > 1) {
+    std::vector<WeighedFit> weighed;
+    for (const ReachLagCandidate& c : candidates) weighed.push_back({&c.fit, c.bic});
+    AddSelectionSpread(path, weighed, &best);
+  }
   return best;
 }
 

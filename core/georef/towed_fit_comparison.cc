@@ -1,0 +1,53 @@
+#include "core/georef/towed_fit_comparison.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace seamap {
+
+namespace {
+// chi-square's 3-sigma level at 2 degrees of freedom, over 2 (the header says why).
+constexpr double kHausmanFactor = 11.83 / 2;
+}  // namespace
+
+bool MovedBeyondChance(const SlamPath& path, const TowedFitResult& freed, TowedFitResult* held) {
+  const size_t n = path.size();
+  if (held->keyframe_sigma_m.size() != n || freed.keyframe_sigma_m.size() != n) return false;
+  double shift_sq = 0, chance_sq = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d x = path.position(i);
+    shift_sq += (freed.fit.Apply(x) - held->fit.Apply(x)).head<2>().squaredNorm();
+    chance_sq += std::max(std::pow(freed.keyframe_sigma_m[i], 2) - std::pow(held->keyframe_sigma_m[i], 2), 0.0);
+  }
+  shift_sq /= n;
+  chance_sq /= n;
+  held->held_bias_rmse_m = std::max(held->held_bias_rmse_m, std::sqrt(std::max(shift_sq - chance_sq, 0.0)));
+  return shift_sq > kHausmanFactor * chance_sq;
+}
+
+void AddSelectionSpread(const SlamPath& path, const std::vector<WeighedFit>& candidates, TowedFitResult* best) {
+  const size_t n = path.size();
+  if (best->keyframe_sigma_m.size() != n) return;
+  double bic_min = candidates.front().bic;
+  for (const WeighedFit& c : candidates) bic_min = std::min(bic_min, c.bic);
+  std::vector<double> weight;
+  double total = 0;
+  for (const WeighedFit& c : candidates) total += weight.emplace_back(std::exp(-(c.bic - bic_min) / 2));
+  double spread_sum = 0, predicted_sum = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d x = path.position(i);
+    const Eigen::Vector2d kept = best->fit.Apply(x).head<2>();
+    double spread_sq = 0;
+    for (size_t m = 0; m < candidates.size(); ++m)
+      spread_sq += weight[m] * (candidates[m].fit->fit.Apply(x).head<2>() - kept).squaredNorm();
+    spread_sq /= total;
+    spread_sum += spread_sq;
+    double& sigma = best->keyframe_sigma_m[i];
+    sigma = std::sqrt(sigma * sigma + spread_sq);
+    predicted_sum += sigma * sigma;
+  }
+  best->selection_spread_rmse_m = std::sqrt(spread_sum / std::max<size_t>(n, 1));
+  best->predicted_rmse_m = std::sqrt(predicted_sum / std::max<size_t>(n, 1));
+}
+
+}  // namespace seamap

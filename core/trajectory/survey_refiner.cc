@@ -354,6 +354,14 @@ std::vector<RefinedFrame> RefineSurvey(const std::vector<FrameSpec>& frames, con
     r.bundle_windows = windows.windows;
     r.bundle_seam_jump_max_mm = 1000 * windows.max_seam_jump_m;
     r.bundle_seam_jump_median_mm = 1000 * windows.median_seam_jump_m;
+    std::vector<double> window_cpu_s;
+    for (const WindowCost& c : windows.window_costs) {
+      r.bundle_window_solved_frames_max = std::max(r.bundle_window_solved_frames_max, c.solved_frames);
+      r.bundle_window_held_frames_max = std::max(r.bundle_window_held_frames_max, c.held_frames);
+      r.bundle_window_cpu_s_max = std::max(r.bundle_window_cpu_s_max, c.cpu_s);
+      window_cpu_s.push_back(c.cpu_s);
+    }
+    if (!window_cpu_s.empty()) r.bundle_window_cpu_s_median = Median(window_cpu_s);
     r.bundle = true;
     r.points = static_cast<int>(points_start.size());
     r.tracks_spread = tracks_spread;

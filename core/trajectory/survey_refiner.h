@@ -83,6 +83,9 @@ struct RefineReport {
   int bundle_windows = 0;              // 1: one bundle over the whole survey
   double bundle_seam_jump_max_mm = 0;  // windows: how far a window's first frame moved from the one before's solve
   double bundle_seam_jump_median_mm = 0;
+  // Windows: the largest window's problem (frames solved, frames held) and its solves' CPU seconds.
+  int bundle_window_solved_frames_max = 0, bundle_window_held_frames_max = 0;
+  double bundle_window_cpu_s_max = 0, bundle_window_cpu_s_median = 0;
   size_t peak_feature_bytes = 0;                      // features held at once
   std::vector<std::pair<std::string, int>> failures;  // registration failures by reason
 };

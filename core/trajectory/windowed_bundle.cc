@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <ctime>
 #include <string>
 
 #include "core/camera/frame_projector.h"
@@ -179,6 +180,7 @@ SurveyBundleResult SolveWindowedBundle(const std::vector<SurveyBundleFrame>& fra
       }
 
     if (drift_knots) drift.held_knots = w == 0 ? 0 : knot_of(a) + 1;
+    const std::clock_t solve_start = std::clock();
     const SurveyBundleResult solved = SolveSurveyBundle(sub_frames, camera, sub_points, sub_observations,
                                                         window_options, drift_knots ? &drift : nullptr);
     if (drift_knots) {
@@ -224,6 +226,17 @@ SurveyBundleResult SolveWindowedBundle(const std::vector<SurveyBundleFrame>& fra
     result.linear_solver = solved.linear_solver;
     result.points_solved += solved.points_solved;
     result.points_eliminated += solved.points_eliminated;
+    WindowCost cost;
+    cost.first_kept_frame = a;
+    cost.end_kept_frame = b;
+    cost.held_frames = static_cast<int>(
+        std::count_if(sub_frames.begin(), sub_frames.end(), [](const SurveyBundleFrame& f) { return f.fixed; }));
+    cost.solved_frames = static_cast<int>(sub_frames.size()) - cost.held_frames;
+    cost.points = static_cast<int>(sub_points.size());
+    cost.observations = static_cast<int>(sub_observations.size());
+    cost.iterations = solved.iterations;
+    cost.cpu_s = static_cast<double>(std::clock() - solve_start) / CLOCKS_PER_SEC;
+    r.window_costs.push_back(cost);
     r.max_window_frames = std::max(r.max_window_frames, static_cast<int>(window_frames.size()));
     ++r.windows;
 

@@ -27,13 +27,23 @@ struct WindowedBundleOptions {
   void Check() const;        // InputError naming the option as the command line spells it
 };
 
+// What one window's solve held and cost (docs/TERRAIN.md, "The windows' cost").
+struct WindowCost {
+  int first_kept_frame = 0, end_kept_frame = 0;  // the frames it keeps, [first, end)
+  int solved_frames = 0;                         // kept + overlap, free in its problem
+  int held_frames = 0;                           // earlier frames held fixed (the seam, cross-pass partners)
+  int points = 0, observations = 0, iterations = 0;
+  double cpu_s = 0;  // process CPU time of its solve, all threads
+};
+
 struct WindowedBundleReport {
   int windows = 0;
   // Where consecutive windows meet: how far the first frame a window keeps
   // moved from where the window before solved it (its overlap), metres; the
   // step between the two windows' frames differs from one solve's by this much.
   double max_seam_jump_m = 0, median_seam_jump_m = 0;
-  int max_window_frames = 0;  // frames in the largest window's problem, fixed ones included
+  int max_window_frames = 0;             // frames in the largest window's problem, fixed ones included
+  std::vector<WindowCost> window_costs;  // per window, in order (empty for one global bundle)
 };
 
 // As SolveSurveyBundle (same inputs, same result), in windows past

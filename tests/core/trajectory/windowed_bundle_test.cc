@@ -268,6 +268,48 @@ TEST(WindowedBundle, WindowsCarryTheNavigationDriftAcrossTheirSeams) {
     EXPECT_LT((Horizontal(r.poses[end]) - Horizontal(s.truth[end])).norm(), 0.015) << end;
 }
 
+TEST(WindowedBundle, EachWindowHoldsABoundedShareOfTheSurvey) {
+  // Eight lanes (320 frames) in windows of 40 and 10 more. A window's problem
+  // is its frames, the points they see and the earlier frames seeing those
+  // points (held): what a window holds must not grow with the windows before
+  // it, so that the survey's cost grows with its length and no faster.
+  const Scene s = MakeScene(8);
+  WindowedBundleReport report;
+  const SurveyBundleResult r =
+      SolveWindowedBundle(s.frames, Camera(), s.points_start, s.observations, SceneOptions(), {40, 10}, &report);
+  ASSERT_EQ(r.poses.size(), s.truth.size());
+  ASSERT_EQ(report.window_costs.size(), 8u);
+  ASSERT_EQ(report.windows, 8);
+  size_t observations = 0;
+  int late_held_max = 0, early_held_max = 0;
+  for (size_t w = 0; w < report.window_costs.size(); ++w) {
+    const WindowCost& c = report.window_costs[w];
+    std::printf("window %zu: frames [%d, %d), %d solved, %d held, %d points, %d observations, %d iterations\n", w,
+                c.first_kept_frame, c.end_kept_frame, c.solved_frames, c.held_frames, c.points, c.observations,
+                c.iterations);
+    EXPECT_EQ(c.first_kept_frame, 40 * static_cast<int>(w));
+    EXPECT_LE(c.solved_frames, 50) << w;  // the window and its overlap
+    // Held: the frames before it whose footprints its points fall in, from
+    // the lanes within a footprint's width (2.3 m: about 2.5 lanes of 0.9 m),
+    // however many lanes came before.
+    EXPECT_LE(c.held_frames, 3 * kLaneFrames) << w;
+    EXPECT_GE(c.cpu_s, 0);
+    EXPECT_GT(c.iterations, 0);
+    observations += static_cast<size_t>(c.observations);
+    (w < 4 ? early_held_max : late_held_max) = std::max(w < 4 ? early_held_max : late_held_max, c.held_frames);
+  }
+  EXPECT_LE(late_held_max, early_held_max * 5 / 4);
+  // Each observation is solved by the window of its frame, again by the next
+  // one where its frame is in the overlap, and by the windows whose frames
+  // see its point while its frame is held: a bounded number of times, so the
+  // windows' work is linear in the survey (measured: 2.0 times).
+  EXPECT_LE(observations, 5 * s.observations.size() / 2);
+  std::vector<VehiclePose> nav;
+  for (const auto& f : s.frames) nav.push_back(f.nav);
+  EXPECT_LT(ShapeError(r.poses, s.truth), 0.005);
+  EXPECT_GT(ShapeError(nav, s.truth), 0.04);
+}
+
 TEST(WindowedBundle, BadOptionsAreAnErrorNamingThem) {
   const Scene s = MakeScene(2);
   try {

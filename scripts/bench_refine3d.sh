@@ -13,7 +13,8 @@
 #   SEAMAP_BENCH_SCALING="800 3800 20000"   frames of the scaling surveys ("" to skip)
 #   SEAMAP_BENCH_SCALING_SMALL=1       small frames (348x260) at every length (a loaded machine)
 #   SEAMAP_BENCH_SCALING_METHODS="planar bundle"   refine methods of the scaling surveys
-#   SEAMAP_BENCH_BUNDLE_WINDOW=400     --bundle-window of the scaling runs (frames a window; 0: one global bundle)
+#   SEAMAP_BENCH_BUNDLE_WINDOW=400     --bundle-window of the scaling runs (frames a window, as `auto` past
+#                                      1,500 frames; 0: one global bundle)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seamap=${SEAMAP_BIN:-$PWD/build/seamap}
@@ -112,6 +113,17 @@ for n in $scaling; do
       prev_n[$key]=$n
       printf "%-44s CPU %7.1f s  peak RSS %5.0f MB  p90 %5.1f mm  ATE %5.1f mm  (%starget: 4x frames <= 5x CPU; < 1500 MB at 20,000)\n" \
         "scaling x$n ($size frames): refine $method" "$cpu" "$mb" "$p90" "$ate" "$growth"
+      # Where a windowed bundle's CPU goes: its windows' solves against the rest (features, pairs, tracks).
+      if [[ "$method" == bundle ]]; then
+        python3 - "$out/scale_${n}_${size}_$method.json" <<'PY'
+import json, sys
+b = json.load(open(sys.argv[1]))["bundle"]
+if b.get("windows", 1) > 1:
+    print(f"  {b['windows']} windows: solve CPU median {b['window_cpu_s_median']:.1f} s, max {b['window_cpu_s_max']:.1f} s; "
+          f"largest window {b['window_solved_frames_max']} frames solved + {b['window_held_frames_max']} held; "
+          f"{b['iterations']} iterations in all")
+PY
+      fi
     done
   done
 done

@@ -18,6 +18,13 @@ using Params = Eigen::Matrix<double, kParams, 1>;
 using ParamMatrix = Eigen::Matrix<double, kParams, kParams>;
 // chi-square with 2 degrees of freedom at the 2-sigma level (95.45 %)
 constexpr double kCurrentShows = 6.18;
+// A current held at its default for want of significance is taken, in the
+// error estimate, as about half its standard error (a quarter of its
+// variance): held, a 0.006 m/s current across a transect (1.3 standard
+// errors) put the map 0.36 m off where 0.19 m was predicted. Measured on the
+// stress set (docs/GEOREF.md, "fifth pass"): a quarter to 0.3 brings that
+// survey inside 0.67-1.5 and none below it; 0.35 puts one below.
+constexpr double kHeldCurrentShare = 0.25;
 
 double Median(std::vector<double> values) {
   if (values.empty()) return 0;
@@ -620,6 +627,10 @@ TowedFitResult FitTowedBuoy(const SlamPath& path, const std::vector<double>& rea
   // with a sag and a clock offset, a current lowering the cost by 4.6 moved
   // the map 0.77 m, three times chance (0.06 m held, 0.76 m freed). A real
   // weak current lowered it by 11.2 (1.2 m held, docs/GEOREF.md "fifth pass").
+  // Held, the current still moves the map by what it would be beyond its
+  // default: a quarter of what freeing it adds to each keyframe's variance
+  // (kHeldCurrentShare) goes into the error estimate.
+  std::vector<double> held_current_var;  // per keyframe, m^2
   if (!keep_current) {
     TowedFitOptions o = fixed;
     Params theta = again;
@@ -634,6 +645,10 @@ TowedFitResult FitTowedBuoy(const SlamPath& path, const std::vector<double>& rea
         best = std::move(freed);
         fixed = o;
         again = theta;
+      } else {
+        for (size_t i = 0; i < freed.keyframe_sigma_m.size(); ++i)
+          held_current_var.push_back(
+              std::max(std::pow(freed.keyframe_sigma_m[i], 2) - std::pow(best.keyframe_sigma_m[i], 2), 0.0));
       }
     }
   }
@@ -641,6 +656,15 @@ TowedFitResult FitTowedBuoy(const SlamPath& path, const std::vector<double>& rea
     o.reach_prior_sigma = loose.reach_prior_sigma;
     theta(7) = free_theta(7);
   });
+  if (!best.current_estimated && held_current_var.size() == best.keyframe_sigma_m.size()) {
+    double sq = 0;
+    for (size_t i = 0; i < held_current_var.size(); ++i) {
+      double& sigma = best.keyframe_sigma_m[i];
+      sigma = std::sqrt(sigma * sigma + kHeldCurrentShare * held_current_var[i]);
+      sq += sigma * sigma;
+    }
+    best.predicted_rmse_m = std::sqrt(sq / std::max<size_t>(held_current_var.size(), 1));
+  }
   if (candidates.size() > 1) {
     std::vector<WeighedFit> weighed;
     for (const ReachLagCandidate& c : candidates) weighed.push_back({&c.fit, c.bic});

@@ -646,7 +646,7 @@ TowedFitResult FitTowedBuoy(const SlamPath& path, const std::vector<double>& rea
         fixed = o;
         again = theta;
       } else {
-        for (size_t i = 0; i < freed.keyframe_sigma_m.size(); ++i)
+        for (size_t i = 0; i < freed.keyframe_sigma_m.size() && i < best.keyframe_sigma_m.size(); ++i)
           held_current_var.push_back(
               std::max(std::pow(freed.keyframe_sigma_m[i], 2) - std::pow(best.keyframe_sigma_m[i], 2), 0.0));
       }

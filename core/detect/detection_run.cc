@@ -59,7 +59,8 @@ std::vector<WindowKey> MapWindows(const TileStore& store, const std::vector<int>
 }
 
 WindowSearcher::WindowSearcher(const DetectSettings& settings)
-    : settings_(settings), detector_(settings.model, settings.tile_size, settings.min_score) {}
+    : settings_(settings),
+      detector_(settings.model, settings.tile_size, ScoreThresholds{settings.min_score, settings.class_min_scores}) {}
 
 void DetectStats::Add(const DetectStats& other) {
   window_ms.insert(window_ms.end(), other.window_ms.begin(), other.window_ms.end());

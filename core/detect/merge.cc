@@ -82,15 +82,21 @@ std::vector<RecognisedObject> MergeDetections(std::vector<RawDetection> raw, con
     bool truncated;
     std::string alt;
   };
+  const auto fits_window = [&](const RawDetection& r) {
+    const auto& zs = options.representative_zoom;
+    return r.class_id < 0 || r.class_id >= static_cast<int>(zs.size()) || zs[r.class_id] < 0 ||
+           r.window.z <= zs[r.class_id];
+  };
   std::vector<Cluster> all;
   for (const auto& [root, members] : clusters) {
     Cluster c{members[0], 0, {}, true, ""};
     for (int i : members) {
       const RawDetection& r = raw[i];
       const RawDetection& best = raw[c.rep];
-      // Untruncated first, then finest level, then highest score, then input order.
-      if (std::make_tuple(!r.truncated, r.window.z, r.score) >
-          std::make_tuple(!best.truncated, best.window.z, best.score))
+      // Untruncated first, then a level where the class fits a window, then
+      // finest level, then highest score, then input order.
+      if (std::make_tuple(!r.truncated, fits_window(r), r.window.z, r.score) >
+          std::make_tuple(!best.truncated, fits_window(best), best.window.z, best.score))
         c.rep = i;
       c.score = std::max(c.score, r.score);
       c.truncated = c.truncated && r.truncated;

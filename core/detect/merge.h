@@ -32,6 +32,9 @@ struct MergeOptions {
   // >= same_class_ios) with at least this many times its area represents the
   // cluster instead: the smaller is a piece of it.
   double piece_area_ratio = 1.5;
+  // By class id (RepresentativeZooms): boxes of levels above it represent a
+  // cluster only when it has none at or below it; -1 or past the table: any.
+  std::vector<int> representative_zoom;
 };
 
 std::vector<RecognisedObject> MergeDetections(std::vector<RawDetection> raw, const std::vector<std::string>& names,

@@ -3,6 +3,7 @@
 // size; objects seen the same size at both levels keep the finer box.
 #include <gtest/gtest.h>
 
+#include "core/detect/level_rule.h"
 #include "core/detect/merge.h"
 #include "core/geo/web_mercator.h"
 
@@ -60,6 +61,31 @@ TEST(MergePiece, ACutContainerIsNoRepresentative) {
   const auto out = MergeDetections({whole_but_cut, Seen(25, 0, 0, 0, 0.8f, 5.0, 4.7, 0.3, 1.6)}, kNames, 256, frame);
   ASSERT_EQ(out.size(), 1u);
   EXPECT_EQ(out[0].zoom, 25);
+}
+
+TEST(MergePiece, AClassLargerThanAFineWindowIsRepresentedWhereItFits) {
+  // The shipped classes' largest sizes (tyre, crate, pipe, anchor, rock) at
+  // 43 N: windows are 2.6 m at zoom 25, 10.5 m at 23; only the 3 m pipe
+  // needs 23.
+  EXPECT_EQ(RepresentativeZooms({1.0, 1.2, 3.0, 1.5, 0.8, 0}, {25, 23}, 43.1, 256),
+            (std::vector<int>{25, 25, 23, 25, 25, -1}));
+  EXPECT_EQ(RepresentativeZooms({3.0}, {25}, 43.1, 256), (std::vector<int>{-1}));
+  const LocalFrame frame(kOrigin);
+  // A 2.4 m pipe lying diagonally: boxed at zoom 25 a little short and 14 cm
+  // off (not a piece by area), whole at 23.
+  const std::vector<RawDetection> raw = {Seen(23, 0, 0, 0, 0.8f, 5.0, 4.0, 1.7, 1.7),
+                                         Seen(25, 0, 0, 0, 0.94f, 5.1, 4.1, 1.5, 1.5)};
+  MergeOptions options;
+  EXPECT_EQ(MergeDetections(raw, kNames, 256, frame, options)[0].zoom, 25);  // finest first, as before
+  options.representative_zoom = {23, 25};                                    // pipe, rock
+  const auto out = MergeDetections(raw, kNames, 256, frame, options);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].zoom, 23);
+  EXPECT_NEAR(out[0].position_m.east, 5.0, 0.01);
+  // A cluster seen only at the finer level keeps that box.
+  const auto fine_only = MergeDetections({raw[1]}, kNames, 256, frame, options);
+  ASSERT_EQ(fine_only.size(), 1u);
+  EXPECT_EQ(fine_only[0].zoom, 25);
 }
 
 }  // namespace

@@ -1388,8 +1388,9 @@ def main():
     ap.add_argument("--replay-pack", help="the old classes' windows from this pack instead of simulating them")
     ap.add_argument("--replay-surveys", type=int, default=4, help="surveys simulated for the old classes")
     ap.add_argument("--replay-frames", type=int, default=300, help="frames of each replay survey")
-    ap.add_argument("--replay-clutter-surveys", type=int, default=1,
-                    help="replay surveys with look-alikes and no label on them (simulate --clutter 12)")
+    ap.add_argument("--replay-clutter-surveys", type=int, default=0,
+                    help="replay surveys with look-alikes and no label on them (simulate --clutter 12; off: its "
+                         "unlabelled dark rocks taught the rock head to drop real rocks, docs/DETECTION_MODEL.md)")
     ap.add_argument("--hard-share", type=float, default=0.2,
                     help="share of the crops around what the new class(es) are confused with (mined, 0: none)")
     ap.add_argument("--mine-at", type=float, nargs="+", default=[0.3, 0.6],

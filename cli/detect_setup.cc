@@ -117,6 +117,7 @@ std::unique_ptr<LiveDetector> StartLiveDetector(std::shared_ptr<const YoloModelI
   DetectSettings s;
   s.model = model;
   s.min_score = model->min_score;
+  s.class_min_scores = model->class_min_scores;
   s.tile_size = tile_size;
   s.origin = origin;
   s.zooms = ChooseZooms(zooms, config_source + " detect.zooms", plan.min_zoom, plan.base_zoom, plan.latitude, tile_size,

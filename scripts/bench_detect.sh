@@ -10,7 +10,9 @@
 # `seamap detect`; STRESS_ONLY=1 skips the seeds 1+2 part, STRESS=0 the stress part; STRESS_FRAMES (600) and
 # STRESS_OBJECTS (20) size the surveys; STRESS_CONDITIONS picks some (also altitude_1m and altitude_4m, seeds 3108
 # and 3109, not in the default seven); STRESS_REUSE=1 searches the maps of an earlier run again instead of
-# simulating them.
+# simulating them. KEEP_CUT=0 skips the --keep-cut-views search; DIAGNOSE=1 also searches each map at
+# --min-score 0.1 and says why each object was missed and what each false detection lay on
+# (scripts/diagnose_detections.py, written to stress_CONDITION.diagnosis).
 set -euo pipefail
 seamap="$1" out="$2"
 read -r -a detect_args <<<"${DETECT_ARGS:-}"
@@ -64,12 +66,20 @@ for c in "${conditions[@]}"; do
   python3 "$root/scripts/eval_detections.py" "$s.geojson" "$s/truth/objects.csv" | tee "$s.eval" |
     sed "s/^/detect stress ($c, seed $seed): /"
   all_pairs+=("$s.geojson" "$s/truth/objects.csv")
+  if [[ "${DIAGNOSE:-0}" == 1 ]]; then
+    "$seamap" detect --quiet "$s.mbtiles" --out "$s.low.geojson" "${detect_args[@]}" --min-score 0.1 >/dev/null
+    python3 "$root/scripts/diagnose_detections.py" "$s.geojson" "$s.low.geojson" "$s/truth/objects.json" \
+      >"$s.diagnosis"
+    tail -1 "$s.diagnosis" | sed "s/^/detect stress ($c, seed $seed): diagnosis /"
+  fi
+  [[ "${KEEP_CUT:-1}" == 1 ]] || continue
   # The class-aware level rule's effect: the same search keeping the cut views (level_rule.h).
   "$seamap" detect --quiet "$s.mbtiles" --out "$s.keep.geojson" --keep-cut-views "${detect_args[@]}" >/dev/null
   keep_pairs+=("$s.keep.geojson" "$s/truth/objects.csv")
 done
 python3 "$root/scripts/eval_detections.py" "${all_pairs[@]}" | sed 's/^/detect stress (pooled): /'
-python3 "$root/scripts/eval_detections.py" "${keep_pairs[@]}" | grep -E '^(class|anchor|all) ' |
+[[ ${#keep_pairs[@]} -eq 0 ]] ||
+  python3 "$root/scripts/eval_detections.py" "${keep_pairs[@]}" | grep -E '^(class|anchor|all) ' |
   sed 's/^/detect stress (pooled, --keep-cut-views: before the level rule): /'
 for c in "${conditions[@]}"; do
   awk -v c=$c '$1 == "all" {print c, $5, $6, $7}' "$out/stress_$c.eval"

@@ -13,12 +13,14 @@
 # whose actual / predicted lies within 0.67-1.5.
 #   scripts/bench_georef.sh SEAMAP_BINARY OUT_DIR [SEEDS [ONLY]]
 # SEEDS default 5 (13 x 5 = 65 runs); ONLY: a regular expression naming the variations to run.
-#   scripts/bench_georef.sh SEAMAP_BINARY OUT_DIR stress [SURVEYS [DRAWS]]
+#   scripts/bench_georef.sh SEAMAP_BINARY OUT_DIR stress [SURVEYS [DRAWS [SEED_BASE]]]
 # The randomised stress set for the error estimate: SURVEYS (default 50)
 # surveys, each with every variation parameter drawn at random (pattern,
 # tether 5-50 m, depth, speed, follower, current, sag, clock offset, waves,
 # GPS sigma 1-2 m and rate, dropouts, multipath, outages, turns, weaving,
-# keyframe rate), each flown DRAWS times (default 4) with other GPS errors
+# keyframe rate; survey i from seed SEED_BASE + i, default 1000: another
+# base gives an independent set to check what was tuned on the first),
+# each flown DRAWS times (default 4) with other GPS errors
 # (--gps-seed). Per survey: actual = RMS of the draws' RMSE, predicted = RMS
 # of their predicted_rmse_m; printed: the ratio's median, 5th and 95th
 # percentiles and how many surveys lie within 0.67-1.5, and the same for the
@@ -62,12 +64,12 @@ print(e["rmse_m"], r.get("predicted_rmse_m", 0), r.get("gps_bound_rmse_m", 0),
 }
 
 if [ "$seeds" = stress ]; then
-  surveys="${4:-50}" draws="${5:-4}"
+  surveys="${4:-50}" draws="${5:-4}" seed_base="${6:-1000}"
   s="$out/survey"
-  python3 - "$surveys" >"$out/stress_surveys.txt" <<'PY'
+  python3 - "$surveys" "$seed_base" >"$out/stress_surveys.txt" <<'PY'
 import math, random, sys
 for i in range(1, int(sys.argv[1]) + 1):
-    r = random.Random(1000 + i)
+    r = random.Random(int(sys.argv[2]) + i)
     pattern = r.choices(["lawnmower", "spiral", "transect"], [0.6, 0.15, 0.25])[0]
     tether = round(r.uniform(5, 50), 1)
     depth = round(tether * r.uniform(0.1, 0.6), 2)

@@ -68,9 +68,12 @@ rss = int(re.search(r"Maximum resident set size \(kbytes\): (\d+)", t)[1]) / 102
 r = json.load(open(sys.argv[2]))
 print(f"new class: fine-tune {r['steps']} steps in {r['train_minutes']} min of training, {cpu / 60:.1f} CPU-min in all "
       f"(data, training, export), peak RSS {rss:.0f} MB; validated min score {r['min_score']}")
-for name, v in r["validation"].items():
+for name, v in r.get("class_validation", r["validation"]).items():
     if v["truths"]:
-        print(f"new class: held-out ground of mission_a, {name}: {v['found']}/{v['truths']} found, {v['false']} false")
+        print(f"new class: held-out ground of mission_a, {name}: {v['found']}/{v['truths']} found, {v['false']} false"
+              f" at its threshold {r.get('class_min_scores', {}).get(name, r['min_score'])}")
+print(f"new class: per-class thresholds {json.dumps(r.get('class_min_scores', {}))}; hard negatives mined "
+      f"(fraction, found, on simulated windows): {r.get('mined', [])}")
 PY
 
 # The unseen mission B with the new model: the drums.

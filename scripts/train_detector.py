@@ -34,6 +34,9 @@ import torch.nn as nn
 import torch.nn.functional as F
 import torchvision
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from search_levels import overzoomed_tiles, scale_matched_zooms  # noqa: E402  (the C++ level rule)
+
 CLASSES = ["tyre", "crate", "pipe", "anchor", "rock"]
 CLASS_SIZES_M = {"tyre": [0.5, 1.0], "crate": [0.4, 1.2], "pipe": [1.5, 3.0], "anchor": [0.5, 1.5], "rock": [0.2, 0.8]}
 TILE = 256
@@ -49,8 +52,8 @@ def run(cmd):
     subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
 
 
-def make_survey(seamap, work, seed, color, degrade, frames, objects, tile_format):
-    d = os.path.join(work, f"survey_{seed}")
+def make_survey(seamap, work, seed, color, degrade, frames, objects, tile_format, clutter=0):
+    d = os.path.join(work, f"survey_{seed}" + (f"_clutter{clutter}" if clutter else ""))
     mb = os.path.join(d, "map.mbtiles")
     if os.path.exists(mb) and os.path.exists(os.path.join(d, "truth", "objects.json")):
         return d
@@ -59,6 +62,8 @@ def make_survey(seamap, work, seed, color, degrade, frames, objects, tile_format
         cmd.append("--color")
     if degrade:
         cmd.append("--degrade")
+    if clutter:
+        cmd += ["--clutter", str(clutter)]
     for k, n in enumerate((objects, objects * 3 // 4, objects // 2)):
         try:
             run(cmd + ["--objects", str(n)])
@@ -127,19 +132,16 @@ def pixel_to_lonlat(x, y, z):
     return lon, lat
 
 
-def detection_zooms(tiles, lat, largest_m):
-    """Base, base-2, ... until the largest object fits the one-tile overlap (spec sect. 3)."""
+def detection_zooms(tiles, lat, class_sizes_m=None):
+    """The levels `seamap detect` searches on this map (core/detect/search_levels: where the classes have their
+    trained sizes, whatever the altitude); a level one above the base is added to `tiles`, scaled up."""
     zs = sorted({k[0] for k in tiles})
     base, zmin = zs[-1], zs[0]
-    out = []
-    z = base
-    while z >= zmin:
-        out.append(z)
-        g = 156543.03392 * math.cos(math.radians(lat)) / (1 << z)
-        if largest_m / g <= TILE:
-            break
-        z -= 2
-    return out
+    sizes = list((class_sizes_m or CLASS_SIZES_M).values())
+    zooms = scale_matched_zooms(sizes, base, zmin, lat, TILE)
+    if base + 1 in zooms:
+        tiles.update(overzoomed_tiles(tiles, base, TILE))
+    return zooms
 
 
 def survey_windows(survey_dir, size, mbtiles=None):
@@ -147,10 +149,9 @@ def survey_windows(survey_dir, size, mbtiles=None):
     truth = json.load(open(os.path.join(survey_dir, "truth", "objects.json")))
     tiles = read_tiles(mbtiles or os.path.join(survey_dir, "map.mbtiles"))
     lat0 = truth["origin"][0]
-    largest = max(v[1] for v in CLASS_SIZES_M.values()) * 1.15
     out = []
     r = size / float(N_TILES * TILE)
-    for z in detection_zooms(tiles, lat0, largest):
+    for z in detection_zooms(tiles, lat0):
         xs = [k[1] for k in tiles if k[0] == z]
         ys = [k[2] for k in tiles if k[0] == z]
         boxes_px = []
@@ -1009,6 +1010,56 @@ def replay_windows(a, size):
                         "jpg" if k % 4 == 3 else "png")
         windows, _ = survey_windows(d, size)
         out += [dict(img=img, boxes=b, negatives=np.zeros((0, 5), np.float32)) for img, b, _ in windows]
+    # Look-alikes that are no object (rock rings, pipe pieces, dark rocks: `simulate --clutter`), unlabelled, so
+    # every crop of them says "nothing here" to the new class too. Seeds 1040+: never a bench's or validation's.
+    for k in range(a.replay_clutter_surveys):
+        d = make_survey(a.seamap, a.work, 1040 + k, True, False, a.replay_frames, 12, "png", clutter=12)
+        windows, _ = survey_windows(d, size)
+        out += [dict(img=img, boxes=b, negatives=np.zeros((0, 5), np.float32)) for img, b, _ in windows]
+    return out
+
+
+def mine_confusions(net_fn, windows, new_ids, min_score=0.25, iou_match=0.5):
+    """Hard negatives for the new classes: (window index, box [class, x0, y0, x1, y1]) wherever the current net
+    calls something a new class that no label of that class is (an old class's object, a look-alike, texture).
+    The window keeps its labels, so a rock taken for a drum is trained as a rock and not a drum."""
+    out = []
+    for i, w in enumerate(windows):
+        for c, sc, x1, y1, x2, y2 in nms_window(net_fn(w["img"]), min_score):
+            if c not in new_ids:
+                continue
+            if any(int(b[0]) == c and box_iou((x1, y1, x2, y2), b[1:5]) >= iou_match for b in w["boxes"]):
+                continue
+            out.append((i, np.array([c, x1, y1, x2, y2], np.float32)))
+    return out
+
+
+def box_iou(a, b):
+    iw = min(a[2], b[2]) - max(a[0], b[0])
+    ih = min(a[3], b[3]) - max(a[1], b[1])
+    if iw <= 0 or ih <= 0:
+        return 0.0
+    inter = iw * ih
+    return inter / ((a[2] - a[0]) * (a[3] - a[1]) + (b[2] - b[0]) * (b[3] - b[1]) - inter)
+
+
+def per_class_thresholds(table, thresholds, names, fallback, min_objects):
+    """{class: score}: each class with at least `min_objects` objects on the held-out ground at the threshold of
+    its own best F1 (the middle of the best range: few objects, a flat F1); the others at `fallback` (the base
+    model's own, so a fine-tune on a review of other classes cannot move their operating point)."""
+    out = {}
+    for c, name in enumerate(names):
+        nt = table[thresholds[0]][name]["truths"] if table else 0
+        if nt < min_objects:
+            out[name] = fallback.get(name, fallback[None])
+            continue
+
+        def f1(t):
+            r = table[t][name]
+            return 2 * r["found"] / max(nt + r["found"] + r["false"], 1)
+        best = max(f1(t) for t in thresholds)
+        tied = [t for t in thresholds if f1(t) >= best - 1e-9]
+        out[name] = tied[len(tied) // 2]
     return out
 
 
@@ -1016,9 +1067,10 @@ class MixedCrops(torch.utils.data.IterableDataset):
     """Batches of augmented crops: `share` of them from the operator's windows (a third of those around a
     rejected detection, a hard negative), the rest from simulated windows of the shipped classes."""
 
-    def __init__(self, review, replay, share, crop, batch, seed):
+    def __init__(self, review, replay, share, crop, batch, seed, hard_share=0.0):
         self.review, self.replay, self.share = review, replay, share
         self.crop, self.batch, self.seed = crop, batch, seed
+        self.hard, self.hard_share = [], hard_share  # (window, box) mined by mine_confusions, filled while training
 
     def __iter__(self):
         info = torch.utils.data.get_worker_info()
@@ -1026,6 +1078,13 @@ class MixedCrops(torch.utils.data.IterableDataset):
         while True:
             imgs, targets = [], []
             for _ in range(self.batch):
+                if self.hard and rng.random() < self.hard_share:  # a confusion of the new head, its labels kept
+                    w, box = self.hard[rng.integers(len(self.hard))]
+                    img, boxes = crop_around(w["img"], w["boxes"], box, self.crop, rng)
+                    img, boxes = augment(img, boxes, rng)
+                    imgs.append(img)
+                    targets.append(boxes)
+                    continue
                 pool = self.review if (not self.replay or rng.random() < self.share) else self.replay
                 w = pool[rng.integers(len(pool))]
                 boxes = w["boxes"]
@@ -1119,8 +1178,11 @@ def finetune(a):
     opt = torch.optim.AdamW([p for p in model.parameters() if p.requires_grad], lr=a.lr, weight_decay=5e-4)
     ema = torch.optim.swa_utils.AveragedModel(model, avg_fn=lambda e, m, n: 0.99 * e + 0.01 * m)
     loader = dict(num_workers=a.workers, persistent_workers=True, prefetch_factor=4) if a.workers else {}
-    batches = iter(torch.utils.data.DataLoader(MixedCrops(train_w, replay, a.replay_share if replay else 1.0,
-                                                          a.crop, a.batch, 0), batch_size=None, **loader))
+    crops = MixedCrops(train_w, replay, a.replay_share if replay else 1.0, a.crop, a.batch, 0, a.hard_share)
+    batches = iter(torch.utils.data.DataLoader(crops, batch_size=None, **loader))
+    new_ids = set(range(len(base_names), len(names)))
+    mine_at = sorted(a.mine_at) if new_ids and a.hard_share > 0 else []
+    mined = []  # (fraction of the budget, hard negatives found)
     # The budget: --minutes of wall time or 2 x --minutes of this process's CPU time (2 free cores spend 2
     # CPU-minutes a minute), whichever ends first. An explicit --cpu-minutes is the whole budget: on a shared
     # machine the wall time says how loaded it was, the CPU time (every thread of this process; the crops are
@@ -1135,6 +1197,24 @@ def finetune(a):
 
     while spent() < 1:
         frac = spent()
+        if mine_at and frac >= mine_at[0]:
+            # What the new head confuses now (old classes' objects, look-alikes) becomes a hard negative. The
+            # DataLoader runs in this process (--workers 0), so the crops see the list grow.
+            mine_at.pop(0)
+            model.eval()
+            model.export = True
+
+            def run_now(img):
+                with torch.no_grad():
+                    return model(to_tensor([img.astype(np.float32)]))[0].numpy()
+            pool = train_w + replay
+            found = mine_confusions(run_now, pool, new_ids)
+            model.export = False
+            crops.hard = [(pool[i], box) for i, box in found]
+            on_replay = sum(1 for i, _ in found if i >= len(train_w))
+            mined.append((round(frac, 2), len(found), on_replay))
+            print(f"step {step}: {len(found)} hard negatives of the new class(es) mined ({on_replay} on the "
+                  f"simulated windows of the shipped classes)", flush=True)
         for g in opt.param_groups:
             g["lr"] = a.lr * (0.05 + 0.95 * 0.5 * (1 + math.cos(math.pi * frac))) * min(1.0, (step + 1) / 50)
         imgs, targets = next(batches)
@@ -1177,6 +1257,14 @@ def finetune(a):
         tied = [t for t in thresholds if f1(t) >= best - 1e-9]
         min_score = tied[len(tied) // 2]  # the middle of the best range: few held-out objects, a flat F1
         rows = table[min_score]
+    # A threshold per class: the classes the review holds enough of validated on their own, the others kept at
+    # the base model's (its own per-class ones, else its single one).
+    fallback = {None: base_min_score}
+    fallback.update(zip(base_names, json.loads(base_meta["seamap.class_min_scores"]))
+                    if base_meta.get("seamap.class_min_scores", "").startswith("[")
+                    else json.loads(base_meta.get("seamap.class_min_scores", "{}")).items())
+    class_scores = per_class_thresholds(table, thresholds, names, fallback, a.class_min_objects)
+    class_validation = {n: table[class_scores[n]][n] for n in names} if table else {}
     net.export = False
 
     out = a.out if a.out.endswith(".onnx") else os.path.join(a.out, "seabed_objects.onnx")
@@ -1191,6 +1279,7 @@ def finetune(a):
         "seamap.layer": base_meta.get("seamap.layer", "raw"),
         "seamap.layout": "yolov8",
         "seamap.min_score": str(min_score),
+        "seamap.class_min_scores": json.dumps(class_scores),
         "seamap.base": os.path.basename(a.base),
         "seamap.finetune_missions": ",".join(os.path.basename(os.path.normpath(d)) for d in a.from_missions),
     }
@@ -1207,6 +1296,8 @@ def finetune(a):
                   train_windows=len(train_w), val_windows=len(val_w), replay_windows=len(replay),
                   replay_share=a.replay_share if replay else 1.0, train=a.train, train_labels=n_labels, min_score=min_score,
                   validation=table.get(min_score, {}) if table else {}, cv_max_diff=worst,
+                  class_min_scores=class_scores, class_validation=class_validation, mined=mined,
+                  hard_share=a.hard_share, replay_clutter_surveys=a.replay_clutter_surveys,
                   thresholds={str(t): summarise(table[t])[3:] for t in thresholds} if table else {})
     json.dump(report, open(os.path.splitext(out)[0] + ".report.json", "w"), indent=1)
     write_finetune_card(report, out)
@@ -1242,7 +1333,11 @@ reviewed missions (docs/DETECTION_MODEL.md, "Fine-tuning on the operator's revie
   {r['replay_windows']} simulated windows of the shipped classes ({r['replay_share']:.0%} of the crops from the review).
 - Training ({r['train']}): {r['steps']} steps of {r['batch']} crops of {r['crop']} px in {r['train_minutes']} min
   ({r['cpu_minutes']} CPU-min in all, data {r['data_minutes']} min), AdamW {r['lr']}, BatchNorm frozen, EMA.
-- Metadata `seamap.min_score` = {r['min_score']}: the threshold with the best F1 on the held-out windows.
+- Metadata `seamap.min_score` = {r['min_score']}: the threshold with the best F1 on the held-out windows;
+  `seamap.class_min_scores` = {json.dumps(r.get('class_min_scores', {}))}: each class with enough held-out objects
+  at its own best F1, the others at the base model's threshold (what `seamap detect` applies).
+- Hard negatives: {r.get('hard_share', 0):.0%} of the crops around what the new class(es) were confused with (mined
+  at {", ".join(f"{f:.0%}: {n} ({k} on simulated windows)" for f, n, k in r.get('mined', [])) or "never"}), {r.get('replay_clutter_surveys', 0)} replay survey(s) with look-alikes.
 - cv2.dnn vs torch: max difference {r['cv_max_diff']:.1e}.
 
 Held-out validation (objects on the held-out ground, each once; found = a detection of its class at IoU >= 0.5
@@ -1293,6 +1388,15 @@ def main():
     ap.add_argument("--replay-pack", help="the old classes' windows from this pack instead of simulating them")
     ap.add_argument("--replay-surveys", type=int, default=4, help="surveys simulated for the old classes")
     ap.add_argument("--replay-frames", type=int, default=300, help="frames of each replay survey")
+    ap.add_argument("--replay-clutter-surveys", type=int, default=0,
+                    help="replay surveys with look-alikes and no label on them (simulate --clutter 12; off: its "
+                         "unlabelled dark rocks taught the rock head to drop real rocks, docs/DETECTION_MODEL.md)")
+    ap.add_argument("--hard-share", type=float, default=0.2,
+                    help="share of the crops around what the new class(es) are confused with (mined, 0: none)")
+    ap.add_argument("--mine-at", type=float, nargs="+", default=[0.3, 0.6],
+                    help="fractions of the budget at which the confusions are mined again")
+    ap.add_argument("--class-min-objects", type=int, default=3,
+                    help="held-out objects a class needs for its own threshold (else the base model's)")
     ap.add_argument("--cpu-minutes", type=float,
                     help="fine-tuning: the budget in CPU time of this process, wall time not counted (default: 2 x --minutes "
                          "or --minutes of wall time, whichever ends first)")

@@ -97,6 +97,7 @@ ObjectDetectionResult DetectObjects(const ObjectDetectionOptions& options) {
   DetectSettings settings;
   settings.model = model;
   settings.min_score = options.min_score.value_or(model->min_score);
+  if (!options.min_score) settings.class_min_scores = model->class_min_scores;  // --min-score: one for all
   settings.keep_cut_views = options.keep_cut_views;
   if (mission.unreadable.count(kTileSizeKey))
     throw InputError(path, 0, kTileSizeKey, std::string("the map's metadata has no valid '") + kTileSizeKey + "'");

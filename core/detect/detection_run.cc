@@ -59,7 +59,8 @@ std::vector<WindowKey> MapWindows(const TileStore& store, const std::vector<int>
 }
 
 WindowSearcher::WindowSearcher(const DetectSettings& settings)
-    : settings_(settings), detector_(settings.model, settings.tile_size, settings.min_score) {}
+    : settings_(settings),
+      detector_(settings.model, settings.tile_size, ScoreThresholds{settings.min_score, settings.class_min_scores}) {}
 
 void DetectStats::Add(const DetectStats& other) {
   window_ms.insert(window_ms.end(), other.window_ms.begin(), other.window_ms.end());
@@ -92,11 +93,17 @@ std::vector<RecognisedObject> WindowSearcher::Objects(const std::vector<FrameRec
 std::vector<RecognisedObject> MergeSearched(const DetectSettings& settings, std::vector<RawDetection> raw,
                                             const std::vector<FrameRecord>& frames) {
   const LocalFrame frame(settings.origin);
-  if (!settings.keep_cut_views)
-    DropCutViews(WholeViewZooms(settings.model->class_sizes_m, settings.zooms, settings.origin.lat, settings.tile_size),
-                 &raw);
+  if (!settings.keep_cut_views) {
+    const std::vector<int> whole =
+        WholeViewZooms(settings.model->class_sizes_m, settings.zooms, settings.origin.lat, settings.tile_size);
+    StitchCutViews(whole, settings.model->class_sizes_m, settings.origin.lat, settings.tile_size, &raw);
+    DropCutViews(whole, &raw);
+  }
+  MergeOptions merge;
+  merge.representative_zoom =
+      RepresentativeZooms(settings.model->class_sizes_m, settings.zooms, settings.origin.lat, settings.tile_size);
   std::vector<RecognisedObject> objects =
-      MergeDetections(std::move(raw), settings.model->class_names, settings.tile_size, frame);
+      MergeDetections(std::move(raw), settings.model->class_names, settings.tile_size, frame, merge);
   for (RecognisedObject& o : objects) o.model = settings.model->name;
   AttachFrames(objects, frames);
   return objects;

@@ -21,6 +21,9 @@ struct DetectSettings {
   // from its tiles scaled up (search_levels.h).
   int stored_zoom = kMaxStoredZoom;
   float min_score = 0.4f;
+  // A threshold per class (by class id; the model's seamap.class_min_scores
+  // unless --min-score is given); empty = min_score for every class.
+  std::vector<float> class_min_scores;
   int tile_size = 256;
   LatLon origin;  // of the mission's local frame (position_m)
   // Keep boxes cut by a window edge of classes seen whole at some searched

@@ -37,7 +37,12 @@ cv::Mat ComposeWindow(const WindowKey& w, int tile_size, const TileReader& read,
 }
 
 TileDetector::TileDetector(std::shared_ptr<const YoloModelInfo> info, int tile_size, float min_score)
-    : model_(std::move(info)), tile_size_(tile_size), min_score_(min_score) {}
+    : model_(std::move(info)), tile_size_(tile_size) {
+  thresholds_.all = min_score;
+}
+
+TileDetector::TileDetector(std::shared_ptr<const YoloModelInfo> info, int tile_size, ScoreThresholds thresholds)
+    : model_(std::move(info)), tile_size_(tile_size), thresholds_(std::move(thresholds)) {}
 
 WindowSearch TileDetector::Search(const WindowKey& w, const TileReader& read) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -48,7 +53,7 @@ WindowSearch TileDetector::Search(const WindowKey& w, const TileReader& read) {
     result.skipped = true;
     return result;
   }
-  const std::vector<YoloBox> boxes = model_.Detect(bgr, min_score_, 0.5f, &result.dropped);
+  const std::vector<YoloBox> boxes = model_.Detect(bgr, thresholds_, 0.5f, &result.dropped);
   const int side = bgr.cols;
   const double scale = MakeLetterbox(bgr.size(), model_.info().input).scale;
   const double edge_px = 2 / scale;  // 2 network pixels

@@ -32,13 +32,14 @@ struct WindowSearch {
 class TileDetector {
  public:
   TileDetector(std::shared_ptr<const YoloModelInfo> info, int tile_size, float min_score);
+  TileDetector(std::shared_ptr<const YoloModelInfo> info, int tile_size, ScoreThresholds thresholds);
   // Not thread-safe (one net): one detector per thread.
   WindowSearch Search(const WindowKey& w, const TileReader& read);
 
  private:
   YoloModel model_;
   int tile_size_;
-  float min_score_;
+  ScoreThresholds thresholds_;
 };
 
 // The latest raw boxes of every window searched; a window searched again

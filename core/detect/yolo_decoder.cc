@@ -34,6 +34,14 @@ YoloLayout RecogniseYoloLayout(const std::vector<int>& shape, int num_classes, c
 
 std::vector<YoloBox> DecodeYolo(const cv::Mat& output, YoloLayout layout, int num_classes, float min_score,
                                 YoloDropped* dropped) {
+  ScoreThresholds thresholds;
+  thresholds.all = min_score;
+  return DecodeYolo(output, layout, num_classes, thresholds, dropped);
+}
+
+std::vector<YoloBox> DecodeYolo(const cv::Mat& output, YoloLayout layout, int num_classes,
+                                const ScoreThresholds& thresholds, YoloDropped* dropped) {
+  const float min_score = thresholds.Lowest();
   YoloDropped local;
   if (!dropped) dropped = &local;
   CV_Assert(output.dims == 3 && output.type() == CV_32F && output.isContinuous());
@@ -58,7 +66,7 @@ std::vector<YoloBox> DecodeYolo(const cv::Mat& output, YoloLayout layout, int nu
       ++dropped->non_finite;
       continue;
     }
-    if (!(score >= min_score)) continue;
+    if (!(score >= min_score) || !(score >= thresholds.For(best))) continue;
     const float cx = at(i, 0), cy = at(i, 1), w = at(i, 2), h = at(i, 3);
     const YoloBox box{cx - w / 2, cy - h / 2, cx + w / 2, cy + h / 2, score, best};
     if (!std::isfinite(box.x0) || !std::isfinite(box.y0) || !std::isfinite(box.x1) || !std::isfinite(box.y1)) {

@@ -8,6 +8,8 @@
 
 #include <opencv2/core.hpp>
 
+#include "core/detect/score_thresholds.h"
+
 namespace seamap {
 
 enum class YoloLayout { kV5, kV8 };
@@ -42,6 +44,10 @@ constexpr int kMaxYoloBoxes = 300;
 // `output` is the 3-D float blob.
 std::vector<YoloBox> DecodeYolo(const cv::Mat& output, YoloLayout layout, int num_classes, float min_score,
                                 YoloDropped* dropped = nullptr);
+// The same with a threshold per class: a box (of its best class) is kept
+// when it reaches its class's threshold.
+std::vector<YoloBox> DecodeYolo(const cv::Mat& output, YoloLayout layout, int num_classes,
+                                const ScoreThresholds& thresholds, YoloDropped* dropped = nullptr);
 
 // Class-aware NMS (OpenCV 4.6 lacks NMSBoxesBatched: one pass per class).
 // Output sorted by class, then descending score.

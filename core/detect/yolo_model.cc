@@ -75,6 +75,9 @@ std::shared_ptr<const YoloModelInfo> YoloModel::Inspect(const std::string& path,
                        "expected a score between 0.001 and 1 in the metadata, got '" + Excerpt(text) + "'");
     info->min_score = static_cast<float>(s);
   }
+  if (onnx.metadata.count("seamap.class_min_scores"))
+    info->class_min_scores =
+        ParseClassMinScores(onnx.metadata.at("seamap.class_min_scores"), info->class_names, info->min_score, path);
   // Input size: graph input dims, else metadata imgsz, else 640.
   const auto& d = onnx.input_dims;
   if (d.size() == 4 && d[2] > 0 && d[3] > 0) {
@@ -121,11 +124,18 @@ std::shared_ptr<const YoloModelInfo> YoloModel::Inspect(const std::string& path,
 YoloModel::YoloModel(std::shared_ptr<const YoloModelInfo> info) : info_(std::move(info)), net_(LoadNet(info_->path)) {}
 
 std::vector<YoloBox> YoloModel::Detect(const cv::Mat& bgr, float min_score, float nms_iou, YoloDropped* dropped) {
+  ScoreThresholds thresholds;
+  thresholds.all = min_score;
+  return Detect(bgr, thresholds, nms_iou, dropped);
+}
+
+std::vector<YoloBox> YoloModel::Detect(const cv::Mat& bgr, const ScoreThresholds& thresholds, float nms_iou,
+                                       YoloDropped* dropped) {
   const Letterbox lb = MakeLetterbox(bgr.size(), info_->input);
   cv::Mat out = Forward(net_, ApplyLetterbox(bgr, lb));
   if (!out.isContinuous()) out = out.clone();
   std::vector<YoloBox> boxes = KeepBestBoxes(
-      NmsPerClass(DecodeYolo(out, info_->layout, static_cast<int>(info_->class_names.size()), min_score, dropped),
+      NmsPerClass(DecodeYolo(out, info_->layout, static_cast<int>(info_->class_names.size()), thresholds, dropped),
                   nms_iou),
       kMaxYoloBoxes, dropped);
   for (YoloBox& b : boxes) b = UndoLetterbox(b, lb);

@@ -22,10 +22,11 @@ struct YoloModelInfo {
   std::string path;
   std::string name;  // file name#first 16 hex of FNV-1a 64 of its bytes
   std::vector<std::string> class_names;
-  std::string names_source;           // "--classes FILE" or "PATH metadata 'names'"
-  std::vector<double> class_sizes_m;  // per class, 0 = unknown (metadata seamap.class_sizes_m)
-  std::string layer;                  // metadata seamap.layer ("" = not said)
-  float min_score = 0.4f;             // metadata seamap.min_score: the score it was validated at, else 0.4
+  std::string names_source;             // "--classes FILE" or "PATH metadata 'names'"
+  std::vector<double> class_sizes_m;    // per class, 0 = unknown (metadata seamap.class_sizes_m)
+  std::string layer;                    // metadata seamap.layer ("" = not said)
+  float min_score = 0.4f;               // metadata seamap.min_score: the score it was validated at, else 0.4
+  std::vector<float> class_min_scores;  // metadata seamap.class_min_scores, by class id; empty = min_score for all
   cv::Size input{640, 640};
   YoloLayout layout = YoloLayout::kV8;
   std::vector<int> output_shape;
@@ -43,6 +44,8 @@ class YoloModel {
   // kMaxYoloBoxes (the best); what was dropped added to *dropped. image:
   // 8-bit BGR. Not thread-safe: one model per thread.
   std::vector<YoloBox> Detect(const cv::Mat& bgr, float min_score, float nms_iou = 0.5f,
+                              YoloDropped* dropped = nullptr);
+  std::vector<YoloBox> Detect(const cv::Mat& bgr, const ScoreThresholds& thresholds, float nms_iou = 0.5f,
                               YoloDropped* dropped = nullptr);
 
  private:

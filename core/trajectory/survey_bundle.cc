@@ -42,6 +42,8 @@ void NedFromBodyRad(const T& heading, const T& pitch, const T& roll, T m[9]) {
   m[8] = cp * cr;
 }
 
+constexpr double kMinDepthM = 1e-3;    // nearest a point may be to a camera
+constexpr double kMinBeamRate = 0.05;  // steepest a beam may meet its plane: range per unit of height
 // The point in the camera, normalised, against the observation; whitened.
 struct ReprojectionResidual {
   Eigen::Matrix3d body_from_camera;
@@ -49,8 +51,9 @@ struct ReprojectionResidual {
   double x, y;                     // observed, normalised
   double inv_sigma_x, inv_sigma_y;
 
+  // The point in the camera frame (OpenCV axes), metres.
   template <typename T>
-  bool operator()(const T* pose, const T* point, T* residual) const {
+  void InCamera(const T* pose, const T* point, T* d_cam) const {
     T r_nb[9];
     NedFromBodyRad(pose[3], pose[4], pose[5], r_nb);
     // Camera centre in NED (north, east, down) and the point relative to it.
@@ -67,13 +70,22 @@ struct ReprojectionResidual {
     // Body, then camera: X_c = B^T R_nb^T d.
     T d_body[3];
     for (int c = 0; c < 3; ++c) d_body[c] = r_nb[c] * d_ned[0] + r_nb[3 + c] * d_ned[1] + r_nb[6 + c] * d_ned[2];
-    T d_cam[3];
     for (int c = 0; c < 3; ++c)
       d_cam[c] =
           body_from_camera(0, c) * d_body[0] + body_from_camera(1, c) * d_body[1] + body_from_camera(2, c) * d_body[2];
-    if (!(d_cam[2] > T(1e-6))) return false;  // behind the camera: Ceres shortens the step
-    residual[0] = (d_cam[0] / d_cam[2] - x) * inv_sigma_x;
-    residual[1] = (d_cam[1] / d_cam[2] - y) * inv_sigma_y;
+  }
+
+  template <typename T>
+  bool operator()(const T* pose, const T* point, T* residual) const {
+    T d_cam[3];
+    InCamera(pose, point, d_cam);
+    // A point at or behind the camera gets a huge but finite residual (the
+    // robust loss makes it an outlier), never a failed evaluation: one failed
+    // residual rejects the whole step, and in a large survey that can happen
+    // in every step (see BeamAltitudeResidual).
+    const T depth = d_cam[2] > T(kMinDepthM) ? d_cam[2] : T(kMinDepthM);
+    residual[0] = (d_cam[0] / depth - x) * inv_sigma_x;
+    residual[1] = (d_cam[1] / depth - y) * inv_sigma_y;
     return true;
   }
 };
@@ -131,8 +143,13 @@ struct BeamAltitudeResidual {
       // pose + t (east, north, up) on the plane: t = (plane at the pose - pose up) / (up - slope . (east, north)).
       const T below =
           plane[0] + plane[1] * (pose[0] - anchors[b].x()) + plane[2] * (pose[1] - anchors[b].y()) - pose[2];
-      const T rate = up - plane[1] * east - plane[2] * north;
-      if (!(rate < T(-0.05))) return false;  // the beam grazes its plane
+      // A beam grazing its plane (a slope the solve tilted too far) reads a
+      // long but finite range, never a failed evaluation: one failure rejects
+      // the whole step, and with thousands of beam planes some plane grazed in
+      // almost every step, so the trust region shrank until the solve stopped
+      // far from the answer (docs/TERRAIN.md, "rugged seed 2").
+      T rate = up - plane[1] * east - plane[2] * north;
+      if (!(rate < T(-kMinBeamRate))) rate = T(-kMinBeamRate);
       range_sum += -(below / rate) * up;
     }
     residual[0] = (range_sum / static_cast<double>(beams_body.size()) - altitude_m) * inv_sigma_m;
@@ -200,8 +217,10 @@ struct Solved {
 
 // Reprojection error of one observation in pixels (x and y scaled by fx, fy), or +inf behind the camera.
 double ErrorPx(const ReprojectionResidual& r, const PoseBlock& pose, const PointBlock& point, double pixel_sigma) {
-  double residual[2];
-  if (!r(pose.data(), point.data(), residual)) return HUGE_VAL;
+  double d_cam[3], residual[2];
+  r.InCamera(pose.data(), point.data(), d_cam);
+  if (!(d_cam[2] > kMinDepthM)) return HUGE_VAL;  // at or behind the camera
+  r(pose.data(), point.data(), residual);
   return pixel_sigma * std::hypot(residual[0], residual[1]);
 }
 

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <future>
+#include <limits>
 #include <map>
 #include <memory>
 
@@ -13,6 +14,7 @@
 #include "core/trajectory/match_tracks.h"
 #include "core/trajectory/pair_candidates.h"
 #include "core/trajectory/pose_graph.h"
+#include "core/trajectory/seabed_tracks.h"
 #include "core/trajectory/survey_bundle.h"
 #include "core/trajectory/windowed_bundle.h"
 #include "core/util/error.h"
@@ -84,6 +86,34 @@ Prepared Prepare(const FrameSpec& f, const CandidateFrame& candidate, const Came
   r.footprint_m2 = std::fabs(area) / 2;
   p.ready = true;
   return p;
+}
+
+// A track's starting point for the bundle: where its rays from the start
+// poses meet (least squares, then the reprojection error), not the level
+// seabed below them. On relief the level start is ~10 px from its views,
+// where the robust loss barely pulls, and a large survey's solve then stalls
+// far from the answer (docs/TERRAIN.md, "rugged seed 2"). Rays too nearly
+// parallel to place the height, or meeting beyond the reach relief allows,
+// keep the level start.
+Eigen::Vector3d StartPoint(const CameraModel& camera, const std::vector<RefinedFrame>& poses,
+                           const std::vector<std::vector<cv::Point2f>>& keypoints_px, const MatchTrack& track,
+                           const Eigen::Vector3d& level_start, double relief_share) {
+  TrackOptions loose;
+  loose.min_views = 2;
+  loose.max_reprojection_px = std::numeric_limits<double>::infinity();  // keep every view
+  loose.min_ray_angle_deg = 1;
+  SeabedTrack rays;
+  std::vector<TrackCamera> views;
+  double reach_m = 0;
+  for (const auto& [frame, keypoint] : track.views) {
+    rays.observations.push_back({frame, keypoint, keypoints_px[frame][keypoint]});
+    views.push_back(TrackCameraOf(camera, poses[frame].pose));
+    reach_m = std::max(reach_m, std::max(0.1, relief_share * poses[frame].pose.altitude_m));
+  }
+  loose.max_relief_m = reach_m;
+  std::string why;
+  if (!TriangulateTrack(camera, views, loose, &rays, &why)) return level_start;
+  return rays.east_north_up_m;
 }
 
 }  // namespace
@@ -330,9 +360,9 @@ std::vector<RefinedFrame> RefineSurvey(const std::vector<FrameSpec>& frames, con
         ++tracks_spread;
         continue;
       }
-      const int hits = static_cast<int>(flat.size());
       const int point = static_cast<int>(points_start.size());
-      points_start.push_back(sum / hits);
+      points_start.push_back(
+          StartPoint(camera, out, keypoints_px, t, sum / static_cast<double>(flat.size()), options.relief_share));
       for (const auto& [frame, keypoint] : t.views)
         observations.push_back({frame, point, keypoints_px[frame][keypoint]});
     }

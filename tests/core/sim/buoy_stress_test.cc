@@ -13,6 +13,7 @@
 #include "core/georef/georeferencer.h"
 #include "core/nav/csv_table.h"
 #include "core/sim/buoy_survey.h"
+#include "tests/core/sim/buoy_georef_outcome.h"
 #include "tests/testing/temp_dir.h"
 
 namespace seamap {
@@ -20,10 +21,7 @@ namespace {
 
 using ::seamap::testing::TempDir;
 
-struct Outcome {
-  SubmapGeoref submap;
-  double rmse_m = 0;  // horizontal, every keyframe against the truth
-};
+using Outcome = ::seamap::testing::BuoyGeorefOutcome;
 
 class BuoyStressTest : public ::testing::Test {
  protected:
@@ -53,31 +51,7 @@ class BuoyStressTest : public ::testing::Test {
     return o;
   }
 
-  Outcome Run(const BuoySurveyOptions& o) {
-    const BuoySurveySummary summary = SimulateBuoySurvey(o);
-    const std::string dir = o.out_dir + "/";
-    const BuoyLog log = ReadBuoyLog(dir + "buoy.csv");
-    const LocalFrame frame(MedianPosition(log));
-    GeorefOptions options;
-    options.tether_length_m = o.tether_length_m;
-    options.method = GeorefMethod::kTether;
-    const DepthProfile depth = DepthProfile::Samples(ReadDepthLog(dir + "depth.csv").samples);
-    Outcome out;
-    out.submap = GeoreferenceSubmap(summary.keyframe_files.at(0), ReadTumTrajectory(dir + summary.keyframe_files[0]),
-                                    MakeBuoyTrack(log, frame), depth, options);
-    EXPECT_TRUE(out.submap.fitted) << out.submap.reason;
-    const CsvTable truth = ParseCsv(ReadTextLines(dir + "truth.csv"));
-    const LocalFrame truth_frame(o.origin);
-    double sq = 0;
-    for (size_t i = 0; i < out.submap.keyframes.size(); ++i) {
-      const auto& k = out.submap.keyframes[i];
-      const auto& fields = truth.rows.at(i).fields;
-      const LocalXY xy = truth_frame.FromLatLon(frame.ToLatLon({k.position_enu_m.x(), k.position_enu_m.y()}));
-      sq += std::pow(xy.east - std::stod(fields[3]), 2) + std::pow(xy.north - std::stod(fields[4]), 2);
-    }
-    out.rmse_m = std::sqrt(sq / std::max<size_t>(out.submap.keyframes.size(), 1));
-    return out;
-  }
+  Outcome Run(const BuoySurveyOptions& o) { return ::seamap::testing::GeoreferenceSimulatedBuoySurvey(o); }
 
   TempDir dir_;
 };

@@ -792,14 +792,6 @@ def validate_windows(val, run_net, size, names, thresholds):
         for b, oid in zip(w["boxes"], w["ids"] or [""] * len(w["boxes"])):
             objects.setdefault((w["mission"], oid or ground_key(w, b, size)), int(b[0]))
 
-    def iou(a, b):
-        iw = min(a[2], b[2]) - max(a[0], b[0])
-        ih = min(a[3], b[3]) - max(a[1], b[1])
-        if iw <= 0 or ih <= 0:
-            return 0.0
-        inter = iw * ih
-        return inter / ((a[2] - a[0]) * (a[3] - a[1]) + (b[2] - b[0]) * (b[3] - b[1]) - inter)
-
     table = {}
     for t in thresholds:
         found, false = set(), {}
@@ -812,7 +804,7 @@ def validate_windows(val, run_net, size, names, thresholds):
             for b, oid in zip(w["boxes"], ids):
                 if int(b[0]) != c:
                     continue
-                v = iou(box, b[1:5])
+                v = box_iou(box, b[1:5])
                 if v > best_iou:
                     best, best_iou = (w["mission"], oid or ground_key(w, b, size)), v
             if best is not None and best_iou >= 0.5:

@@ -389,6 +389,7 @@ std::vector<RefinedFrame> RefineSurvey(const std::vector<FrameSpec>& frames, con
       r.bundle_window_solved_frames_max = std::max(r.bundle_window_solved_frames_max, c.solved_frames);
       r.bundle_window_held_frames_max = std::max(r.bundle_window_held_frames_max, c.held_frames);
       r.bundle_window_cpu_s_max = std::max(r.bundle_window_cpu_s_max, c.cpu_s);
+      r.bundle_window_start_rms_px_max = std::max(r.bundle_window_start_rms_px_max, c.start_rms_px);
       window_cpu_s.push_back(c.cpu_s);
     }
     if (!window_cpu_s.empty()) r.bundle_window_cpu_s_median = Median(window_cpu_s);

@@ -86,6 +86,7 @@ struct RefineReport {
   // Windows: the largest window's problem (frames solved, frames held) and its solves' CPU seconds.
   int bundle_window_solved_frames_max = 0, bundle_window_held_frames_max = 0;
   double bundle_window_cpu_s_max = 0, bundle_window_cpu_s_median = 0;
+  double bundle_window_start_rms_px_max = 0;          // the worst window's reprojection RMS where its solve started
   size_t peak_feature_bytes = 0;                      // features held at once
   std::vector<std::pair<std::string, int>> failures;  // registration failures by reason
 };

@@ -10,6 +10,31 @@
 #include "core/util/statistics.h"
 
 namespace seamap {
+namespace {
+
+// How far a solve moved a pose from its start: east, north, depth (m),
+// heading, pitch, roll (deg).
+using PoseCorrection = Eigen::Matrix<double, 6, 1>;
+
+PoseCorrection CorrectionOf(const VehiclePose& start, const VehiclePose& solved) {
+  const auto turn = [](double d_deg) { return std::remainder(d_deg, 360.0); };
+  PoseCorrection c;
+  c << solved.east_m - start.east_m, solved.north_m - start.north_m, solved.depth_m - start.depth_m,
+      turn(solved.heading_deg - start.heading_deg), turn(solved.pitch_deg - start.pitch_deg),
+      turn(solved.roll_deg - start.roll_deg);
+  return c;
+}
+
+void Apply(const PoseCorrection& c, VehiclePose* pose) {
+  pose->east_m += c[0];
+  pose->north_m += c[1];
+  pose->depth_m += c[2];
+  pose->heading_deg += c[3];
+  pose->pitch_deg += c[4];
+  pose->roll_deg += c[5];
+}
+
+}  // namespace
 
 void WindowedBundleOptions::Check() const {
   if (window_frames < 0 || (window_frames > 0 && window_frames < 20))
@@ -116,27 +141,48 @@ SurveyBundleResult SolveWindowedBundle(const std::vector<SurveyBundleFrame>& fra
         if (observations[k].frame < e) add_frame(observations[k].frame);
     std::sort(window_frames.begin(), window_frames.end());  // acquisition order, as the navigation chain needs
     // The frames no window has solved yet, and the points only they see,
-    // start where the planar graph and its flat seabed put them, moved by the
-    // correction the window before gave its last frame. Unmoved, they start
-    // tens of millimetres from the solved frames and points they share
-    // observations with: beyond the reprojection's robust loss, whose
-    // gradient then vanishes, so the window stayed where it started (the
-    // rugged 720-frame survey's second window: p90 143 mm).
+    // start where the planar graph and its flat seabed put them, moved as the
+    // solved frames they share points with were moved: the frames just before
+    // and the earlier lanes' cross-pass partners. Unmoved, they start tens of
+    // millimetres from the solved frames and points they share observations
+    // with: beyond the reprojection's robust loss, whose gradient then
+    // vanishes, so the window stayed where it started (the rugged 720-frame
+    // survey's second window: p90 143 mm). Moved by the last solved frame's
+    // correction alone, a window carried that one frame's error into the next
+    // lane, and along a long survey each window started further off
+    // (docs/TERRAIN.md, "The windows' start along a long survey").
     if (w > 0 && solved_until < e) {
-      const VehiclePose& was = frames[solved_until - 1].start;
-      const VehiclePose& now = current[solved_until - 1];
-      const auto turn = [](double d_deg) { return std::remainder(d_deg, 360.0); };
+      std::vector<PoseCorrection> moved(e - solved_until);
       for (int i = solved_until; i < e; ++i) {
-        current[i].east_m += now.east_m - was.east_m;
-        current[i].north_m += now.north_m - was.north_m;
-        current[i].depth_m += now.depth_m - was.depth_m;
-        current[i].heading_deg += turn(now.heading_deg - was.heading_deg);
-        current[i].pitch_deg += turn(now.pitch_deg - was.pitch_deg);
-        current[i].roll_deg += turn(now.roll_deg - was.roll_deg);
+        PoseCorrection sum = PoseCorrection::Zero();
+        int shared = 0;
+        for (int k : by_frame[i])
+          for (int k2 : by_point[observations[k].point]) {
+            const int j = observations[k2].frame;
+            if (j >= solved_until || result.observation_rejected[k2]) continue;
+            sum += CorrectionOf(frames[j].start, current[j]);
+            ++shared;
+          }
+        // A frame sharing nothing with a solved one goes on as the frame before it.
+        PoseCorrection& c = moved[i - solved_until];
+        c = shared              ? PoseCorrection(sum / shared)
+            : i == solved_until ? CorrectionOf(frames[i - 1].start, current[i - 1])
+                                : moved[i - solved_until - 1];
       }
-      const Eigen::Vector3d moved(now.east_m - was.east_m, now.north_m - was.north_m, was.depth_m - now.depth_m);
-      for (int p : window_points)
-        if (!point_placed[p]) point_now[p] = points_start[p] + moved;
+      for (int i = solved_until; i < e; ++i) Apply(moved[i - solved_until], &current[i]);
+      // A point no window placed moves as the new frames that see it, on average.
+      for (int p : window_points) {
+        if (point_placed[p]) continue;
+        PoseCorrection sum = PoseCorrection::Zero();
+        int seen = 0;
+        for (int k : by_point[p]) {
+          const int i = observations[k].frame;
+          if (i < solved_until || i >= e) continue;
+          sum += moved[i - solved_until];
+          ++seen;
+        }
+        if (seen) point_now[p] = points_start[p] + Eigen::Vector3d(sum[0], sum[1], -sum[2]) / seen;
+      }
     }
     std::vector<SurveyBundleFrame> sub_frames;
     sub_frames.reserve(window_frames.size());
@@ -235,6 +281,7 @@ SurveyBundleResult SolveWindowedBundle(const std::vector<SurveyBundleFrame>& fra
     cost.points = static_cast<int>(sub_points.size());
     cost.observations = static_cast<int>(sub_observations.size());
     cost.iterations = solved.iterations;
+    cost.start_rms_px = solved.rms_px_before;
     cost.cpu_s = static_cast<double>(std::clock() - solve_start) / CLOCKS_PER_SEC;
     r.window_costs.push_back(cost);
     r.max_window_frames = std::max(r.max_window_frames, static_cast<int>(window_frames.size()));

@@ -34,6 +34,9 @@ struct WindowCost {
   int held_frames = 0;                           // earlier frames held fixed (the seam, cross-pass partners)
   int points = 0, observations = 0, iterations = 0;
   double cpu_s = 0;  // process CPU time of its solve, all threads
+  // Reprojection RMS of its observations where its solve started, pixels: how
+  // far its new frames and points started from the solved ones they share.
+  double start_rms_px = 0;
 };
 
 struct WindowedBundleReport {

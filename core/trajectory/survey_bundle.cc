@@ -245,6 +245,9 @@ void SurveyBundleOptions::Check() const {
   Require(dvl_beam_angle_deg >= 0 && dvl_beam_angle_deg < 60, "dvl_beam_angle_deg", "expected degrees in [0, 60)");
   Require(finite_non_negative(drift_knot_s), "drift_knot_s", "expected seconds >= 0");
   Require(threads >= 1, "threads", "expected at least 1");
+  Require(finite_non_negative(held_sigma_m) && finite_non_negative(held_sigma_deg) &&
+              (held_sigma_m > 0) == (held_sigma_deg > 0),
+          "held_sigma_m", "expected metres and degrees >= 0, both 0 or neither");
 }
 
 std::optional<Eigen::Vector3d> FlatSeabedPoint(const CameraModel& camera, const VehiclePose& pose,
@@ -364,7 +367,18 @@ SurveyBundleResult SolveSurveyBundle(const std::vector<SurveyBundleFrame>& frame
     }
     for (int i = 0; i < n_frames; ++i) {
       problem.AddParameterBlock(poses[i].data(), 6);
-      if (frames[i].fixed) problem.SetParameterBlockConstant(poses[i].data());
+      if (!frames[i].fixed) continue;
+      if (options.held_sigma_m == 0) {
+        problem.SetParameterBlockConstant(poses[i].data());
+        continue;
+      }
+      // Held where an earlier window left it, up to that window's uncertainty.
+      const PoseBlock held = BlockFrom(frames[i].start);
+      for (int c = 0; c < 6; ++c)
+        problem.AddResidualBlock(
+            new ceres::AutoDiffCostFunction<AbsoluteResidual, 1, 6>(new AbsoluteResidual{
+                c, held[c], 1 / (c < 3 ? options.held_sigma_m : options.held_sigma_deg * kDegToRad), c >= 3}),
+            nullptr, poses[i].data());
     }
     for (int p = 0; p < n_points; ++p) {
       if (point_views[p] < 2) continue;  // one ray places nothing

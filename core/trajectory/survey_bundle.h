@@ -68,6 +68,14 @@ struct SurveyBundleOptions {
   // 0: the pose graph's absolute prior instead, sigma growing with the time
   // since the first frame (its drifted early frames then hold the map).
   double drift_knot_s = 10;
+  // A frame held from an earlier window (SurveyBundleFrame::fixed) stays free
+  // within this much of where that window left it: east, north and up in
+  // metres, heading, pitch and roll in degrees (about what a solved window
+  // leaves uncertain). A lane held exactly passed its error whole to the lane
+  // glued to it, and along a long survey the lanes bent more with each one
+  // (docs/TERRAIN.md, "Held lanes that give"). 0: held exactly.
+  double held_sigma_m = 0.003;
+  double held_sigma_deg = 0.015;
   int max_iterations = 50, threads = 2;
   // The time the absolute position priors' drift grows from; none: the first
   // frame's (a window of a longer survey gives the survey's start).
@@ -79,7 +87,7 @@ struct SurveyBundleFrame {
   VehiclePose nav;    // as navigated: the priors
   VehiclePose start;  // where the solve starts (e.g. the planar refinement)
   double time_s = 0;
-  bool fixed = false;  // held at `start` (solved in an earlier window, windowed_bundle.h)
+  bool fixed = false;  // held near `start` (solved in an earlier window, windowed_bundle.h; held_sigma_m)
 };
 
 struct SurveyBundleObservation {

@@ -1234,8 +1234,10 @@ def robust_finetune(a):
     t_data = time.time() - t_start
     print(f"data: {len(robust)} robust windows, {len(replay)} replay windows in {t_data:.0f} s", flush=True)
 
+    dev = torch.device(a.device)  # --device cuda --workers N: the same recipe with many more steps on a GPU
     model = Detector(len(CLASSES))
     model.load_state_dict(base_state)
+    model.to(dev)
     trainable = {"heads": ("heads.",), "neck": ("heads.", "lat", "td", "down", "pan"), "all": ("",)}[a.train]
     for n, p in model.named_parameters():
         p.requires_grad = n.startswith(trainable)
@@ -1245,7 +1247,8 @@ def robust_finetune(a):
     opt = torch.optim.AdamW(params, lr=a.lr, weight_decay=5e-4)
     ema = torch.optim.swa_utils.AveragedModel(model, avg_fn=lambda e, m, n: 0.995 * e + 0.005 * m)
     crops = MixedCrops(robust, replay, a.replay_share if replay else 1.0, a.crop, a.batch, 0)
-    batches = iter(torch.utils.data.DataLoader(crops, batch_size=None))
+    loader = dict(num_workers=a.workers, persistent_workers=True, prefetch_factor=4) if a.workers else {}
+    batches = iter(torch.utils.data.DataLoader(crops, batch_size=None, **loader))
     t0, c0 = time.time(), time.process_time()
     # Whichever ends first: --cpu-minutes of this process's CPU time or --minutes of wall time (a long run on a
     # shared machine must still end in time to be benched).
@@ -1263,7 +1266,7 @@ def robust_finetune(a):
         imgs, targets = next(batches)
         model.train()
         freeze_batchnorm(model)
-        loss, npos = loss_fn(model(imgs), targets)
+        loss, npos = loss_fn(model(imgs.to(dev, non_blocking=True)), targets)
         opt.zero_grad()
         loss.backward()
         torch.nn.utils.clip_grad_norm_(params, 10.0)
@@ -1276,7 +1279,7 @@ def robust_finetune(a):
         if step % 1000 == 0:
             save_state(ema.module, os.path.join(a.work, "robust_ema.npz"), CLASSES)
     t_train, c_train = time.time() - t0, time.process_time() - c0
-    net = (ema.module if step else model).eval()
+    net = (ema.module if step else model).eval().cpu()
 
     out = a.out if a.out.endswith(".onnx") else os.path.join(a.out, "seabed_objects.onnx")
     os.makedirs(os.path.dirname(os.path.abspath(out)), exist_ok=True)

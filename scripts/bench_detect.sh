@@ -12,7 +12,8 @@
 # and 3109, not in the default seven); STRESS_REUSE=1 searches the maps of an earlier run again instead of
 # simulating them. KEEP_CUT=0 skips the --keep-cut-views search; DIAGNOSE=1 also searches each map at
 # --min-score 0.1 and says why each object was missed and what each false detection lay on
-# (scripts/diagnose_detections.py, written to stress_CONDITION.diagnosis).
+# (scripts/diagnose_detections.py, written to stress_CONDITION.diagnosis). Two runs (another model on the same maps:
+# STRESS_REUSE=1 DETECT_ARGS="--model M") side by side: scripts/compare_detect_benches.py OUT_BEFORE OUT_AFTER.
 set -euo pipefail
 seamap="$1" out="$2"
 read -r -a detect_args <<<"${DETECT_ARGS:-}"

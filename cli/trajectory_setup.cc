@@ -13,8 +13,8 @@ const char* kNavigationNoiseHelp =
     "                      and seabed points; slower, docs/TERRAIN.md)\n"
     "  --attitude-noise DEG  the pitch/roll sensor's noise for the bundle (default 0.5)\n"
     "  --bundle-window N   a longer survey's bundle is solved N frames at a time, each window holding the\n"
-    "                      frames before it fixed (default 0: one bundle up to 1,500 frames, windows of\n"
-    "                      400 past that)\n";
+    "                      frames before it fixed (default 0: one bundle up to 450 frames, windows of\n"
+    "                      300 past that)\n";
 
 const char* kFeatureEnhanceHelp =
     "  --feature-enhance off|auto|LIST  enhance the frames before their features are detected (seed 004;\n"

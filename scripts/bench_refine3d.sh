@@ -8,24 +8,26 @@
 #   SEAMAP_BENCH_SEEDS="1 2 3"         seeds of the accuracy surveys
 #   SEAMAP_BENCH_FRAMES=720            frames of an accuracy survey
 #   SEAMAP_BENCH_CASES="rugged relief015 relief005 flat"   (the issue's target case first; "" to skip)
-#   SEAMAP_BENCH_METHODS="auto bundle bundle:300 planar"   refine methods of the accuracy surveys
-#                                      (bundle:N: the bundle in windows of N frames, --bundle-window N)
+#   SEAMAP_BENCH_METHODS="auto bundle:1000 planar"   refine methods of the accuracy surveys
+#                                      (bundle: as auto past 450 frames, in windows of 300; bundle:N: the
+#                                      bundle in windows of N frames, --bundle-window N; N >= the frames:
+#                                      one global bundle)
 #   SEAMAP_BENCH_SCALING="800 3800 20000"   frames of the scaling surveys ("" to skip)
 #   SEAMAP_BENCH_SCALING_SMALL=1       small frames (348x260) at every length (a loaded machine)
 #   SEAMAP_BENCH_SCALING_METHODS="planar bundle"   refine methods of the scaling surveys
-#   SEAMAP_BENCH_BUNDLE_WINDOW=400     --bundle-window of the scaling runs (frames a window, as `auto` past
-#                                      1,500 frames; 0: one global bundle)
+#   SEAMAP_BENCH_BUNDLE_WINDOW=300     --bundle-window of the scaling runs (frames a window, as `auto` past
+#                                      450 frames)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seamap=${SEAMAP_BIN:-$PWD/build/seamap}
 seeds=${SEAMAP_BENCH_SEEDS:-"1 2 3"}
 frames=${SEAMAP_BENCH_FRAMES:-720}
 cases=${SEAMAP_BENCH_CASES-"rugged relief015 relief005 flat"}
-methods=${SEAMAP_BENCH_METHODS:-"auto bundle bundle:300 planar"}
+methods=${SEAMAP_BENCH_METHODS:-"auto bundle:1000 planar"}
 scaling=${SEAMAP_BENCH_SCALING-"800 3800 20000"}
 small_only=${SEAMAP_BENCH_SCALING_SMALL:-0}
 scaling_methods=${SEAMAP_BENCH_SCALING_METHODS:-"planar bundle"}
-bundle_window=${SEAMAP_BENCH_BUNDLE_WINDOW:-400}
+bundle_window=${SEAMAP_BENCH_BUNDLE_WINDOW:-300}
 out=$PWD/out/bench/refine3d
 mkdir -p "$out"
 drift="--nav-drift 0.5 --nav-noise 0.005 --heading-noise 0.5"

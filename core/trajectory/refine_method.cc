@@ -51,8 +51,8 @@ ReliefChoice ChooseRefineMethod(const std::vector<FrameSpec>& frames, const std:
     choice.bundle_window_frames = options.bundle_window_frames;
     char note[256];
     std::snprintf(note, sizeof note,
-                  "relief %.3f m rms under the track; %zu frames are more than one bundle adjustment takes "
-                  "(%d): solved in windows of %d frames (--bundle-window)",
+                  "relief %.3f m rms under the track; %zu frames, more than %d: solved in windows of %d frames "
+                  "(--bundle-window)",
                   *choice.relief_rms_m, frames.size(), options.max_bundle_frames, options.bundle_window_frames);
     choice.note = note;
   }

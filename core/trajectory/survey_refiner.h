@@ -57,7 +57,7 @@ struct RefineOptions {
   // Past this many frames the bundle is solved in windows of it, each solving
   // a quarter more that the next one keeps (windowed_bundle.h): memory bounded,
   // time linear; 0: one bundle up to ReliefChoiceOptions::max_bundle_frames
-  // (1,500), windows of its bundle_window_frames (400) past that.
+  // (450), windows of its bundle_window_frames (300) past that.
   int bundle_window_frames = 0;
   void Check() const;  // InputError naming the option as the command line spells it
 };

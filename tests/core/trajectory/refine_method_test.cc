@@ -60,14 +60,16 @@ TEST(RefineMethod, ASurveyTooLongForOneBundleIsSolvedInWindowsAndSaysSo) {
   const ReliefChoice c = ChooseRefineMethod(frames, Times(frames), options);
   EXPECT_EQ(c.method, RefineMethod::kBundle);
   EXPECT_EQ(c.bundle_window_frames, 120);
-  EXPECT_NE(c.note.find("300 frames are more than one bundle adjustment takes (299): solved in windows of 120"),
-            std::string::npos)
-      << c.note;
+  EXPECT_NE(c.note.find("300 frames, more than 299: solved in windows of 120"), std::string::npos) << c.note;
   options.max_bundle_frames = 300;
   const ReliefChoice one = ChooseRefineMethod(frames, Times(frames), options);
   EXPECT_EQ(one.method, RefineMethod::kBundle);
   EXPECT_EQ(one.bundle_window_frames, 0);  // one bundle
   EXPECT_TRUE(one.note.empty());
+  // By default: one bundle up to 450 frames, windows of 300 past that.
+  EXPECT_EQ(ChooseRefineMethod(frames, Times(frames)).bundle_window_frames, 0);
+  EXPECT_EQ(ReliefChoiceOptions().max_bundle_frames, 450);
+  EXPECT_EQ(ReliefChoiceOptions().bundle_window_frames, 300);
 }
 
 TEST(RefineMethod, WithoutAltitudesNothingSaysTheSeabedIsRough) {

@@ -25,7 +25,8 @@
 //    per point: no residual holds two points, so all of them are eliminated.
 // Points are eliminated by the Schur complement (SPARSE_SCHUR, or
 // ITERATIVE_SCHUR without a sparse library); poses, beam planes and drift
-// knots form the reduced system, 6 + 12 unknowns a frame. After a first solve,
+// knots form the reduced system, 6 + 12 unknowns a frame (a held frame: none,
+// its pose constant and its altimeter left out). After a first solve,
 // observations reprojecting further than reject_px are dropped and the
 // problem solved again.
 #include <array>
@@ -68,6 +69,10 @@ struct SurveyBundleOptions {
   // 0: the pose graph's absolute prior instead, sigma growing with the time
   // since the first frame (its drifted early frames then hold the map).
   double drift_knot_s = 10;
+  // A held frame's (SurveyBundleFrame::fixed) altimeter and beam planes in
+  // the problem too. Off: a window of a longer survey leaves them out, a
+  // third less of its reduced system (docs/TERRAIN.md, "A window's held frames").
+  bool held_frames_altitude = false;
   int max_iterations = 50, threads = 2;
   // The time the absolute position priors' drift grows from; none: the first
   // frame's (a window of a longer survey gives the survey's start).
@@ -99,6 +104,7 @@ struct SurveyBundleResult {
   std::string linear_solver;
   int points_solved = 0;      // points with two kept views or more, in the last solve
   int points_eliminated = 0;  // of those, eliminated by the Schur complement (all, by design)
+  int beam_planes = 0;        // the altimeter's beam-plane blocks in the last solve (solved frames only, by default)
 };
 
 // The navigation's drift knots when the bundle is one window of a longer

@@ -1,4 +1,4 @@
-// A window's cost (docs/TERRAIN.md, "A window's held frames"): a window of a
+// A window's cost (docs/TERRAIN.md, "A window's cost"): a window of a
 // longer survey holds the frames earlier windows solved; their altimeter and
 // beam planes are left out of its problem, and its solved frames must come
 // out as they did with them.
@@ -207,6 +207,35 @@ TEST(WindowCost, HeldFramesBringNoBeamPlanesAndTheSolvedFramesComeOutTheSame) {
   const Errors e_nav = SolvedFramesError(s, unsolved);
   EXPECT_GT(e_nav.horizontal_m, 0.04);
   EXPECT_GT(e_nav.vertical_m, 0.15);
+}
+
+TEST(WindowCost, ConjugateGradientsSolveAWindowAsTheFactorisationDoes) {
+  // Windows solve their reduced system by preconditioned conjugate gradients
+  // (inexact steps) instead of factoring it: the same answer, to well under
+  // the solve's own error.
+  const Window s = MakeWindow();
+  SurveyBundleOptions options = WindowOptions();
+  const SurveyBundleResult factored = SolveSurveyBundle(s.frames, Camera(), s.points_start, s.observations, options);
+  options.iterative_schur = true;
+  const SurveyBundleResult r = SolveSurveyBundle(s.frames, Camera(), s.points_start, s.observations, options);
+  EXPECT_EQ(r.linear_solver, "ITERATIVE_SCHUR/SCHUR_JACOBI");
+  EXPECT_NE(factored.linear_solver, r.linear_solver);
+  EXPECT_TRUE(r.converged);
+  double largest_difference_m = 0;
+  for (size_t i = 0; i < s.truth.size(); ++i) {
+    const VehiclePose &a = r.poses[i], &b = factored.poses[i];
+    largest_difference_m =
+        std::max(largest_difference_m, std::sqrt(std::pow(a.east_m - b.east_m, 2) + std::pow(a.north_m - b.north_m, 2) +
+                                                 std::pow(a.depth_m - b.depth_m, 2)));
+  }
+  const Errors e = SolvedFramesError(s, r);
+  std::printf(
+      "conjugate gradients: horizontal %.2f mm, vertical %.2f mm, %d iterations (factored: %d); largest "
+      "difference %.3f mm\n",
+      1000 * e.horizontal_m, 1000 * e.vertical_m, r.iterations, factored.iterations, 1000 * largest_difference_m);
+  EXPECT_LT(largest_difference_m, 0.0005);
+  EXPECT_LT(e.horizontal_m, 0.004);
+  EXPECT_LT(e.vertical_m, 0.0015);
 }
 
 }  // namespace

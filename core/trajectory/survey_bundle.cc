@@ -528,12 +528,7 @@ SurveyBundleResult SolveSurveyBundle(const std::vector<SurveyBundleFrame>& frame
       absolute(3, nav.heading_deg * kDegToRad, sigma_psi, true);
       absolute(4, nav.pitch_deg * kDegToRad, options.attitude_sigma_rad, true);
       absolute(5, nav.roll_deg * kDegToRad, options.attitude_sigma_rad, true);
-      // A held frame's pose is constant: its altimeter would only tie the
-      // points to its old reading through 4 free beam planes (12 unknowns of
-      // the reduced system each), which the frames solved here measure anew
-      // (docs/TERRAIN.md, "A window's cost").
-      if (nav.altitude_m > 0 && (!frames[i].fixed || options.held_frames_altitude))
-        AddAltitude(i, nav, nearest, &problem, &prior_loss);
+      if (nav.altitude_m > 0) AddAltitude(i, nav, nearest, &problem, &prior_loss);
       if (i + 1 == n_frames) continue;
       const VehiclePose& next = frames[i + 1].nav;
       const double dt_s = frames[i + 1].time_s - frames[i].time_s;
@@ -567,7 +562,6 @@ SurveyBundleResult SolveSurveyBundle(const std::vector<SurveyBundleFrame>& frame
     for (int p = 0; p < n_points; ++p) result.points_solved += point_views[p] >= 2;
     result.points_eliminated =
         summary.linear_solver_ordering_used.empty() ? 0 : summary.linear_solver_ordering_used.front();
-    result.beam_planes = static_cast<int>(plane_blocks.size());
     Solved s;
     s.initial_cost = summary.initial_cost;
     s.final_cost = summary.final_cost;

@@ -25,8 +25,7 @@
 //    per point: no residual holds two points, so all of them are eliminated.
 // Points are eliminated by the Schur complement (SPARSE_SCHUR, or
 // ITERATIVE_SCHUR in windows or without a sparse library); poses, beam planes and drift
-// knots form the reduced system, 6 + 12 unknowns a frame (a held frame: none,
-// its pose constant and its altimeter left out). After a first solve,
+// knots form the reduced system, 6 + 12 unknowns a frame. After a first solve,
 // observations reprojecting further than reject_px are dropped and the
 // problem solved again.
 #include <array>
@@ -69,10 +68,6 @@ struct SurveyBundleOptions {
   // 0: the pose graph's absolute prior instead, sigma growing with the time
   // since the first frame (its drifted early frames then hold the map).
   double drift_knot_s = 10;
-  // A held frame's (SurveyBundleFrame::fixed) altimeter and beam planes in
-  // the problem too. Off: a window of a longer survey leaves them out, a
-  // third less of its reduced system (docs/TERRAIN.md, "A window's cost").
-  bool held_frames_altitude = false;
   // The reduced system solved by conjugate gradients preconditioned by its
   // diagonal blocks (ITERATIVE_SCHUR, SCHUR_JACOBI) instead of factored
   // (SPARSE_SCHUR), whose cost grows ~W^2.3 with a window's W frames; set
@@ -109,7 +104,6 @@ struct SurveyBundleResult {
   std::string linear_solver;
   int points_solved = 0;      // points with two kept views or more, in the last solve
   int points_eliminated = 0;  // of those, eliminated by the Schur complement (all, by design)
-  int beam_planes = 0;        // the altimeter's beam-plane blocks in the last solve (solved frames only, by default)
 };
 
 // The navigation's drift knots when the bundle is one window of a longer

@@ -123,7 +123,7 @@ b = json.load(open(sys.argv[1]))["bundle"]
 if b.get("windows", 1) > 1:
     print(f"  {b['windows']} windows: solve CPU median {b['window_cpu_s_median']:.1f} s, max {b['window_cpu_s_max']:.1f} s; "
           f"largest window {b['window_solved_frames_max']} frames solved + {b['window_held_frames_max']} held; "
-          f"{b['iterations']} iterations in all")
+          f"{b['iterations']} iterations in all; {b.get('linear_solver', '')}")
 PY
       fi
     done

@@ -191,9 +191,12 @@ void Require(bool ok, const char* option, const char* expected) {
   if (!ok) throw InputError("", 0, option, expected);
 }
 
-void ChooseLinearSolver(ceres::Solver::Options* solver, std::string* name) {
+// SPARSE_SCHUR with the first sparse library there is, else (or when asked)
+// ITERATIVE_SCHUR: conjugate gradients, the frames' diagonal blocks of the
+// reduced system as preconditioner, nothing factored.
+void ChooseLinearSolver(bool iterative, ceres::Solver::Options* solver, std::string* name) {
   for (ceres::SparseLinearAlgebraLibraryType library : {ceres::SUITE_SPARSE, ceres::EIGEN_SPARSE, ceres::CX_SPARSE}) {
-    if (ceres::IsSparseLinearAlgebraLibraryTypeAvailable(library)) {
+    if (!iterative && ceres::IsSparseLinearAlgebraLibraryTypeAvailable(library)) {
       solver->linear_solver_type = ceres::SPARSE_SCHUR;
       solver->sparse_linear_algebra_library_type = library;
       *name = std::string("SPARSE_SCHUR/") + ceres::SparseLinearAlgebraLibraryTypeToString(library);
@@ -550,7 +553,7 @@ SurveyBundleResult SolveSurveyBundle(const std::vector<SurveyBundleFrame>& frame
           nullptr, poses[i].data(), poses[i + 1].data());
     }
     ceres::Solver::Options solver;
-    ChooseLinearSolver(&solver, &result.linear_solver);
+    ChooseLinearSolver(options.iterative_schur, &solver, &result.linear_solver);
     // Every point is eliminated (no residual holds two); poses and beam planes form the reduced system.
     auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
     for (int p = 0; p < n_points; ++p)

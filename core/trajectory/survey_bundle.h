@@ -24,7 +24,7 @@
 //    nearest the footprint lie on up to the seabed's curvature, one residual
 //    per point: no residual holds two points, so all of them are eliminated.
 // Points are eliminated by the Schur complement (SPARSE_SCHUR, or
-// ITERATIVE_SCHUR without a sparse library); poses, beam planes and drift
+// ITERATIVE_SCHUR in windows or without a sparse library); poses, beam planes and drift
 // knots form the reduced system, 6 + 12 unknowns a frame. After a first solve,
 // observations reprojecting further than reject_px are dropped and the
 // problem solved again.
@@ -76,6 +76,11 @@ struct SurveyBundleOptions {
   // (docs/TERRAIN.md, "Held lanes that give"). 0: held exactly.
   double held_sigma_m = 0.003;
   double held_sigma_deg = 0.015;
+  // The reduced system solved by conjugate gradients preconditioned by its
+  // diagonal blocks (ITERATIVE_SCHUR, SCHUR_JACOBI) instead of factored
+  // (SPARSE_SCHUR), whose cost grows ~W^2.3 with a window's W frames; set
+  // for windows of a longer survey (docs/TERRAIN.md, "A window's cost").
+  bool iterative_schur = false;
   int max_iterations = 50, threads = 2;
   // The time the absolute position priors' drift grows from; none: the first
   // frame's (a window of a longer survey gives the survey's start).

@@ -93,7 +93,7 @@ done
 # Cost against the survey's length: the same lawnmower, longer. The longest
 # uses small frames (348x260) so that it fits the disk; the 800-frame survey
 # is run at both sizes so the two can be compared. The bundle past
-# --bundle-window frames is solved in windows (docs/TERRAIN.md, "Scaling"):
+# --bundle-window frames is solved in windows (docs/BUNDLE_WINDOWS.md):
 # each line also says its CPU over the previous length's against the frames'.
 declare -A prev_cpu prev_n
 for n in $scaling; do

@@ -27,7 +27,7 @@ struct ReliefChoiceOptions {
   // bundle grows ~0.65 MB a frame and its time faster than the survey: on the
   // rugged 720-frame surveys windows of 300 are as accurate (p90 6.2-6.4 mm
   // on three seeds, ATE within 1.7 mm) at 58 % of the CPU and 62 % of the
-  // memory (docs/TERRAIN.md, "Windows of 300 by default").
+  // memory (docs/BUNDLE_WINDOWS.md, "Windows of 300 by default").
   int max_bundle_frames = 450;
   int bundle_window_frames = 300;
 };

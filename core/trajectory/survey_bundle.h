@@ -73,13 +73,13 @@ struct SurveyBundleOptions {
   // metres, heading, pitch and roll in degrees (about what a solved window
   // leaves uncertain). A lane held exactly passed its error whole to the lane
   // glued to it, and along a long survey the lanes bent more with each one
-  // (docs/TERRAIN.md, "Held lanes that give"). 0: held exactly.
+  // (docs/BUNDLE_WINDOWS.md, "Held lanes that give"). 0: held exactly.
   double held_sigma_m = 0.003;
   double held_sigma_deg = 0.015;
   // The reduced system solved by conjugate gradients preconditioned by its
   // diagonal blocks (ITERATIVE_SCHUR, SCHUR_JACOBI) instead of factored
   // (SPARSE_SCHUR), whose cost grows ~W^2.3 with a window's W frames; set
-  // for windows of a longer survey (docs/TERRAIN.md, "A window's cost").
+  // for windows of a longer survey (docs/BUNDLE_WINDOWS.md, "A window's cost").
   bool iterative_schur = false;
   int max_iterations = 50, threads = 2;
   // The time the absolute position priors' drift grows from; none: the first

@@ -152,7 +152,7 @@ SurveyBundleResult SolveWindowedBundle(const std::vector<SurveyBundleFrame>& fra
     // survey's second window: p90 143 mm). Moved by the last solved frame's
     // correction alone, a window carried that one frame's error into the next
     // lane, and along a long survey each window started further off
-    // (docs/TERRAIN.md, "The windows' start along a long survey").
+    // (docs/BUNDLE_WINDOWS.md, "The start of a window's new frames").
     if (w > 0 && solved_until < e) {
       std::vector<PoseCorrection> moved(e - solved_until);
       for (int i = solved_until; i < e; ++i) {

@@ -1,6 +1,6 @@
 #pragma once
-// The bundle adjustment of a long survey in windows (docs/TERRAIN.md,
-// "Scaling"): one global bundle (survey_bundle.h) grows ~0.65 MB a frame and
+// The bundle adjustment of a long survey in windows (docs/BUNDLE_WINDOWS.md,
+// "The bundle in windows (scaling)"): one global bundle (survey_bundle.h) grows ~0.65 MB a frame and
 // its time faster than the survey, so past `window_frames` the frames are
 // solved in acquisition order, a window at a time. Each window solves its
 // frames plus `overlap_frames` beyond them (so that its last frames see what
@@ -27,7 +27,7 @@ struct WindowedBundleOptions {
   void Check() const;        // InputError naming the option as the command line spells it
 };
 
-// What one window's solve held and cost (docs/TERRAIN.md, "The windows' cost").
+// What one window's solve held and cost (docs/BUNDLE_WINDOWS.md, "The windows' cost at 3,800 frames").
 struct WindowCost {
   int first_kept_frame = 0, end_kept_frame = 0;  // the frames it keeps, [first, end)
   int solved_frames = 0;                         // kept + overlap, free in its problem

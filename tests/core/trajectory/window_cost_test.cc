@@ -1,4 +1,4 @@
-// A window's cost (docs/TERRAIN.md, "A window's cost"): a window of a
+// A window's cost (docs/BUNDLE_WINDOWS.md, "A window's cost"): a window of a
 // longer survey, holding the frames earlier windows solved, solves its
 // reduced system by conjugate gradients and must come out as the
 // factorisation does.

@@ -131,4 +131,18 @@ inline Lanes MakeLanes(const LanesOptions& o) {
   return s;
 }
 
+// The bundle's options for these lanes: the noise they were made with.
+inline SurveyBundleOptions LanesBundleOptions(const LanesOptions& o) {
+  SurveyBundleOptions options;
+  options.nav_sigma_m = 0.005;
+  options.nav_drift_m_per_s = 1.0 / 60;
+  options.heading_sigma_rad = 0.5 * M_PI / 180;
+  options.attitude_sigma_rad = 0.3 * M_PI / 180;
+  options.altitude_sigma_m = 0.01;
+  options.depth_sigma_m = o.depth_noise_m > 0 ? o.depth_noise_m : 0.01;
+  options.pixel_sigma = 0.3;
+  options.threads = 1;
+  return options;
+}
+
 }  // namespace seamap::relief_lanes

@@ -23,26 +23,21 @@ using Window = Lanes;
 // sensor too coarse to place the vehicle over the seabed (0.3 m). The first
 // two lanes were solved by the window before: held at the truth. The last
 // two start at the navigation.
-Window MakeWindow() {
+LanesOptions WindowLanes() {
   LanesOptions o;
   o.lanes = 4;
   o.seed = 41;
   o.depth_noise_m = 0.3;
   o.held_lanes = 2;
-  return MakeLanes(o);
+  return o;
+}
+
+Window MakeWindow() {
+  return MakeLanes(WindowLanes());
 }
 
 SurveyBundleOptions WindowOptions() {
-  SurveyBundleOptions options;
-  options.nav_sigma_m = 0.005;
-  options.nav_drift_m_per_s = 1.0 / 60;
-  options.heading_sigma_rad = 0.5 * M_PI / 180;
-  options.attitude_sigma_rad = 0.3 * M_PI / 180;
-  options.altitude_sigma_m = 0.01;
-  options.depth_sigma_m = 0.3;
-  options.pixel_sigma = 0.3;
-  options.threads = 1;
-  return options;
+  return LanesBundleOptions(WindowLanes());
 }
 
 struct Errors {

@@ -70,12 +70,13 @@ struct SurveyBundleOptions {
   double drift_knot_s = 10;
   // A frame held from an earlier window (SurveyBundleFrame::fixed) stays free
   // within this much of where that window left it: east, north and up in
-  // metres, heading, pitch and roll in degrees (about what a solved window
-  // leaves uncertain). A lane held exactly passed its error whole to the lane
-  // glued to it, and along a long survey the lanes bent more with each one
-  // (docs/BUNDLE_WINDOWS.md, "Held lanes that give"). 0: held exactly.
-  double held_sigma_m = 0.003;
-  double held_sigma_deg = 0.015;
+  // metres, heading, pitch and roll in degrees. A lane held exactly passed its
+  // error whole to the lane glued to it, and along a long survey the lanes
+  // bent more with each one; held within 3 mm and 0.015 deg they still turned
+  // further lane by lane past ~3,000 frames (docs/BUNDLE_WINDOWS.md, "Held
+  // lanes that give"). 0: held exactly.
+  double held_sigma_m = 0.01;
+  double held_sigma_deg = 0.05;
   // The reduced system solved by conjugate gradients preconditioned by its
   // diagonal blocks (ITERATIVE_SCHUR, SCHUR_JACOBI) instead of factored
   // (SPARSE_SCHUR), whose cost grows ~W^2.3 with a window's W frames; set

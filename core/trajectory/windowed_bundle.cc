@@ -12,6 +12,8 @@
 namespace seamap {
 namespace {
 
+constexpr double kDegToRad = M_PI / 180;
+
 // How far a solve moved a pose from its start: east, north, depth (m),
 // heading, pitch, roll (deg).
 using PoseCorrection = Eigen::Matrix<double, 6, 1>;
@@ -32,6 +34,62 @@ void Apply(const PoseCorrection& c, VehiclePose* pose) {
   pose->heading_deg += c[3];
   pose->pitch_deg += c[4];
   pose->roll_deg += c[5];
+}
+
+// Everything solved so far, frames [0, solved_until), turned as one about
+// the first frame to where the headings measured so far say on average.
+// A window holds the lanes before it frame by frame and is glued to them by
+// thousands of points, so its own headings could not turn them: the turn of
+// the first lanes went on through the whole survey and grew lane by lane
+// (docs/BUNDLE_WINDOWS.md, "The map's turn"). The lanes' headings relative
+// to each other are the images'; their turn as a whole is the headings', as
+// one bundle over the whole survey has it. The kept frames [0, kept_until),
+// the placed points and the drift knots turn with them.
+void TurnToTheHeadings(const std::vector<SurveyBundleFrame>& frames, int solved_until, int kept_until,
+                       std::vector<VehiclePose>* current, SurveyBundleResult* result,
+                       std::vector<Eigen::Vector3d>* point_now, const std::vector<bool>& point_placed,
+                       SurveyBundleDrift* drift) {
+  double sum_rad = 0;
+  for (int i = 0; i < solved_until; ++i)
+    sum_rad += std::remainder(frames[i].nav.heading_deg - (*current)[i].heading_deg, 360.0) * kDegToRad;
+  const double turn_rad = solved_until > 0 ? sum_rad / solved_until : 0;
+  if (turn_rad == 0) return;
+  // Clockwise by turn_rad, as headings count, about the first frame.
+  const double c = std::cos(turn_rad), s = std::sin(turn_rad);
+  const double pivot_east = (*current)[0].east_m, pivot_north = (*current)[0].north_m;
+  auto turned = [&](double east, double north) {
+    const double de = east - pivot_east, dn = north - pivot_north;
+    return Eigen::Vector2d(pivot_east + c * de + s * dn, pivot_north - s * de + c * dn);
+  };
+  if (drift) {
+    // The drift is the navigation less the position: each knot moves against
+    // the frame nearest its time (knots past the solved frames with the last).
+    int i = 0;
+    for (size_t k = 0; k < drift->knots.size(); ++k) {
+      const double t = drift->origin_time_s + k * drift->knot_s;
+      while (i + 1 < solved_until && frames[i + 1].time_s <= t) ++i;
+      const VehiclePose& p = (*current)[i];
+      const Eigen::Vector2d moved = turned(p.east_m, p.north_m) - Eigen::Vector2d(p.east_m, p.north_m);
+      drift->knots[k][0] -= moved.x();
+      drift->knots[k][1] -= moved.y();
+    }
+  }
+  auto turn_pose = [&](VehiclePose* p) {
+    const Eigen::Vector2d en = turned(p->east_m, p->north_m);
+    p->east_m = en.x();
+    p->north_m = en.y();
+    p->heading_deg = std::remainder(p->heading_deg + turn_rad / kDegToRad, 360.0);
+  };
+  for (int i = 0; i < solved_until; ++i) turn_pose(&(*current)[i]);
+  for (int i = 0; i < kept_until; ++i) turn_pose(&result->poses[i]);
+  for (size_t p = 0; p < point_now->size(); ++p) {
+    if (!point_placed[p]) continue;
+    Eigen::Vector3d& g = (*point_now)[p];
+    const Eigen::Vector2d en = turned(g.x(), g.y());
+    g.x() = en.x();
+    g.y() = en.y();
+    result->points[p].east_north_up_m = g;
+  }
 }
 
 }  // namespace
@@ -260,6 +318,7 @@ SurveyBundleResult SolveWindowedBundle(const std::vector<SurveyBundleFrame>& fra
       point_now[window_points[l]] = solved.points[l].east_north_up_m;
       result.points[window_points[l]] = solved.points[l];
     }
+    TurnToTheHeadings(frames, e, b, &current, &result, &point_now, point_placed, drift_knots ? &drift : nullptr);
     for (size_t k = 0; k < global_observation.size(); ++k)
       result.observation_rejected[global_observation[k]] = solved.observation_rejected[k];
     const size_t kept =

@@ -4,14 +4,18 @@
 // its time faster than the survey, so past `window_frames` the frames are
 // solved in acquisition order, a window at a time. Each window solves its
 // frames plus `overlap_frames` beyond them (so that its last frames see what
-// follows), every seabed point those frames observe, and holds fixed every
+// follows), every seabed point those frames observe, and holds (near where
+// it was solved, SurveyBundleOptions::held_sigma_m) every
 // frame already solved that observes one of those points: the frames just
 // before (the seam) and the earlier lanes' cross-pass partners. Only the
 // window's own frames are kept; the overlap is solved again, from there, by
 // the next window. The navigation's drift knots are the survey's: a window
 // holds those before its first kept frame where earlier windows solved them
 // (SurveyBundleDrift), and its frames not yet solved start moved by the
-// correction the window before gave its last frame. Memory is bounded by the
+// correction the window before gave its last frame. After each window,
+// everything solved so far turns as one to where the headings measured so
+// far say: the windows' held lanes fix the lanes' turn relative to each
+// other, the headings their turn as a whole. Memory is bounded by the
 // window, time grows with the survey. A survey of at most window_frames
 // frames is one global bundle, exactly as SolveSurveyBundle solves it.
 #include <functional>

@@ -93,7 +93,7 @@ double Refine(const ObjectModel& model, const StereoFrame& frame, const Rectifie
 }  // namespace
 
 Registration RegisterPair(const ObjectModel& model, const StereoFrame& frame, const RectifiedRig& rig,
-                          const RegistrationOptions& options) {
+                          const ModelRegistrationOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   Registration reg;
   reg.matches = MatchToModel(model, frame.left, options.ratio);

@@ -14,7 +14,9 @@
 
 namespace seamap {
 
-struct RegistrationOptions {
+// (Not RegistrationOptions: core/trajectory/pair_registration.h has that name in
+// this namespace, and two classes of one name break the one-definition rule.)
+struct ModelRegistrationOptions {
   double ratio = 0.8;
   double inlier_px = 2;  // reprojection in both images
   int ransac_iterations = 2000;
@@ -42,7 +44,7 @@ struct Registration {
 std::vector<ModelMatch> MatchToModel(const ObjectModel& model, const ImageFeatures& left, double ratio);
 
 Registration RegisterPair(const ObjectModel& model, const StereoFrame& frame, const RectifiedRig& rig,
-                          const RegistrationOptions& options);
+                          const ModelRegistrationOptions& options);
 
 // Reprojection error (px, the larger of left and right) of a model point matched to a working keypoint.
 double MatchError(const ObjectModel& model, const StereoFrame& frame, const RectifiedRig& rig, const ModelMatch& m,

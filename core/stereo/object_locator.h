@@ -34,7 +34,7 @@ RigMotion ReadRigMotion(const std::string& path);
 struct LocateOptions {
   SiftOptions sift;
   StereoMatchOptions match;
-  RegistrationOptions registration;
+  ModelRegistrationOptions registration;
   int min_inliers = 12;
   double min_inlier_share = 0.25;  // of the pair's model matches
   double max_rms_px = 1.5;

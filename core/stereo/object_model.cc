@@ -110,7 +110,7 @@ ObjectModel BuildObjectModel(const std::vector<LoadedPair>& pairs, const StereoC
 
   // Register the other pairs against what is built so far; a pair that
   // overlaps none yet is retried after the others (chaining).
-  RegistrationOptions reg_options;
+  ModelRegistrationOptions reg_options;
   reg_options.ratio = options.ratio;
   reg_options.inlier_px = options.inlier_px;
   bool progress = true;

@@ -261,9 +261,9 @@ TEST(WindowedBundle, HeldLanesGiveSoTheirErrorDoesNotGrowAlongTheSurvey) {
 TEST(WindowedBundle, LaterHeadingsStillTurnTheLanesSolvedBefore) {
   // The first window's headings read 0.5 deg high (a compass still
   // settling), the later ones are right. Held frame by frame, the first lanes
-  // fixed the turn of every lane glued to them after; held as a whole within
-  // what their headings left uncertain, they turn as the later headings say,
-  // and the map ends turned as one bundle over the whole survey turns it.
+  // fixed the turn of every lane glued to them after; turned as one after
+  // each window to where all the headings so far say, the map ends turned
+  // about as one bundle over the whole survey turns it.
   Scene s = MakeScene(8);
   const double bias_deg = 0.5;
   for (int i = 0; i < 2 * kLaneFrames; ++i) {

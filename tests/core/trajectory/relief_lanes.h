@@ -61,7 +61,7 @@ inline bool Project(const CameraModel& camera, const VehiclePose& pose, const Ei
 struct Lanes {
   std::vector<VehiclePose> truth;
   std::vector<SurveyBundleFrame> frames;
-  std::vector<Eigen::Vector3d> points_start;
+  std::vector<Eigen::Vector3d> points_truth, points_start;
   std::vector<SurveyBundleObservation> observations;
   int held = 0;  // frames held (fixed) at the truth, as a window's earlier frames
 };
@@ -71,6 +71,7 @@ struct LanesOptions {
   unsigned seed = 38;
   double depth_noise_m = 0;  // the depth sensor's noise (0: exact)
   int held_lanes = 0;        // the first lanes held at the truth; the others start at the navigation
+  int points = 0;            // seabed points drawn (those seen twice are kept); 0: 140 a lane
 };
 
 inline Lanes MakeLanes(const LanesOptions& o) {
@@ -111,7 +112,7 @@ inline Lanes MakeLanes(const LanesOptions& o) {
     s.frames.push_back(f);
   }
   std::uniform_real_distribution<double> east(-0.8, 0.9 * (o.lanes - 1) + 0.8), north(-0.8, 4.7);
-  for (int k = 0; k < 140 * o.lanes; ++k) {
+  for (int k = 0; k < (o.points > 0 ? o.points : 140 * o.lanes); ++k) {
     const double e = east(rng), n = north(rng);
     const Eigen::Vector3d point(e, n, SeabedUp(e, n));
     std::vector<SurveyBundleObservation> seen;
@@ -126,6 +127,7 @@ inline Lanes MakeLanes(const LanesOptions& o) {
     Eigen::Vector3d start = Eigen::Vector3d::Zero();
     for (const auto& obs : seen) start += *FlatSeabedPoint(camera, s.frames[obs.frame].start, obs.ideal_px);
     s.points_start.push_back(start / seen.size());
+    s.points_truth.push_back(point);
     s.observations.insert(s.observations.end(), seen.begin(), seen.end());
   }
   return s;

@@ -7,137 +7,27 @@
 
 #include "core/camera/frame_projector.h"
 #include "core/util/error.h"
+#include "tests/core/trajectory/relief_lanes.h"
 
 namespace seamap {
 namespace {
 
-constexpr double kSeaDepthM = 30;
+using namespace relief_lanes;
+using Scene = Lanes;
 
-CameraModel Camera() {
-  CameraModel c;
-  c.width = 480;
-  c.height = 360;
-  c.fx = c.fy = 420;
-  c.cx = 239.5;
-  c.cy = 179.5;
-  return c;
-}
-
-// A rugged seabed: 0.15 m rms of a few waves, heights up (sea surface 0).
-double SeabedUp(double east, double north) {
-  return -kSeaDepthM + 0.15 * std::sin(1.7 * east + 0.3) * std::cos(1.1 * north) +
-         0.1 * std::sin(2.9 * north - 0.8 * east);
-}
-
-// What a 4-beam DVL (beams 30 deg off vertical at 45, 135, 225, 315 deg from
-// the bow) reads over that seabed: the mean vertical range of its beams.
-double DvlAltitude(const VehiclePose& pose) {
-  const double up = -pose.depth_m;
-  const Eigen::Matrix3d r_nb = NedFromBody(pose);
-  double sum = 0;
-  for (int b = 0; b < 4; ++b) {
-    const double az = (45 + 90 * b) * M_PI / 180, tilt = 30 * M_PI / 180;
-    const Eigen::Vector3d ray =
-        r_nb * Eigen::Vector3d(std::cos(az) * std::sin(tilt), std::sin(az) * std::sin(tilt), std::cos(tilt));
-    double range = 2;  // vertical range, by fixed-point iteration onto the relief
-    for (int it = 0; it < 50; ++it) {
-      const double t = range / ray.z();
-      range = up - SeabedUp(pose.east_m + t * ray.y(), pose.north_m + t * ray.x());
-    }
-    sum += range;
-  }
-  return sum / 4;
-}
-
-// The ideal pixel of a point seen from a pose; false when outside the image.
-bool Project(const CameraModel& camera, const VehiclePose& pose, const Eigen::Vector3d& enu, cv::Point2f* px) {
-  const Eigen::Vector3d centre(pose.north_m, pose.east_m, pose.depth_m);
-  const Eigen::Vector3d d =
-      NedFromCamera(camera, pose).transpose() * (Eigen::Vector3d(enu.y(), enu.x(), -enu.z()) - centre);
-  if (d.z() <= 0) return false;
-  *px = cv::Point2f(static_cast<float>(camera.fx * d.x() / d.z() + camera.cx),
-                    static_cast<float>(camera.fy * d.y() / d.z() + camera.cy));
-  return px->x >= 0 && px->y >= 0 && px->x < camera.width && px->y < camera.height;
-}
-
-struct Scene {
-  std::vector<VehiclePose> truth;
-  std::vector<SurveyBundleFrame> frames;
-  std::vector<Eigen::Vector3d> points_truth, points_start;
-  std::vector<SurveyBundleObservation> observations;
-};
-
-// Three lanes 0.9 m apart of 40 frames each at 2 m altitude, pitch and roll of
-// a few degrees; navigation drifting 1 m/min north-east with noisy heading;
-// 400 seabed points on the relief, seen with 0.3 px noise.
+// Three lanes (relief_lanes.h), every frame starting at the navigation; 400
+// seabed points drawn.
 Scene MakeScene() {
-  Scene s;
-  const CameraModel camera = Camera();
-  std::mt19937 rng(29);
-  std::normal_distribution<double> unit(0, 1);
-  const double speed = 0.5, fps = 5;
-  for (int lane = 0; lane < 3; ++lane)
-    for (int k = 0; k < 40; ++k) {
-      VehiclePose p;
-      const double along = k * speed / fps;
-      p.east_m = 0.9 * lane;
-      p.north_m = lane % 2 == 0 ? along : 3.9 - along;
-      p.heading_deg = lane % 2 == 0 ? 0 : 180;
-      const int i = static_cast<int>(s.truth.size());
-      p.pitch_deg = 3 * std::sin(0.3 * i);
-      p.roll_deg = 3 * std::cos(0.23 * i);
-      p.altitude_m = 2 + 0.1 * std::sin(0.1 * i);
-      p.depth_m = -(SeabedUp(p.east_m, p.north_m) + p.altitude_m);
-      p.altitude_m = DvlAltitude(p);  // as the navigation reports it
-      s.truth.push_back(p);
-    }
-  const double drift_m_per_s = 1.0 / 60;
-  for (size_t i = 0; i < s.truth.size(); ++i) {
-    SurveyBundleFrame f;
-    f.time_s = i / fps + (i / 40) * 5.0;  // turns take 5 s
-    f.nav = s.truth[i];
-    f.nav.east_m += 0.6 * drift_m_per_s * f.time_s;
-    f.nav.north_m += 0.8 * drift_m_per_s * f.time_s;
-    f.nav.heading_deg += 0.3 * unit(rng);
-    f.nav.pitch_deg += 0.2 * unit(rng);
-    f.nav.roll_deg += 0.2 * unit(rng);
-    f.start = f.nav;
-    s.frames.push_back(f);
-  }
-  std::uniform_real_distribution<double> east(-0.8, 2.6), north(-0.8, 4.7);
-  for (int k = 0; k < 400; ++k) {
-    const double e = east(rng), n = north(rng);
-    const Eigen::Vector3d point(e, n, SeabedUp(e, n));
-    std::vector<SurveyBundleObservation> seen;
-    for (size_t i = 0; i < s.truth.size(); ++i) {
-      cv::Point2f px;
-      if (!Project(camera, s.truth[i], point, &px)) continue;
-      px.x += static_cast<float>(0.3 * unit(rng));
-      px.y += static_cast<float>(0.3 * unit(rng));
-      seen.push_back({static_cast<int>(i), static_cast<int>(s.points_truth.size()), px});
-    }
-    if (seen.size() < 2) continue;
-    Eigen::Vector3d start = Eigen::Vector3d::Zero();
-    for (const auto& o : seen) start += *FlatSeabedPoint(camera, s.frames[o.frame].nav, o.ideal_px);
-    s.points_start.push_back(start / seen.size());
-    s.points_truth.push_back(point);
-    s.observations.insert(s.observations.end(), seen.begin(), seen.end());
-  }
-  return s;
+  LanesOptions o;
+  o.lanes = 3;
+  o.seed = 29;
+  o.points = 400;
+  return MakeLanes(o);
 }
 
 // The scene's noise as stated to the solver.
 SurveyBundleOptions SceneOptions() {
-  SurveyBundleOptions options;
-  options.nav_sigma_m = 0.005;
-  options.nav_drift_m_per_s = 1.0 / 60;
-  options.heading_sigma_rad = 0.5 * M_PI / 180;
-  options.attitude_sigma_rad = 0.3 * M_PI / 180;
-  options.altitude_sigma_m = 0.01;
-  options.depth_sigma_m = 0.01;
-  options.pixel_sigma = 0.3;
-  options.threads = 1;
-  return options;
+  return LanesBundleOptions({});
 }
 
 double HorizontalError(const VehiclePose& a, const VehiclePose& b) {

@@ -43,12 +43,11 @@ void Apply(const PoseCorrection& c, VehiclePose* pose) {
 // the first lanes went on through the whole survey and grew lane by lane
 // (docs/BUNDLE_WINDOWS.md, "The map's turn"). The lanes' headings relative
 // to each other are the images'; their turn as a whole is the headings', as
-// one bundle over the whole survey has it. The kept frames [0, kept_until),
-// the placed points and the drift knots turn with them.
-void TurnToTheHeadings(const std::vector<SurveyBundleFrame>& frames, int solved_until, int kept_until,
-                       std::vector<VehiclePose>* current, SurveyBundleResult* result,
-                       std::vector<Eigen::Vector3d>* point_now, const std::vector<bool>& point_placed,
-                       SurveyBundleDrift* drift) {
+// one bundle over the whole survey has it. The placed points and the drift
+// knots turn with them.
+void TurnToTheHeadings(const std::vector<SurveyBundleFrame>& frames, int solved_until,
+                       std::vector<VehiclePose>* current, std::vector<Eigen::Vector3d>* point_now,
+                       const std::vector<bool>& point_placed, SurveyBundleDrift* drift) {
   double sum_rad = 0;
   for (int i = 0; i < solved_until; ++i)
     sum_rad += std::remainder(frames[i].nav.heading_deg - (*current)[i].heading_deg, 360.0) * kDegToRad;
@@ -74,21 +73,17 @@ void TurnToTheHeadings(const std::vector<SurveyBundleFrame>& frames, int solved_
       drift->knots[k][1] -= moved.y();
     }
   }
-  auto turn_pose = [&](VehiclePose* p) {
-    const Eigen::Vector2d en = turned(p->east_m, p->north_m);
-    p->east_m = en.x();
-    p->north_m = en.y();
-    p->heading_deg = std::remainder(p->heading_deg + turn_rad / kDegToRad, 360.0);
-  };
-  for (int i = 0; i < solved_until; ++i) turn_pose(&(*current)[i]);
-  for (int i = 0; i < kept_until; ++i) turn_pose(&result->poses[i]);
+  for (int i = 0; i < solved_until; ++i) {
+    VehiclePose& p = (*current)[i];
+    const Eigen::Vector2d en = turned(p.east_m, p.north_m);
+    p.east_m = en.x();
+    p.north_m = en.y();
+    p.heading_deg = std::remainder(p.heading_deg + turn_rad / kDegToRad, 360.0);
+  }
   for (size_t p = 0; p < point_now->size(); ++p) {
     if (!point_placed[p]) continue;
     Eigen::Vector3d& g = (*point_now)[p];
-    const Eigen::Vector2d en = turned(g.x(), g.y());
-    g.x() = en.x();
-    g.y() = en.y();
-    result->points[p].east_north_up_m = g;
+    g.head<2>() = turned(g.x(), g.y());
   }
 }
 
@@ -159,7 +154,6 @@ SurveyBundleResult SolveWindowedBundle(const std::vector<SurveyBundleFrame>& fra
                       static_cast<int>(drift.knots.size()) - 2);
   };
   SurveyBundleResult result;
-  result.poses.resize(n);
   result.nav_only.assign(n, true);
   result.observation_rejected.assign(observations.size(), false);
   result.points.resize(n_points);
@@ -307,10 +301,7 @@ SurveyBundleResult SolveWindowedBundle(const std::vector<SurveyBundleFrame>& fra
     for (int i = a; i < e; ++i) {
       const int l = frame_local[i];
       current[i] = solved.poses[l];
-      if (i < b) {
-        result.poses[i] = solved.poses[l];
-        result.nav_only[i] = solved.nav_only[l];
-      }
+      if (i < b) result.nav_only[i] = solved.nav_only[l];
     }
     for (size_t l = 0; l < window_points.size(); ++l) {
       if (solved.points[l].views < 2) continue;  // a point this window could not place keeps its earlier solve
@@ -318,7 +309,7 @@ SurveyBundleResult SolveWindowedBundle(const std::vector<SurveyBundleFrame>& fra
       point_now[window_points[l]] = solved.points[l].east_north_up_m;
       result.points[window_points[l]] = solved.points[l];
     }
-    TurnToTheHeadings(frames, e, b, &current, &result, &point_now, point_placed, drift_knots ? &drift : nullptr);
+    TurnToTheHeadings(frames, e, &current, &point_now, point_placed, drift_knots ? &drift : nullptr);
     for (size_t k = 0; k < global_observation.size(); ++k)
       result.observation_rejected[global_observation[k]] = solved.observation_rejected[k];
     const size_t kept =
@@ -352,6 +343,11 @@ SurveyBundleResult SolveWindowedBundle(const std::vector<SurveyBundleFrame>& fra
     for (int p : window_points) point_local[p] = -1;
     if (progress) progress(static_cast<int>(w + 1), static_cast<int>(kept_ranges.size()));
   }
+  // Each frame as the window that kept it left it (held frames' later solves
+  // are not kept), each placed point as its last window did, both turned since.
+  result.poses = current;
+  for (int p = 0; p < n_points; ++p)
+    if (point_placed[p]) result.points[p].east_north_up_m = point_now[p];
   if (rms_count) {
     result.rms_px_before = std::sqrt(before_sq / rms_count);
     result.rms_px_after = std::sqrt(after_sq / rms_count);

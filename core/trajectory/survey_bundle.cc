@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <unordered_map>
@@ -317,6 +318,13 @@ SurveyBundleResult SolveSurveyBundle(const std::vector<SurveyBundleFrame>& frame
   result.rms_px_before = rms_px();
 
   std::vector<BeamBlock> beam_planes;  // the altimeter's seabed, per beam and frame (solve_once)
+  // Each altimeter reading in the last solve: its frame, its model and its first beam plane.
+  struct Altimeter {
+    int frame;
+    BeamAltitudeResidual model;
+    size_t first_plane;
+  };
+  std::vector<Altimeter> altimeters;
   // The navigation's drift at its knots (east, north), kept from one solve to the next.
   std::vector<std::array<double, 2>> drift;
   double knot_s = 0, knot_origin_s = n_frames > 0 ? frames[0].time_s : 0;
@@ -427,6 +435,7 @@ SurveyBundleResult SolveSurveyBundle(const std::vector<SurveyBundleFrame>& frame
     // above the seabed at the nadir). Every residual holds at most one point.
     const int beams = options.dvl_beam_angle_deg > 0 ? 4 : 1;
     beam_planes.clear();
+    altimeters.clear();
     beam_planes.reserve(static_cast<size_t>(n_frames) * beams);  // Ceres holds pointers into it
     auto AddAltitude = [&](int i, const VehiclePose& nav, const auto& near_points, ceres::Problem* to,
                            ceres::LossFunction* loss) {
@@ -475,6 +484,7 @@ SurveyBundleResult SolveSurveyBundle(const std::vector<SurveyBundleFrame>& frame
         if (planned.empty() || !altitude(start_blocks.data(), &residual)) return;
       }
       std::vector<double*> blocks = {poses[i].data()};
+      altimeters.push_back({i, altitude, beam_planes.size()});
       for (size_t b = 0; b < planned.size(); ++b) {
         beam_planes.push_back({planned[b].plane(0), planned[b].plane(1), planned[b].plane(2)});
         double* plane = beam_planes.back().data();
@@ -606,6 +616,14 @@ SurveyBundleResult SolveSurveyBundle(const std::vector<SurveyBundleFrame>& frame
   }
   result.rms_px_after = rms_px();
   if (window_drift) window_drift->knots = drift;
+  result.altitude_range_m.assign(n_frames, std::numeric_limits<double>::quiet_NaN());
+  for (const Altimeter& a : altimeters) {
+    std::vector<const double*> blocks = {poses[a.frame].data()};
+    for (size_t b = 0; b < a.model.beams_body.size(); ++b) blocks.push_back(beam_planes[a.first_plane + b].data());
+    double residual = 0;
+    if (a.model(blocks.data(), &residual))
+      result.altitude_range_m[a.frame] = a.model.altitude_m + residual / a.model.inv_sigma_m;
+  }
 
   result.poses.resize(n_frames);
   for (int i = 0; i < n_frames; ++i) {

@@ -104,8 +104,12 @@ struct SurveyBundleObservation {
 struct SurveyBundleResult {
   std::vector<VehiclePose> poses;   // refined: east, north, depth (= -up), heading, pitch, roll; altitude as navigated
   std::vector<SeabedPoint> points;  // refined; views = observations kept (0: dropped)
-  std::vector<bool> observation_rejected;      // per observation
-  std::vector<bool> nav_only;                  // frames without a kept observation
+  std::vector<bool> observation_rejected;  // per observation
+  std::vector<bool> nav_only;              // frames without a kept observation
+  // Per frame, the altimeter's range as the solved map has it (the vehicle's
+  // height above its beams' seabed planes, as BeamAltitudeResidual models it),
+  // to compare with the measured altitude; NaN for a frame without a reading.
+  std::vector<double> altitude_range_m;
   double rms_px_before = 0, rms_px_after = 0;  // kept observations, at the start and at the end
   double cost_before = 0, cost_after = 0;
   int iterations = 0;

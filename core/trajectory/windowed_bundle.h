@@ -13,9 +13,10 @@
 // holds those before its first kept frame where earlier windows solved them
 // (SurveyBundleDrift), and its frames not yet solved start moved by the
 // correction the window before gave its last frame. After each window,
-// everything solved so far turns as one to where the headings measured so
-// far say: the windows' held lanes fix the lanes' turn relative to each
-// other, the headings their turn as a whole. Memory is bounded by the
+// everything solved so far turns and scales as one to where the headings
+// and the altitudes measured so far say: the windows' held lanes fix the
+// lanes' turn and size relative to each other, the headings their turn as a
+// whole and the altimeter their scale. Memory is bounded by the
 // window, time grows with the survey. A survey of at most window_frames
 // frames is one global bundle, exactly as SolveSurveyBundle solves it.
 #include <functional>

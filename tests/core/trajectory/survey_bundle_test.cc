@@ -2,8 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
+#include <vector>
 
 #include "core/camera/frame_projector.h"
 #include "core/util/error.h"
@@ -99,6 +101,23 @@ TEST(SurveyBundle, RecoversPosesAndPointsOfARuggedSeabed) {
     }
   EXPECT_LT(std::sqrt(height_sq / kept), 0.01);
   EXPECT_LT(std::fabs(offset), 0.02);  // depth and altitude set the datum
+
+  // The map's altimeter ranges against the (exact) altitudes: no bias, for
+  // most frames (those whose beams land where points are). The windowed
+  // bundle scales its map by their median ratio (windowed_bundle.cc).
+  ASSERT_EQ(r.altitude_range_m.size(), s.truth.size());
+  std::vector<double> range_error_m;
+  for (size_t i = 0; i < s.truth.size(); ++i)
+    if (std::isfinite(r.altitude_range_m[i]))
+      range_error_m.push_back(r.altitude_range_m[i] - s.frames[i].nav.altitude_m);
+  EXPECT_GT(range_error_m.size(), 0.75 * n);  // measured: 97 of 120
+  std::sort(range_error_m.begin(), range_error_m.end());
+  const double median_m = range_error_m[range_error_m.size() / 2];
+  const double spread_m = range_error_m[range_error_m.size() * 3 / 4] - range_error_m[range_error_m.size() / 4];
+  std::printf("altimeter range less the reading: median %+.2f mm, interquartile %.2f mm (%zu frames)\n",
+              1000 * median_m, 1000 * spread_m, range_error_m.size());
+  EXPECT_LT(std::abs(median_m), 0.001);  // measured: +0.01 mm
+  EXPECT_LT(spread_m, 0.01);             // measured: 5.6 mm (the beam planes' fit on the relief)
 
   // The altimeter's residuals hold no point but through its beams' planes: every point is eliminated.
   EXPECT_EQ(r.points_solved, kept);

@@ -13,17 +13,19 @@ await runE2E({name: 'live_refine', timeoutMs: 150000}, async ({checks, work, sea
   await run(seamap, ['simulate', '--out', survey, '--frames', '72', '--line-length', '3', '--line-spacing', '0.9',
     '--nav-drift', '1', '--nav-noise', '0.005', '--heading-noise', '0.5', '--image-format', 'jpg', '--seed', '5',
     '--quiet']);
-  const replay = start(seamap, ['replay', survey, '--refine-nav', '--nav-noise', '0.005', '--nav-drift', '1',
-    '--heading-noise', '0.5', '--speed', '1', '--out', map, '--host', '127.0.0.1', '--port', '0', '--quiet',
-    '--web', path.join(sourceDir, 'web')]);
-  await waitForOutput(replay, /serving http:\/\/127\.0\.0\.1:\d+\//, 30000);
-  const base = /serving (http:\/\/127\.0\.0\.1:\d+\/)/.exec(replay.output)[1];
-
+  // The browser first: started while the replay runs (seconds on a loaded
+  // machine), the page heard only the last seconds before the correction,
+  // when every tile it heard was still being painted by the builder.
   const browser = await launchBrowser();
   const page = await browser.newPage({viewport: {width: 1000, height: 700}});
   page.setDefaultTimeout(10000);
   const errors = [];
   page.on('pageerror', e => errors.push(e.message));
+  const replay = start(seamap, ['replay', survey, '--refine-nav', '--nav-noise', '0.005', '--nav-drift', '1',
+    '--heading-noise', '0.5', '--speed', '1', '--out', map, '--host', '127.0.0.1', '--port', '0', '--quiet',
+    '--web', path.join(sourceDir, 'web')]);
+  await waitForOutput(replay, /serving http:\/\/127\.0\.0\.1:\d+\//, 30000);
+  const base = /serving (http:\/\/127\.0\.0\.1:\d+\/)/.exec(replay.output)[1];
   await page.goto(base);
   await page.waitForSelector('body[data-ready="true"]', {timeout: 20000});
   // Every tile and trajectory event the page hears, with when it heard it.

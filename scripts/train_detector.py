@@ -183,8 +183,10 @@ def survey_windows(survey_dir, size, mbtiles=None):
 
 # ---------------------------------------------------------------- augmentation and batches
 
-def augment(img, boxes, rng):
-    """Flips, 90-degree turns, photometric changes, blur, noise (labels follow the geometry)."""
+def augment(img, boxes, rng, photometric=1.0):
+    """Flips, 90-degree turns, photometric changes, blur, noise (labels follow the geometry). `photometric` scales
+    the brightness/contrast jitter and the haze (1: as the shipped training; less keeps an object's albedo
+    against its seabed, the cue that tells a dark look-alike from a rock)."""
     h, w = img.shape[:2]
     b = boxes.copy()
     if rng.random() < 0.5:
@@ -198,11 +200,12 @@ def augment(img, boxes, rng):
         b = b[:, [0, 2, 1, 4, 3]]
     img = np.ascontiguousarray(img).astype(np.float32)
     if rng.random() < 0.8:
-        img = img * rng.uniform(0.6, 1.4) + rng.uniform(-30, 30)
+        img = img * rng.uniform(1 - 0.4 * photometric, 1 + 0.4 * photometric) + \
+            rng.uniform(-30 * photometric, 30 * photometric)
         if rng.random() < 0.5:  # blue-green cast (RGB)
             img = img * np.array([rng.uniform(0.6, 1.0), rng.uniform(0.9, 1.1), rng.uniform(0.9, 1.2)], np.float32)
         if rng.random() < 0.3:  # haze towards an airlight
-            t = rng.uniform(0.6, 1.0)
+            t = rng.uniform(1 - 0.4 * photometric, 1.0)
             img = img * t + (1 - t) * np.array([60, 120, 140], np.float32)
     if rng.random() < 0.2:
         img = cv2.GaussianBlur(img, (0, 0), rng.uniform(0.5, 1.5))
@@ -1182,6 +1185,52 @@ def robust_plan(k):
                 extra=extra, tag="_".join(tag))
 
 
+LOOKALIKE = len(CLASSES)  # training-only class of the look-alikes (rock rings, pipe pieces, dark rocks)
+LOOKALIKE_PHOTOMETRIC = 0.25  # brightness/contrast jitter and haze on crops centred on a look-alike (1: usual)
+
+
+class RobustCrops(torch.utils.data.IterableDataset):
+    """Batches of augmented crops for --robust: `share` of them from the domain-randomised windows, the rest from
+    the shipped training's (replay). A third of the crops of windows with look-alikes centre on one, with the
+    photometric jitter cut to LOOKALIKE_PHOTOMETRIC (the albedo cue kept); `bury_share` of all crops centre on an
+    object of a --bury survey (half-buried objects weighted up)."""
+
+    def __init__(self, robust, replay, share, crop, batch, seed, bury_share):
+        self.robust, self.replay, self.share = robust, replay, share
+        self.crop, self.batch, self.seed, self.bury_share = crop, batch, seed, bury_share
+        self.buried = [w for w in robust if w["buried"] and (w["boxes"][:, 0] < LOOKALIKE).any()]
+
+    def __iter__(self):
+        info = torch.utils.data.get_worker_info()
+        rng = np.random.default_rng([self.seed, info.id if info else 0])
+        while True:
+            imgs, targets = [], []
+            for _ in range(self.batch):
+                photometric = 1.0
+                if self.buried and rng.random() < self.bury_share:  # around a half-buried object
+                    w = self.buried[rng.integers(len(self.buried))]
+                    objs = w["boxes"][w["boxes"][:, 0] < LOOKALIKE]
+                    img, boxes = crop_around(w["img"], w["boxes"], objs[rng.integers(len(objs))], self.crop, rng)
+                else:
+                    pool = self.robust if (not self.replay or rng.random() < self.share) else self.replay
+                    w = pool[rng.integers(len(pool))]
+                    if len(w["negatives"]) and rng.random() < 0.33:
+                        neg = w["negatives"][rng.integers(len(w["negatives"]))]
+                        img, boxes = crop_around(w["img"], w["boxes"], neg, self.crop, rng)
+                        photometric = LOOKALIKE_PHOTOMETRIC
+                    else:
+                        img, boxes = random_crop(w["img"], w["boxes"], self.crop, rng)
+                img, boxes = augment(img, boxes, rng, photometric)
+                imgs.append(img)
+                targets.append(boxes)
+            yield to_tensor(imgs), targets
+
+
+def head_rows(state, nc):
+    """The state with the class head cut to its first nc rows (a sigmoid per class: the others' scores unchanged)."""
+    return {k: (v[:nc] if k.startswith("heads.") and ".cls.1." in k else v) for k, v in state.items()}
+
+
 def truth_boxes(items, z, wx, wy, r, size, min_visible=0.4):
     """Boxes [class, x0, y0, x1, y1] (window px) of truth items (objects or negatives) in window (z, wx, wy)."""
     x0, y0 = wx * TILE, wy * TILE
@@ -1203,7 +1252,9 @@ def robust_finetune(a):
     with the shipped training distribution (replay), every layer or the heads (+ neck) at a low learning rate,
     BatchNorms frozen (they are the export's folded biases), EMA of the weights; exported with the base's layout
     and metadata beside a report. The network's windows and labels as the shipped training made them; look-alikes
-    (`--clutter`) carry no label, so they are background, and a third of their windows' crops centre on one."""
+    (`--clutter`) are labelled as a training-only class of their own (an extra row of the class head, LOOKALIKE,
+    dropped at export: the model keeps the shipped 5-class layout), and a third of their windows' crops centre on
+    one with a milder photometric jitter; --bury-share of the crops centre on a half-buried object."""
     t_start, cpu_start = time.time(), time.process_time()
     size = a.imgsz
     base_state, names = load_base(a.base, size)
@@ -1215,12 +1266,15 @@ def robust_finetune(a):
         d = make_survey(a.seamap, a.work, p["seed"], p["color"], p["degrade"], a.frames, p["objects"],
                         p["tile_format"], p.get("clutter", 0), p.get("extra", ()), p.get("tag", ""))
         windows, truth = survey_windows(d, size)
-        negatives = truth.get("negatives", [])
+        negatives = [dict(o, class_id=LOOKALIKE) for o in truth.get("negatives", [])]
+        buried = "--bury" in p.get("extra", ())
         out = []
         for img, boxes, (z, wx, wy) in windows:
-            neg = truth_boxes(negatives, z, wx, wy, size / float(N_TILES * TILE), size, 0.6) if negatives else \
-                np.zeros((0, 5), np.float32)
-            out.append(dict(img=img, boxes=boxes, negatives=neg))
+            r = size / float(N_TILES * TILE)
+            neg = truth_boxes(negatives, z, wx, wy, r, size, 0.6) if negatives else np.zeros((0, 5), np.float32)
+            if negatives:  # labelled as the look-alike class, clipped as the objects are
+                boxes = np.concatenate([boxes, truth_boxes(negatives, z, wx, wy, r, size)])
+            out.append(dict(img=img, boxes=boxes, negatives=neg, buried=buried))
         print(f"seed {p['seed']} {p.get('tag', '')}: {len(windows)} windows, {len(truth['objects'])} objects, "
               f"{len(negatives)} look-alikes", flush=True)
         return out
@@ -1235,8 +1289,9 @@ def robust_finetune(a):
     print(f"data: {len(robust)} robust windows, {len(replay)} replay windows in {t_data:.0f} s", flush=True)
 
     dev = torch.device(a.device)  # --device cuda --workers N: the same recipe with many more steps on a GPU
-    model = Detector(len(CLASSES))
-    model.load_state_dict(base_state)
+    train_names = CLASSES + ["lookalike"]
+    model = Detector(len(train_names))
+    model.load_state_dict(extend_classes(dict(base_state), len(CLASSES), len(train_names)))
     model.to(dev)
     trainable = {"heads": ("heads.",), "neck": ("heads.", "lat", "td", "down", "pan"), "all": ("",)}[a.train]
     for n, p in model.named_parameters():
@@ -1246,7 +1301,10 @@ def robust_finetune(a):
           f"{sum(p.numel() for p in model.parameters())} parameters", flush=True)
     opt = torch.optim.AdamW(params, lr=a.lr, weight_decay=5e-4)
     ema = torch.optim.swa_utils.AveragedModel(model, avg_fn=lambda e, m, n: 0.995 * e + 0.005 * m)
-    crops = MixedCrops(robust, replay, a.replay_share if replay else 1.0, a.crop, a.batch, 0)
+    crops = RobustCrops(robust, replay, a.replay_share if replay else 1.0, a.crop, a.batch, 0, a.bury_share)
+    print(f"look-alike labels: {sum(int((w['boxes'][:, 0] == LOOKALIKE).sum()) for w in robust)} in windows; "
+          f"{len(crops.buried)} windows of --bury surveys, {a.bury_share:.0%} of the crops around their objects",
+          flush=True)
     loader = dict(num_workers=a.workers, persistent_workers=True, prefetch_factor=4) if a.workers else {}
     batches = iter(torch.utils.data.DataLoader(crops, batch_size=None, **loader))
     t0, c0 = time.time(), time.process_time()
@@ -1277,9 +1335,13 @@ def robust_finetune(a):
             print(f"step {step} {time.time() - t0:.0f} s ({time.process_time() - c0:.0f} CPU-s) loss "
                   f"{loss.item():.3f} pos {npos}", flush=True)
         if step % 1000 == 0:
-            save_state(ema.module, os.path.join(a.work, "robust_ema.npz"), CLASSES)
+            save_state(ema.module, os.path.join(a.work, "robust_ema.npz"), train_names)
     t_train, c_train = time.time() - t0, time.process_time() - c0
-    net = (ema.module if step else model).eval().cpu()
+    trained = (ema.module if step else model).eval().cpu()
+    save_state(trained, os.path.join(a.work, "robust_ema.npz"), train_names)
+    net = Detector(len(CLASSES))  # the look-alike row dropped: the shipped output layout, never reported
+    net.load_state_dict(head_rows(trained.state_dict(), len(CLASSES)))
+    net.eval()
 
     out = a.out if a.out.endswith(".onnx") else os.path.join(a.out, "seabed_objects.onnx")
     os.makedirs(os.path.dirname(os.path.abspath(out)), exist_ok=True)
@@ -1302,6 +1364,9 @@ def robust_finetune(a):
                   data_minutes=round(t_data / 60, 2), cpu_minutes=round((time.process_time() - cpu_start) / 60, 2),
                   robust_surveys=robust_plans, replay_seeds=[p["seed"] for p in replay_plan],
                   robust_windows=len(robust), replay_windows=len(replay), replay_share=a.replay_share,
+                  lookalike_labels=sum(int((w["boxes"][:, 0] == LOOKALIKE).sum()) for w in robust),
+                  lookalike_photometric=LOOKALIKE_PHOTOMETRIC, bury_share=a.bury_share,
+                  buried_windows=len(crops.buried),
                   frames=a.frames, onnx_mb=round(size_mb, 2), cv_max_diff=worst)
     json.dump(report, open(os.path.splitext(out)[0] + ".report.json", "w"), indent=1)
     print(f"wrote {out}, its weights and {os.path.splitext(out)[0]}.report.json", flush=True)
@@ -1409,6 +1474,8 @@ def main():
                     help="fine-tune --base on N domain-randomised surveys (seeds 1100+: altitude 1-4 m, water, "
                          "blur, JPEG 50-95, --bury, --clutter) mixed with --train-surveys of the shipped data; "
                          "writes --out (a .onnx); budget --cpu-minutes (docs/DETECTION_MODEL.md)")
+    ap.add_argument("--bury-share", type=float, default=0.2,
+                    help="--robust: share of the crops centred on an object of a --bury survey (half-buried)")
     ap.add_argument("--recover-weights", action="store_true",
                     help="write --base's weights beside it (.weights.npz), recovered from the ONNX and checked")
     a = ap.parse_args()

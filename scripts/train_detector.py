@@ -599,11 +599,9 @@ def load_state(path):
     return torch.load(path, map_location="cpu")
 
 
-class Crops(torch.utils.data.IterableDataset):
-    """Endless batches of augmented random crops, made by the DataLoader's worker processes."""
-
-    def __init__(self, samples, crop, batch, seed):
-        self.samples, self.crop, self.batch, self.seed = samples, crop, batch, seed
+class CropBatches(torch.utils.data.IterableDataset):
+    """Endless batches of `batch` augmented crops, made by the DataLoader's worker processes (each its own random
+    stream); a subclass draws one crop in crop_one(rng) -> (img, boxes)."""
 
     def __iter__(self):
         info = torch.utils.data.get_worker_info()
@@ -611,11 +609,21 @@ class Crops(torch.utils.data.IterableDataset):
         while True:
             imgs, targets = [], []
             for _ in range(self.batch):
-                img, boxes = self.samples[rng.integers(len(self.samples))]
-                img, boxes = augment(*random_crop(img, boxes, self.crop, rng), rng)
+                img, boxes = self.crop_one(rng)
                 imgs.append(img)
                 targets.append(boxes)
             yield to_tensor(imgs), targets
+
+
+class Crops(CropBatches):
+    """Random crops of the samples."""
+
+    def __init__(self, samples, crop, batch, seed):
+        self.samples, self.crop, self.batch, self.seed = samples, crop, batch, seed
+
+    def crop_one(self, rng):
+        img, boxes = self.samples[rng.integers(len(self.samples))]
+        return augment(*random_crop(img, boxes, self.crop, rng), rng)
 
 
 # ---------------------------------------------------------------- fine-tuning on the operator's review
@@ -911,7 +919,7 @@ def per_class_thresholds(table, thresholds, names, fallback, min_objects):
     return out
 
 
-class MixedCrops(torch.utils.data.IterableDataset):
+class MixedCrops(CropBatches):
     """Batches of augmented crops: `share` of them from the operator's windows (a third of those around a
     rejected detection, a hard negative), the rest from simulated windows of the shipped classes."""
 
@@ -920,31 +928,19 @@ class MixedCrops(torch.utils.data.IterableDataset):
         self.crop, self.batch, self.seed = crop, batch, seed
         self.hard, self.hard_share = [], hard_share  # (window, box) mined by mine_confusions, filled while training
 
-    def __iter__(self):
-        info = torch.utils.data.get_worker_info()
-        rng = np.random.default_rng([self.seed, info.id if info else 0])
-        while True:
-            imgs, targets = [], []
-            for _ in range(self.batch):
-                if self.hard and rng.random() < self.hard_share:  # a confusion of the new head, its labels kept
-                    w, box = self.hard[rng.integers(len(self.hard))]
-                    img, boxes = crop_around(w["img"], w["boxes"], box, self.crop, rng)
-                    img, boxes = augment(img, boxes, rng)
-                    imgs.append(img)
-                    targets.append(boxes)
-                    continue
-                pool = self.review if (not self.replay or rng.random() < self.share) else self.replay
-                w = pool[rng.integers(len(pool))]
-                boxes = w["boxes"]
-                if len(w["negatives"]) and rng.random() < 0.33:
-                    img, boxes = crop_around(w["img"], boxes, w["negatives"][rng.integers(len(w["negatives"]))],
-                                             self.crop, rng)
-                else:
-                    img, boxes = random_crop(w["img"], boxes, self.crop, rng)
-                img, boxes = augment(img, boxes, rng)
-                imgs.append(img)
-                targets.append(boxes)
-            yield to_tensor(imgs), targets
+    def crop_one(self, rng):
+        if self.hard and rng.random() < self.hard_share:  # a confusion of the new head, its labels kept
+            w, box = self.hard[rng.integers(len(self.hard))]
+            return augment(*crop_around(w["img"], w["boxes"], box, self.crop, rng), rng)
+        pool = self.review if (not self.replay or rng.random() < self.share) else self.replay
+        w = pool[rng.integers(len(pool))]
+        boxes = w["boxes"]
+        if len(w["negatives"]) and rng.random() < 0.33:
+            img, boxes = crop_around(w["img"], boxes, w["negatives"][rng.integers(len(w["negatives"]))], self.crop,
+                                     rng)
+        else:
+            img, boxes = random_crop(w["img"], boxes, self.crop, rng)
+        return augment(img, boxes, rng)
 
 
 def crop_around(img, boxes, centre_box, crop, rng):
@@ -1189,7 +1185,7 @@ LOOKALIKE = len(CLASSES)  # training-only class of the look-alikes (rock rings, 
 LOOKALIKE_PHOTOMETRIC = 0.25  # brightness/contrast jitter and haze on crops centred on a look-alike (1: usual)
 
 
-class RobustCrops(torch.utils.data.IterableDataset):
+class RobustCrops(CropBatches):
     """Batches of augmented crops for --robust: `share` of them from the domain-randomised windows, the rest from
     the shipped training's (replay). A third of the crops of windows with look-alikes centre on one, with the
     photometric jitter cut to LOOKALIKE_PHOTOMETRIC (the albedo cue kept); `bury_share` of all crops centre on an
@@ -1200,30 +1196,17 @@ class RobustCrops(torch.utils.data.IterableDataset):
         self.crop, self.batch, self.seed, self.bury_share = crop, batch, seed, bury_share
         self.buried = [w for w in robust if w["buried"] and (w["boxes"][:, 0] < LOOKALIKE).any()]
 
-    def __iter__(self):
-        info = torch.utils.data.get_worker_info()
-        rng = np.random.default_rng([self.seed, info.id if info else 0])
-        while True:
-            imgs, targets = [], []
-            for _ in range(self.batch):
-                photometric = 1.0
-                if self.buried and rng.random() < self.bury_share:  # around a half-buried object
-                    w = self.buried[rng.integers(len(self.buried))]
-                    objs = w["boxes"][w["boxes"][:, 0] < LOOKALIKE]
-                    img, boxes = crop_around(w["img"], w["boxes"], objs[rng.integers(len(objs))], self.crop, rng)
-                else:
-                    pool = self.robust if (not self.replay or rng.random() < self.share) else self.replay
-                    w = pool[rng.integers(len(pool))]
-                    if len(w["negatives"]) and rng.random() < 0.33:
-                        neg = w["negatives"][rng.integers(len(w["negatives"]))]
-                        img, boxes = crop_around(w["img"], w["boxes"], neg, self.crop, rng)
-                        photometric = LOOKALIKE_PHOTOMETRIC
-                    else:
-                        img, boxes = random_crop(w["img"], w["boxes"], self.crop, rng)
-                img, boxes = augment(img, boxes, rng, photometric)
-                imgs.append(img)
-                targets.append(boxes)
-            yield to_tensor(imgs), targets
+    def crop_one(self, rng):
+        if self.buried and rng.random() < self.bury_share:  # around a half-buried object
+            w = self.buried[rng.integers(len(self.buried))]
+            objs = w["boxes"][w["boxes"][:, 0] < LOOKALIKE]
+            return augment(*crop_around(w["img"], w["boxes"], objs[rng.integers(len(objs))], self.crop, rng), rng)
+        pool = self.robust if (not self.replay or rng.random() < self.share) else self.replay
+        w = pool[rng.integers(len(pool))]
+        if len(w["negatives"]) and rng.random() < 0.33:
+            neg = w["negatives"][rng.integers(len(w["negatives"]))]
+            return augment(*crop_around(w["img"], w["boxes"], neg, self.crop, rng), rng, LOOKALIKE_PHOTOMETRIC)
+        return augment(*random_crop(w["img"], w["boxes"], self.crop, rng), rng)
 
 
 def head_rows(state, nc):

@@ -174,7 +174,7 @@ fi
 [[ "${SEAMAP_BENCH_TRAJECTORY:-1}" == 1 ]] && SEAMAP_BIN="$seamap" SEAMAP_BENCH_PACED="$([[ "$quick" == 1 ]] && echo 0 || echo 1)" \
   SEAMAP_BENCH_FRAMES="$([[ "$quick" == 1 ]] && echo 240 || echo 720)" "$root/scripts/bench_refine_live.sh"
 [[ "${SEAMAP_BENCH_HOSTILE:-1}" == 1 ]] && "$root/scripts/bench_hostile.sh" "$seamap" "$out/hostile"
-[[ "${SEAMAP_BENCH_GEOREF:-1}" == 1 ]] && "$root/scripts/bench_georef.sh" "$seamap" "$out/georef" "$([[ "$quick" == 1 ]] && echo 3 || echo 10)"
+[[ "${SEAMAP_BENCH_GEOREF:-1}" == 1 ]] && "$root/scripts/bench_georef.sh" "$seamap" "$out/georef" "$([[ "$quick" == 1 ]] && echo 5 || echo 20)"
 [[ "${SEAMAP_BENCH_DETECT:-1}" == 1 ]] && "$root/scripts/bench_detect.sh" "$seamap" "$out/detect"
 if [[ "${SEAMAP_BENCH_TERRAIN:-1}" == 1 ]]; then
   terrain_seeds=3; [[ "$quick" == 1 ]] && terrain_seeds=1

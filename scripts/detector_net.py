@@ -111,12 +111,16 @@ SIZE_RANGES = ((0, 48), (32, 96), (64, 1e9))  # box longest side (input px) per 
 
 
 def loss_fn(outs, targets):
-    """targets: list (batch) of [K, 5] (class, x1, y1, x2, y2). Centre-sampled FCOS-style assignment: a cell is
-    positive for the smallest box of its level's size range that holds it and whose centre is within 2.5 strides.
-    All images of the batch at once (one box list with image indices), so a step is a few dozen kernels."""
+    """targets: list (batch) of [K, 5] (class, x1, y1, x2, y2); class -1 marks a region whose cells get no class
+    loss (neither object nor background) unless positive for another box. Centre-sampled FCOS-style assignment: a
+    cell is positive for the smallest box of its level's size range that holds it and whose centre is within 2.5
+    strides. All images of the batch at once (one box list with image indices), so a step is a few dozen kernels."""
     dev = outs[0][0].device
     image = torch.cat([torch.full((len(t),), i, dtype=torch.long) for i, t in enumerate(targets)]).to(dev)
     boxes = torch.as_tensor(np.concatenate([np.asarray(t, np.float32).reshape(-1, 5) for t in targets]), device=dev)
+    ignored = boxes[:, 0] < 0  # class -1: a region that is taught neither as an object nor as background
+    ign, ign_image = boxes[ignored], image[ignored]
+    boxes, image = boxes[~ignored], image[~ignored]
     cls_losses, box_losses, npos = 0.0, 0.0, 0
     for (dist, logits), s, (lo, hi) in zip(outs, STRIDES, SIZE_RANGES):
         b, nc, h, w = logits.shape
@@ -150,7 +154,16 @@ def loss_fn(outs, targets):
                 box_losses = box_losses + torchvision.ops.generalized_box_iou_loss(pred, box, reduction="sum") + \
                     0.5 * (F.l1_loss(pred, box, reduction="none").sum(1) / s).sum()
                 npos += len(ii)
-        cls_losses = cls_losses + torchvision.ops.sigmoid_focal_loss(logits, cls_t, alpha=0.25, gamma=2.0,
-                                                                     reduction="sum")
+        if not len(ign):  # (no ignored region: the loss as it always was)
+            cls_losses = cls_losses + torchvision.ops.sigmoid_focal_loss(logits, cls_t, alpha=0.25, gamma=2.0,
+                                                                         reduction="sum")
+            continue
+        X, Y = gx[None], gy[None]
+        in_ign = (X > ign[:, 1, None, None]) & (X < ign[:, 3, None, None]) & (Y > ign[:, 2, None, None]) & (
+            Y < ign[:, 4, None, None])
+        masked = torch.zeros((b, h, w), device=dev).index_add_(0, ign_image, in_ign.float()) > 0
+        masked &= cls_t.amax(1) == 0  # a cell positive for a real box keeps its loss
+        cls_losses = cls_losses + (torchvision.ops.sigmoid_focal_loss(logits, cls_t, alpha=0.25, gamma=2.0,
+                                                                      reduction="none") * (~masked)[:, None]).sum()
     n = max(npos, 1)
     return (cls_losses + 2.0 * box_losses) / n, npos

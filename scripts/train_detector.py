@@ -218,7 +218,11 @@ def augment(img, boxes, rng, photometric=1.0):
 
 
 def random_crop(img, boxes, crop, rng):
-    S = img.shape[0]
+    x0, y0 = random_crop_origin(img.shape[0], boxes, crop, rng)
+    return img[y0:y0 + crop, x0:x0 + crop], clip_to_crop(boxes, x0, y0, crop)
+
+
+def random_crop_origin(S, boxes, crop, rng):
     if len(boxes) and rng.random() < 0.75:  # around an object
         k = rng.integers(len(boxes))
         cx, cy = (boxes[k, 1] + boxes[k, 3]) / 2, (boxes[k, 2] + boxes[k, 4]) / 2
@@ -226,6 +230,11 @@ def random_crop(img, boxes, crop, rng):
         y0 = int(np.clip(cy - crop / 2 + rng.uniform(-crop / 3, crop / 3), 0, S - crop))
     else:
         x0, y0 = int(rng.integers(0, S - crop + 1)), int(rng.integers(0, S - crop + 1))
+    return x0, y0
+
+
+def clip_to_crop(boxes, x0, y0, crop):
+    """Boxes in the crop's pixels: cut at its edges, dropped under 40 % visible."""
     out = []
     for c, bx0, by0, bx1, by1 in boxes:
         full = (bx1 - bx0) * (by1 - by0)
@@ -234,7 +243,7 @@ def random_crop(img, boxes, crop, rng):
         if cx1 <= cx0 or cy1 <= cy0 or (cx1 - cx0) * (cy1 - cy0) < 0.4 * full:
             continue
         out.append([c, cx0 - x0, cy0 - y0, cx1 - x0, cy1 - y0])
-    return img[y0:y0 + crop, x0:x0 + crop], np.array(out, np.float32).reshape(-1, 5)
+    return np.array(out, np.float32).reshape(-1, 5)
 
 
 def recalibrate_bn(net, batches, dev, n=60):
@@ -945,18 +954,15 @@ class MixedCrops(CropBatches):
 
 def crop_around(img, boxes, centre_box, crop, rng):
     """A crop holding `centre_box` (a hard negative), labels clipped as random_crop does."""
-    S = img.shape[0]
+    x0, y0 = crop_around_origin(img.shape[0], centre_box, crop, rng)
+    return img[y0:y0 + crop, x0:x0 + crop], clip_to_crop(boxes, x0, y0, crop)
+
+
+def crop_around_origin(S, centre_box, crop, rng):
     cx, cy = (centre_box[1] + centre_box[3]) / 2, (centre_box[2] + centre_box[4]) / 2
     x0 = int(np.clip(cx - crop / 2 + rng.uniform(-crop / 4, crop / 4), 0, S - crop))
     y0 = int(np.clip(cy - crop / 2 + rng.uniform(-crop / 4, crop / 4), 0, S - crop))
-    out = []
-    for c, bx0, by0, bx1, by1 in boxes:
-        full = (bx1 - bx0) * (by1 - by0)
-        ax0, ay0, ax1, ay1 = max(bx0, x0), max(by0, y0), min(bx1, x0 + crop), min(by1, y0 + crop)
-        if ax1 <= ax0 or ay1 <= ay0 or (ax1 - ax0) * (ay1 - ay0) < 0.4 * full:
-            continue
-        out.append([c, ax0 - x0, ay0 - y0, ax1 - x0, ay1 - y0])
-    return img[y0:y0 + crop, x0:x0 + crop], np.array(out, np.float32).reshape(-1, 5)
+    return x0, y0
 
 
 def freeze_batchnorm(model):
@@ -1185,28 +1191,61 @@ LOOKALIKE = len(CLASSES)  # training-only class of the look-alikes (rock rings, 
 LOOKALIKE_PHOTOMETRIC = 0.25  # brightness/contrast jitter and haze on crops centred on a look-alike (1: usual)
 
 
+IGNORED = -1  # a label region taught neither as an object nor as background (detector_net.loss_fn)
+ROCK = CLASSES.index("rock")
+
+
+def robust_labels(full, x0, y0, crop):
+    """The crop's labels from a window's whole (uncut) boxes: an object at least 40 % visible as random_crop
+    labels it; one cut to less (a pipe's end at the crop's edge) and a look-alike cut at all (a pipe piece cut
+    there looks like a real pipe's end) are IGNORED, so neither is taught as background or as a look-alike."""
+    out = []
+    for c, bx0, by0, bx1, by1 in full:
+        cx0, cy0, cx1, cy1 = max(bx0, x0), max(by0, y0), min(bx1, x0 + crop), min(by1, y0 + crop)
+        if cx1 <= cx0 or cy1 <= cy0:
+            continue
+        visible = (cx1 - cx0) * (cy1 - cy0) / max((bx1 - bx0) * (by1 - by0), 1e-6)
+        whole = visible >= (0.99 if c == LOOKALIKE else 0.4)
+        out.append([c if whole else IGNORED, cx0 - x0, cy0 - y0, cx1 - x0, cy1 - y0])
+    return np.array(out, np.float32).reshape(-1, 5)
+
+
 class RobustCrops(CropBatches):
     """Batches of augmented crops for --robust: `share` of them from the domain-randomised windows, the rest from
     the shipped training's (replay). A third of the crops of windows with look-alikes centre on one, with the
     photometric jitter cut to LOOKALIKE_PHOTOMETRIC (the albedo cue kept); `bury_share` of all crops centre on an
-    object of a --bury survey (half-buried objects weighted up)."""
+    object of a --bury survey (half-buried objects weighted up), `rock_share` on a rock of a robust window. Labels
+    by robust_labels (cut objects and look-alikes ignored) from the windows' whole boxes."""
 
-    def __init__(self, robust, replay, share, crop, batch, seed, bury_share):
+    def __init__(self, robust, replay, share, crop, batch, seed, bury_share, rock_share=0.0):
         self.robust, self.replay, self.share = robust, replay, share
         self.crop, self.batch, self.seed, self.bury_share = crop, batch, seed, bury_share
+        self.rock_share = rock_share
         self.buried = [w for w in robust if w["buried"] and (w["boxes"][:, 0] < LOOKALIKE).any()]
+        self.rocky = [w for w in robust if (w["boxes"][:, 0] == ROCK).any()]
+
+    def cut(self, w, x0, y0, rng, photometric=1.0):
+        img = w["img"][y0:y0 + self.crop, x0:x0 + self.crop]
+        return augment(img, robust_labels(w["full"], x0, y0, self.crop), rng, photometric)
+
+    def around(self, w, cls, rng):  # a crop around one labelled box of class cls (< LOOKALIKE: any object)
+        objs = w["boxes"][(w["boxes"][:, 0] == cls) if cls < LOOKALIKE else (w["boxes"][:, 0] < LOOKALIKE)]
+        return self.cut(w, *crop_around_origin(w["img"].shape[0], objs[rng.integers(len(objs))], self.crop, rng),
+                        rng)
 
     def crop_one(self, rng):
-        if self.buried and rng.random() < self.bury_share:  # around a half-buried object
-            w = self.buried[rng.integers(len(self.buried))]
-            objs = w["boxes"][w["boxes"][:, 0] < LOOKALIKE]
-            return augment(*crop_around(w["img"], w["boxes"], objs[rng.integers(len(objs))], self.crop, rng), rng)
+        u = rng.random()
+        if self.buried and u < self.bury_share:  # around a half-buried object
+            return self.around(self.buried[rng.integers(len(self.buried))], LOOKALIKE, rng)
+        if self.rocky and u < self.bury_share + self.rock_share:  # around a rock (the class the look-alikes cost)
+            return self.around(self.rocky[rng.integers(len(self.rocky))], ROCK, rng)
         pool = self.robust if (not self.replay or rng.random() < self.share) else self.replay
         w = pool[rng.integers(len(pool))]
+        S = w["img"].shape[0]
         if len(w["negatives"]) and rng.random() < 0.33:
             neg = w["negatives"][rng.integers(len(w["negatives"]))]
-            return augment(*crop_around(w["img"], w["boxes"], neg, self.crop, rng), rng, LOOKALIKE_PHOTOMETRIC)
-        return augment(*random_crop(w["img"], w["boxes"], self.crop, rng), rng)
+            return self.cut(w, *crop_around_origin(S, neg, self.crop, rng), rng, LOOKALIKE_PHOTOMETRIC)
+        return self.cut(w, *random_crop_origin(S, w["boxes"], self.crop, rng), rng)
 
 
 def head_rows(state, nc):
@@ -1214,8 +1253,9 @@ def head_rows(state, nc):
     return {k: (v[:nc] if k.startswith("heads.") and ".cls.1." in k else v) for k, v in state.items()}
 
 
-def truth_boxes(items, z, wx, wy, r, size, min_visible=0.4):
-    """Boxes [class, x0, y0, x1, y1] (window px) of truth items (objects or negatives) in window (z, wx, wy)."""
+def truth_boxes(items, z, wx, wy, r, size, min_visible=0.4, cut=True):
+    """Boxes [class, x0, y0, x1, y1] (window px) of truth items (objects or negatives) in window (z, wx, wy);
+    cut=False: every item the window shows, its whole box (beyond the window's edges too)."""
     x0, y0 = wx * TILE, wy * TILE
     out = []
     for o in items:
@@ -1224,8 +1264,10 @@ def truth_boxes(items, z, wx, wy, r, size, min_visible=0.4):
         bx1, by1 = max(p[0] for p in pts), max(p[1] for p in pts)
         cx0, cy0 = max(bx0, x0), max(by0, y0)
         cx1, cy1 = min(bx1, x0 + N_TILES * TILE), min(by1, y0 + N_TILES * TILE)
-        if cx1 <= cx0 or cy1 <= cy0 or (cx1 - cx0) * (cy1 - cy0) < min_visible * (bx1 - bx0) * (by1 - by0):
+        if cx1 <= cx0 or cy1 <= cy0 or (cut and (cx1 - cx0) * (cy1 - cy0) < min_visible * (bx1 - bx0) * (by1 - by0)):
             continue
+        if not cut:
+            cx0, cy0, cx1, cy1 = bx0, by0, bx1, by1
         out.append([o.get("class_id", 0), (cx0 - x0) * r, (cy0 - y0) * r, (cx1 - x0) * r, (cy1 - y0) * r])
     return np.array(out, np.float32).reshape(-1, 5)
 
@@ -1237,7 +1279,9 @@ def robust_finetune(a):
     and metadata beside a report. The network's windows and labels as the shipped training made them; look-alikes
     (`--clutter`) are labelled as a training-only class of their own (an extra row of the class head, LOOKALIKE,
     dropped at export: the model keeps the shipped 5-class layout), and a third of their windows' crops centre on
-    one with a milder photometric jitter; --bury-share of the crops centre on a half-buried object."""
+    one with a milder photometric jitter; --bury-share of the crops centre on a half-buried object, --rock-share
+    on a rock; objects cut to under 40 % and look-alikes cut at all by a crop's edge are ignored (robust_labels).
+    --resume: start from an earlier run's state (its robust_ema.npz) instead of --base's weights."""
     t_start, cpu_start = time.time(), time.process_time()
     size = a.imgsz
     base_state, names = load_base(a.base, size)
@@ -1257,7 +1301,8 @@ def robust_finetune(a):
             neg = truth_boxes(negatives, z, wx, wy, r, size, 0.6) if negatives else np.zeros((0, 5), np.float32)
             if negatives:  # labelled as the look-alike class, clipped as the objects are
                 boxes = np.concatenate([boxes, truth_boxes(negatives, z, wx, wy, r, size)])
-            out.append(dict(img=img, boxes=boxes, negatives=neg, buried=buried))
+            full = truth_boxes(truth["objects"] + negatives, z, wx, wy, r, size, cut=False)  # for robust_labels
+            out.append(dict(img=img, boxes=boxes, full=full, negatives=neg, buried=buried))
         print(f"seed {p['seed']} {p.get('tag', '')}: {len(windows)} windows, {len(truth['objects'])} objects, "
               f"{len(negatives)} look-alikes", flush=True)
         return out
@@ -1274,7 +1319,10 @@ def robust_finetune(a):
     dev = torch.device(a.device)  # --device cuda --workers N: the same recipe with many more steps on a GPU
     train_names = CLASSES + ["lookalike"]
     model = Detector(len(train_names))
-    model.load_state_dict(extend_classes(dict(base_state), len(CLASSES), len(train_names)))
+    if a.resume:  # warm start: an earlier --robust run's state (WORK/robust_ema.npz, the look-alike row kept)
+        model.load_state_dict(load_state(a.resume))
+    else:
+        model.load_state_dict(extend_classes(dict(base_state), len(CLASSES), len(train_names)))
     model.to(dev)
     trainable = {"heads": ("heads.",), "neck": ("heads.", "lat", "td", "down", "pan"), "all": ("",)}[a.train]
     for n, p in model.named_parameters():
@@ -1284,9 +1332,16 @@ def robust_finetune(a):
           f"{sum(p.numel() for p in model.parameters())} parameters", flush=True)
     opt = torch.optim.AdamW(params, lr=a.lr, weight_decay=5e-4)
     ema = torch.optim.swa_utils.AveragedModel(model, avg_fn=lambda e, m, n: 0.995 * e + 0.005 * m)
-    crops = RobustCrops(robust, replay, a.replay_share if replay else 1.0, a.crop, a.batch, 0, a.bury_share)
+    crops = RobustCrops(robust, replay, a.replay_share if replay else 1.0, a.crop, a.batch, 0, a.bury_share,
+                        a.rock_share)
     print(f"look-alike labels: {sum(int((w['boxes'][:, 0] == LOOKALIKE).sum()) for w in robust)} in windows; "
-          f"{len(crops.buried)} windows of --bury surveys, {a.bury_share:.0%} of the crops around their objects",
+          f"{len(crops.buried)} windows of --bury surveys, {a.bury_share:.0%} of the crops around their objects; "
+          f"{len(crops.rocky)} robust windows with rocks, {a.rock_share:.0%} of the crops around a rock", flush=True)
+    sample = [crops.crop_one(np.random.default_rng([1, k]))[1] for k in range(2000)]  # what the labels look like
+    labels = np.concatenate(sample)[:, 0]
+    ignored = sum(len(b) for b in sample) and float((labels == IGNORED).mean())
+    print(f"2000 sample crops: {len(labels)} labels, {ignored:.1%} ignored (cut objects and look-alikes), "
+          f"{float((labels == ROCK).mean()):.1%} rocks, {float((labels == LOOKALIKE).mean()):.1%} look-alikes",
           flush=True)
     loader = dict(num_workers=a.workers, persistent_workers=True, prefetch_factor=4) if a.workers else {}
     batches = iter(torch.utils.data.DataLoader(crops, batch_size=None, **loader))
@@ -1348,7 +1403,8 @@ def robust_finetune(a):
                   robust_surveys=robust_plans, replay_seeds=[p["seed"] for p in replay_plan],
                   robust_windows=len(robust), replay_windows=len(replay), replay_share=a.replay_share,
                   lookalike_labels=sum(int((w["boxes"][:, 0] == LOOKALIKE).sum()) for w in robust),
-                  lookalike_photometric=LOOKALIKE_PHOTOMETRIC, bury_share=a.bury_share,
+                  lookalike_photometric=LOOKALIKE_PHOTOMETRIC, bury_share=a.bury_share, rock_share=a.rock_share,
+                  resume=a.resume, ignored_label_share=round(ignored, 4),
                   buried_windows=len(crops.buried),
                   frames=a.frames, onnx_mb=round(size_mb, 2), cv_max_diff=worst)
     json.dump(report, open(os.path.splitext(out)[0] + ".report.json", "w"), indent=1)
@@ -1423,7 +1479,7 @@ def main():
     ap.add_argument("--device", default="cpu", help="cpu or cuda")
     ap.add_argument("--min-score", type=float, default=0.6,
                     help="validation score, and the model's default (metadata seamap.min_score)")
-    ap.add_argument("--resume", help="start from this state_dict")
+    ap.add_argument("--resume", help="start from this state_dict (--robust: an earlier run's robust_ema.npz)")
     ap.add_argument("--pack", help="write the windows to this .npz and stop")
     ap.add_argument("--pack-quality", type=int, default=92, help="JPEG quality of the packed windows")
     ap.add_argument("--from-pack", help="train on the windows of this .npz instead of simulating")
@@ -1459,6 +1515,8 @@ def main():
                          "writes --out (a .onnx); budget --cpu-minutes (docs/DETECTION_MODEL.md)")
     ap.add_argument("--bury-share", type=float, default=0.2,
                     help="--robust: share of the crops centred on an object of a --bury survey (half-buried)")
+    ap.add_argument("--rock-share", type=float, default=0.2,
+                    help="--robust: share of the crops centred on a rock of a robust survey")
     ap.add_argument("--recover-weights", action="store_true",
                     help="write --base's weights beside it (.weights.npz), recovered from the ONNX and checked")
     a = ap.parse_args()

@@ -613,7 +613,7 @@ TowedFitResult FitTowedBuoy(const SlamPath& path, const std::vector<double>& rea
     release(o, theta);
     TowedFitResult variant = held_fit(o, theta);
     if (!variant.ok) return;
-    const bool moved = MovedBeyondChance(path, variant, &best);
+    const bool moved = MovedBeyondChance(path, variant, 1, &best);
     if (!moved) return;
     best = std::move(variant);
     fixed = o;
@@ -640,7 +640,7 @@ TowedFitResult FitTowedBuoy(const SlamPath& path, const std::vector<double>& rea
     if (freed.ok) {
       const double scale = std::max(out.variance_factor * out.correlation_factor, 1.0);
       const double cost_drop = (best.robust_cost - freed.robust_cost) / scale;
-      const bool moved = MovedBeyondChance(path, freed, &best);
+      const bool moved = MovedBeyondChance(path, freed, 2, &best);
       if (moved && cost_drop > kCurrentShows) {
         best = std::move(freed);
         fixed = o;
@@ -665,11 +665,14 @@ TowedFitResult FitTowedBuoy(const SlamPath& path, const std::vector<double>& rea
     }
     best.predicted_rmse_m = std::sqrt(sq / std::max<size_t>(held_current_var.size(), 1));
   }
-  if (candidates.size() > 1) {
-    std::vector<WeighedFit> weighed;
-    for (const ReachLagCandidate& c : candidates) weighed.push_back({&c.fit, c.bic});
-    AddSelectionSpread(path, weighed, &best);
-  }
+  // The spread is over the splits of the shift along the track, the current
+  // as decided: a current freed after the BICs held it would otherwise count
+  // twice, once freed and once as the held candidates' distance from it
+  // (predicted 0.20 m where the map was 0.09 m off; docs/GEOREF.md, "seventh pass").
+  std::vector<WeighedFit> weighed;
+  for (const ReachLagCandidate& c : candidates)
+    if (c.current == best.current_estimated) weighed.push_back({&c.fit, c.bic});
+  if (weighed.size() > 1) AddSelectionSpread(path, weighed, &best);
   return best;
 }
 

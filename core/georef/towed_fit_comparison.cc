@@ -5,12 +5,10 @@
 
 namespace seamap {
 
-namespace {
-// chi-square's 3-sigma level at 2 degrees of freedom, over 2 (the header says why).
-constexpr double kHausmanFactor = 11.83 / 2;
-}  // namespace
-
-bool MovedBeyondChance(const SlamPath& path, const TowedFitResult& freed, TowedFitResult* held) {
+bool MovedBeyondChance(const SlamPath& path, const TowedFitResult& freed, int freed_parameters,
+                       TowedFitResult* held) {
+  // chi-square's 3-sigma level (99.73 %) at 1 or 2 degrees of freedom, over them (the header says why)
+  const double factor = freed_parameters == 1 ? 9.0 : 11.83 / 2;
   const size_t n = path.size();
   if (held->keyframe_sigma_m.size() != n || freed.keyframe_sigma_m.size() != n) return false;
   double shift_sq = 0, chance_sq = 0;
@@ -22,7 +20,7 @@ bool MovedBeyondChance(const SlamPath& path, const TowedFitResult& freed, TowedF
   shift_sq /= n;
   chance_sq /= n;
   held->held_bias_rmse_m = std::max(held->held_bias_rmse_m, std::sqrt(std::max(shift_sq - chance_sq, 0.0)));
-  return shift_sq > kHausmanFactor * chance_sq;
+  return shift_sq > factor * chance_sq;
 }
 
 void AddSelectionSpread(const SlamPath& path, const std::vector<WeighedFit>& candidates, TowedFitResult* best) {

@@ -17,13 +17,17 @@ namespace seamap {
 // by more than chance would move it (a Hausman test): with the default
 // true, the squared displacement averaged over the keyframes has
 // expectation freed^2 - held^2 (the difference of the two predictions'
-// squares), and its ratio to that is about chi-square with 2 degrees of
-// freedom over 2; the parameter is freed beyond 5.9 times (11.83 / 2, the
-// 3-sigma level of the significance tests, now measured on the map: at 3
-// times, 4 of 65 bench surveys without a current or sag freed one and came
-// out worse, 0.35 m instead of 0.17 m on a transect). Sets
-// held->held_bias_rmse_m to what the displacement shows beyond chance.
-bool MovedBeyondChance(const SlamPath& path, const TowedFitResult& freed, TowedFitResult* held);
+// squares), and its ratio to that is about chi-square with as many degrees
+// of freedom as parameters freed, over them; the parameter is freed beyond
+// that ratio's 3-sigma level (99.73 %), as the significance tests: 9 for
+// one parameter (the reach), 5.9 for two (the current). At 3 times, 4 of 65
+// bench surveys without a current or sag freed one and came out worse,
+// 0.35 m instead of 0.17 m on a transect; at 5.9 for the reach, GPS noise
+// alone freed it on a spiral 3 % short and put the map 0.8 m off (0.3 m
+// predicted; docs/GEOREF.md, "seventh pass"). Sets held->held_bias_rmse_m
+// to what the displacement shows beyond chance.
+bool MovedBeyondChance(const SlamPath& path, const TowedFitResult& freed, int freed_parameters,
+                       TowedFitResult* held);
 
 // A candidate fit and its BIC (robust cost in chi-square units + free
 // parameters x ln(observations)).

@@ -103,6 +103,7 @@ struct Simulation {
   std::vector<Eigen::Vector2d> buoy;    // per fix
   std::vector<Eigen::Vector2d> towing;  // unit, buoy to vehicle, per fix
   std::vector<bool> taut, settled;      // per fix
+  std::vector<double> start_sigma_m;    // per fix, what the buoy's unknown start may still leave (0 once settled)
   std::vector<bool> keyframe_taut;      // per keyframe (settled too)
 };
 
@@ -163,6 +164,18 @@ class Problem {
     Eigen::Vector2d dir0 = vehicle[ahead] - vehicle[0];
     dir0 = dir0.norm() > 1e-9 ? Eigen::Vector2d(dir0 / dir0.norm()) : Eigen::Vector2d(0, 1);
     for (int k = 0; k < steps; ++k) reach[k] = m.reach_factor * reach_.At(t0_ + k * step);
+    // How far the path turns over its first reach (radians, at most 1): on
+    // a straight start the buoy is where the model starts it; on a turning
+    // one it may be off by that share of a reach.
+    double start_doubt = 0;
+    {
+      int from = ahead;
+      while (from + 1 < steps && arc[from] < reach[0]) ++from;
+      int to = from;
+      while (to + 1 < steps && (vehicle[to] - vehicle[from]).norm() < 2) ++to;
+      const Eigen::Vector2d d = vehicle[to] - vehicle[from];
+      if (d.norm() > 1e-9) start_doubt = std::min(std::acos(std::clamp(dir0.dot(d / d.norm()), -1.0, 1.0)), 1.0);
+    }
     TowedBuoy tractrix(vehicle[0] - reach[0] * dir0);
     int back = 0;
     for (int k = 0; k < steps; ++k) {
@@ -195,6 +208,15 @@ class Problem {
       out.towing.push_back(d.norm() > 1e-9 ? Eigen::Vector2d(d / d.norm()) : dir0);
       out.taut.push_back(taut[n]);
       out.settled.push_back(settled[n]);
+      // The buoy starts a reach behind along the path's first 2 m, which is
+      // not where it was where the path turns: on a spiral begun in a tight
+      // turn, 1.7 m aside. A towed buoy forgets its start as exp(-travel /
+      // reach), so its fixes get that much of the start's doubt as noise
+      // until settled. The scatter of the settling fixes showed the misfit
+      // without GPS noise (0.5 m) but not under it, and they pulled the
+      // reach 3-5 % short (docs/GEOREF.md, "seventh pass").
+      out.start_sigma_m.push_back(
+          settled[n] ? 0.0 : start_doubt * reach[n] * std::exp(-arc[n] / std::max(reach[n], 1e-9)));
     }
     for (size_t i = 0; i < path_.size(); ++i) {
       const double t = path_.time(i);
@@ -328,7 +350,7 @@ TowedFitResult FitTowedBuoy(const SlamPath& path, const std::vector<double>& rea
       w.setZero(r.size());
       for (size_t j = 0; j < nf; ++j) {
         const double extra = sim.taut[j] && sim.settled[j] ? taut_model : slack_model;
-        sigma[j] = std::hypot(fixes[j].sigma, extra);
+        sigma[j] = std::hypot(std::hypot(fixes[j].sigma, extra), sim.start_sigma_m[j]);
         const double z = r.segment<2>(2 * j).norm() / sigma[j];
         kept[j] = iteration < 2 || z <= o.outlier_sigmas;
         const double huber = z <= o.huber_k ? 1.0 : o.huber_k / z;
@@ -385,7 +407,7 @@ TowedFitResult FitTowedBuoy(const SlamPath& path, const std::vector<double>& rea
     res.outliers = 0;
     for (size_t k = 0; k < nf; ++k) {
       const bool taut = sim.taut[k] && sim.settled[k];
-      sigma[k] = std::hypot(fixes[k].sigma, taut ? taut_model : slack_model);
+      sigma[k] = std::hypot(std::hypot(fixes[k].sigma, taut ? taut_model : slack_model), sim.start_sigma_m[k]);
       const Eigen::Vector2d rk = r.segment<2>(2 * k);
       {  // Huber's cost (twice, so that it reads as chi-square) against the GPS noise alone, outliers capped
         const double z = std::min(rk.norm() / fixes[k].sigma, o.outlier_sigmas);

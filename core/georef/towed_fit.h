@@ -15,7 +15,9 @@
 // Huber weights, fixes beyond 5 sigma dropped; while the model says the
 // tether is slack (and while the buoy settles after the start) the fixes
 // keep a widened noise, sigma^2 + sigma_model^2, sigma_model estimated from
-// their own scatter, instead of being dropped. The towing direction is
+// their own scatter, instead of being dropped; while it settles, plus what
+// its unknown start may leave where the path turns from the start, up to a
+// reach times exp(-travel / reach). The towing direction is
 // never read from a window of fixes or the camera's axes: it is the mapped
 // path's own motion through the model.
 //

@@ -215,8 +215,8 @@ class Problem {
       // until settled. The scatter of the settling fixes showed the misfit
       // without GPS noise (0.5 m) but not under it, and they pulled the
       // reach 3-5 % short (docs/GEOREF.md, "seventh pass").
-      out.start_sigma_m.push_back(
-          settled[n] ? 0.0 : start_doubt * reach[n] * std::exp(-arc[n] / std::max(reach[n], 1e-9)));
+      out.start_sigma_m.push_back(settled[n] ? 0.0
+                                             : start_doubt * reach[n] * std::exp(-arc[n] / std::max(reach[n], 1e-9)));
     }
     for (size_t i = 0; i < path_.size(); ++i) {
       const double t = path_.time(i);

@@ -80,8 +80,9 @@ struct TowedFitResult {
   double taut_model_sigma_m = 0;         // model noise added to taut fixes (waves, an imperfect model)
   double slack_model_sigma_m = 0;        // and to the others
   double residual_rms_m = 0;             // of the taut fixes kept
-  double held_bias_rmse_m = 0;           // the bias the data show in holding reach, lag, current, follower at their
-                                         // defaults (RMS over the keyframes; in predicted_rmse_m when they are held)
+  double held_bias_rmse_m = 0;           // the bias the data show in holding the reach or the current at their
+                                         // defaults (RMS over the keyframes; the georeferencer adds it to the
+                                         // estimate where the offset along the track is poorly seen)
   // Where reach and lag trade with each other, the three fits (reach, lag,
   // both) are compared by BIC; this is the RMS spread (over the keyframes) of
   // their maps about the kept one, weighted by exp(-dBIC / 2); in predicted_rmse_m.

@@ -5,8 +5,7 @@
 
 namespace seamap {
 
-bool MovedBeyondChance(const SlamPath& path, const TowedFitResult& freed, int freed_parameters,
-                       TowedFitResult* held) {
+bool MovedBeyondChance(const SlamPath& path, const TowedFitResult& freed, int freed_parameters, TowedFitResult* held) {
   // chi-square's 3-sigma level (99.73 %) at 1 or 2 degrees of freedom, over them (the header says why)
   const double factor = freed_parameters == 1 ? 9.0 : 11.83 / 2;
   const size_t n = path.size();

@@ -26,8 +26,7 @@ namespace seamap {
 // alone freed it on a spiral 3 % short and put the map 0.8 m off (0.3 m
 // predicted; docs/GEOREF.md, "seventh pass"). Sets held->held_bias_rmse_m
 // to what the displacement shows beyond chance.
-bool MovedBeyondChance(const SlamPath& path, const TowedFitResult& freed, int freed_parameters,
-                       TowedFitResult* held);
+bool MovedBeyondChance(const SlamPath& path, const TowedFitResult& freed, int freed_parameters, TowedFitResult* held);
 
 // A candidate fit and its BIC (robust cost in chi-square units + free
 // parameters x ln(observations)).

@@ -22,10 +22,11 @@ namespace seamap {
 // that ratio's 3-sigma level (99.73 %), as the significance tests: 9 for
 // one parameter (the reach), 5.9 for two (the current). At 3 times, 4 of 65
 // bench surveys without a current or sag freed one and came out worse,
-// 0.35 m instead of 0.17 m on a transect; at 5.9 for the reach, GPS noise
-// alone freed it on a spiral 3 % short and put the map 0.8 m off (0.3 m
-// predicted; docs/GEOREF.md, "seventh pass"). Sets held->held_bias_rmse_m
-// to what the displacement shows beyond chance.
+// 0.35 m instead of 0.17 m on a transect; at 5.9 for the reach, a spiral's
+// reach pulled 3 % short (by the buoy's unknown start, under GPS noise) was
+// freed and put the map 0.8 m off (0.3 m predicted; docs/GEOREF.md,
+// "seventh pass"). Sets held->held_bias_rmse_m to what the displacement
+// shows beyond chance.
 bool MovedBeyondChance(const SlamPath& path, const TowedFitResult& freed, int freed_parameters, TowedFitResult* held);
 
 // A candidate fit and its BIC (robust cost in chi-square units + free

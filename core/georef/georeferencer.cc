@@ -339,12 +339,8 @@ void FitTether(const SubmapContext& c, const std::vector<Keyframe>& keyframes, S
       // with a 1 % sag or a clock offset were 2-6 times off their estimate
       // without it; with it everywhere, transects (which see the offset)
       // became 2-4 times too pessimistic (docs/GEOREF.md, "seventh pass").
-      double sq = 0;
-      for (double& sigma : r.keyframe_sigma_m) {
-        sigma = std::hypot(sigma, r.held_bias_rmse_m);
-        sq += sigma * sigma;
-      }
-      out->predicted_rmse_m = std::sqrt(sq / std::max<size_t>(r.keyframe_sigma_m.size(), 1));
+      AddKeyframeVariance(std::vector<double>(r.keyframe_sigma_m.size(), std::pow(r.held_bias_rmse_m, 2)), &r);
+      out->predicted_rmse_m = r.predicted_rmse_m;
     }
   }
   out->current_mps = r.current_mps;

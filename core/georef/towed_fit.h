@@ -93,6 +93,12 @@ struct TowedFitResult {
   Eigen::Vector2d along_cross_bias_m = Eigen::Vector2d::Zero();  // mean taut residual along / across towing
 };
 
+// Adds extra_variance_m2[i] (m^2) to keyframe i's predicted error and
+// recomputes predicted_rmse_m from them: the estimate's additions (a held
+// current's share, the candidate fits' spread, a held bias). Nothing when the
+// sizes differ.
+void AddKeyframeVariance(const std::vector<double>& extra_variance_m2, TowedFitResult* fit);
+
 // reach_m: per keyframe, the straight tether's horizontal reach (0 where
 // unknown); depth_m: per keyframe, NAN where unknown. slam_sigma: the SLAM
 // noise per axis in SLAM units. start: a rough similarity (any fit within a

@@ -40,6 +40,11 @@ Georeferences SLAM keyframes with the GPS fixes of a buoy towed on a tether.
   --altitude-csv FILE CSV time_s,altitude_m (sounder or DVL): nav.csv gets an altitude_m column,
                       which seamap build needs
   --altitude-from-cloud  altitude_m from the georeferenced cloud (--points) below each keyframe
+  --clock-sigma S     how well the fixes' clock is known to agree with the keyframes', seconds
+                      (default 1) ...
+  --sag-sigma F       ... and how much the tether may sag, a share of its reach (default 0.02):
+                      what the estimate assumes where the geometry cannot see the buoy's distance
+                      behind (a spiral, legs all flown one way); 0 where known
 Exit 2 for bad input (naming file and line), too few taut keyframes, or degenerate geometry.
 )";
 
@@ -82,6 +87,8 @@ BuoyGeorefOptions ParseInputs(Args& args) {
       throw InputError("", 0, "--utm-zone", "expected a zone 1..60 with N or S, e.g. 33N, got '" + *zone + "'");
     in.utm_zone = UtmZoneId{parsed->zone, parsed->north.value_or(true)};
   }
+  in.georef.clock_sigma_s = args.GetDouble("clock-sigma", in.georef.clock_sigma_s);
+  in.georef.sag_sigma = args.GetDouble("sag-sigma", in.georef.sag_sigma);
   in.quiet = args.Flag("quiet");
   in.Check();
   return in;

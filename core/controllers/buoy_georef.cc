@@ -120,6 +120,11 @@ void BuoyGeorefOptions::Check() const {
     throw InputError("", 0, points.empty() ? "--points" : "--points-out", "--points and --points-out go together");
   if (altitude_from_cloud && points.empty())
     throw InputError("", 0, "--altitude-from-cloud", "needs the point cloud: give --points and --points-out");
+  if (!(georef.clock_sigma_s >= 0 && georef.clock_sigma_s <= 60))
+    throw InputError("", 0, "--clock-sigma", "expected seconds in [0, 60], got " + FormatNumber(georef.clock_sigma_s));
+  if (!(georef.sag_sigma >= 0 && georef.sag_sigma <= 0.5))
+    throw InputError("", 0, "--sag-sigma",
+                     "expected a share of the reach in [0, 0.5], got " + FormatNumber(georef.sag_sigma));
   if (altitude_from_cloud && !altitude_file.empty())
     throw InputError("", 0, "--altitude-from-cloud", "give either --altitude-csv FILE or --altitude-from-cloud");
 }

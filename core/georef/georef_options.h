@@ -28,6 +28,11 @@ struct GeorefOptions {
   double outlier_sigmas = 3;
   double depth_sigma_m = 0.05;  // vertical sigma of a target (pressure depth), at least
   int max_rounds = 5;           // fit, then targets from the tether model, until the good set holds
+  // --method tether, where the geometry cannot see the buoy's offset along
+  // the track: how well the fixes' clock agrees with the keyframes', and
+  // how much the tether may sag, as a share of its reach (towed_fit.h).
+  double clock_sigma_s = 1;
+  double sag_sigma = 0.02;
 };
 
 }  // namespace seamap

@@ -253,6 +253,8 @@ void FitTether(const SubmapContext& c, const std::vector<Keyframe>& keyframes, S
   TowedFitOptions to;
   to.depth_sigma_m = c.options.depth_sigma_m;
   to.min_taut_fixes = c.options.min_good_keyframes;
+  to.clock_sigma_s = c.options.clock_sigma_s;
+  to.sag_sigma = c.options.sag_sigma;
   TowedFitResult r = FitTowedBuoy(c.path, c.reach_m, depth, c.buoy, start, c.path.NoiseSigma(), to);
 
   std::vector<std::string> reasons(n);
@@ -313,35 +315,24 @@ void FitTether(const SubmapContext& c, const std::vector<Keyframe>& keyframes, S
   out->lag_s = r.lag_s;
   out->lag_sigma_s = r.lag_sigma_s;
   {
-    std::vector<double> reach;
-    for (double x : c.reach_m)
-      if (x > 0) reach.push_back(x);
-    std::sort(reach.begin(), reach.end());
-    const double c_t = reach.empty() ? 0 : reach[reach.size() / 2];
     const Eigen::Matrix2d& cov = r.free_reach_lag_covariance;
-    const Eigen::Vector2d along(c_t * r.free_reach_factor, speed);  // d offset / d (log k, lag)
-    out->along_track_offset_m = c_t * (r.free_reach_factor - 1) + speed * r.free_lag_s;
-    out->along_track_offset_sigma_m = std::sqrt(std::max(along.dot(cov * along), 0.0));
+    out->along_track_offset_m = r.along_track_offset_m;
+    out->along_track_offset_sigma_m = r.along_track_offset_sigma_m;
     const double scale = std::sqrt(std::max(cov(0, 0) * cov(1, 1), 1e-300));
     out->reach_lag_correlation = cov(0, 1) / scale;
     out->reach_lag_separable = std::fabs(out->reach_lag_correlation) < 0.9;
-    out->held_bias_rmse_m = r.held_bias_rmse_m;
+    out->held_offset_m = r.held_offset_m;
+    out->unseen_offset_rmse_m = r.unseen_offset_rmse_m;
     out->selection_spread_rmse_m = r.selection_spread_rmse_m;
-    if (out->along_track_offset_sigma_m > 2 * std::max(r.predicted_rmse_m, 0.01)) {
+    if (r.along_track_offset_unseen)
       out->warnings.push_back(
           out->source + ": the buoy's distance behind the vehicle (tether reach, fixes' lag) is seen only to +-" +
           Fixed(out->along_track_offset_sigma_m, 2) +
           " m on this geometry (legs all flown one way, or a spiral): a sagging tether or a clock offset "
-          "would move the map along the track by up to that; predicted_rmse_m holds what the fixes show of it");
-      // Here nothing but the fixes tells whether reach and lag may stay at
-      // their defaults, so what freeing them moved the map beyond chance
-      // (held_bias_rmse_m) is taken as error: on the stress sets, spirals
-      // with a 1 % sag or a clock offset were 2-6 times off their estimate
-      // without it; with it everywhere, transects (which see the offset)
-      // became 2-4 times too pessimistic (docs/GEOREF.md, "seventh pass").
-      AddKeyframeVariance(std::vector<double>(r.keyframe_sigma_m.size(), std::pow(r.held_bias_rmse_m, 2)), &r);
-      out->predicted_rmse_m = r.predicted_rmse_m;
-    }
+          "would move the map along the track by up to that. predicted_rmse_m includes what a clock offset of "
+          "+-" +
+          Fixed(c.options.clock_sigma_s, 2) + " s or a sag of " + Fixed(100 * c.options.sag_sigma, 1) +
+          " % may do (--clock-sigma, --sag-sigma: set them to what is known); legs flown both ways would see it");
   }
   out->current_mps = r.current_mps;
   out->current_sigma_mps = r.current_covariance.diagonal().cwiseMax(0).cwiseSqrt();

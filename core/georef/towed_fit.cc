@@ -6,6 +6,7 @@
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
 
+#include "core/georef/held_offset.h"
 #include "core/georef/towed_fit_comparison.h"
 #include "core/georef/towed_fit_problem.h"
 
@@ -217,12 +218,30 @@ TowedFitResult FitTowedBuoy(const SlamPath& path, const std::vector<double>& rea
     // alone on every fix, the depths, the priors; what no estimator of this model can beat.
     const ParamMatrix model_bound_cov = (j.transpose() * wm.asDiagonal() * j + PriorInformation(o)).inverse();
 
+    // How this fit's map would move were the reach or the lag different,
+    // the parameters it estimates following: -H_rr^-1 H_r,(k, lag) from its
+    // information (the held parameters stay held by their priors).
+    Eigen::Matrix<double, kParams, 2> per_reach_lag = Eigen::Matrix<double, kParams, 2>::Zero();
+    {
+      ParamMatrix rest = h;
+      Eigen::Matrix<double, kParams, 2> coupling;
+      coupling << h.col(7), h.col(11);
+      for (int k : {7, 11}) {
+        rest.row(k).setZero();
+        rest.col(k).setZero();
+        rest(k, k) = 1;
+        coupling.row(k).setZero();
+      }
+      per_reach_lag = -rest.ldlt().solve(coupling);
+    }
+
     const double slam_m = m.fit.scale * slam_sigma;
     double sq = 0, bound_sq = 0, model_bound_sq = 0;
     for (size_t i = 0; i < path.size(); ++i) {
       const Eigen::Matrix<double, 2, kParams> ji = problem.KeyframeJacobian(m, path.position(i));
       const double var = (ji * covariance * ji.transpose()).trace() + 2 * slam_m * slam_m;
       res.keyframe_sigma_m.push_back(std::sqrt(std::max(var, 0.0)));
+      res.shift_per_reach_lag.push_back(ji * per_reach_lag);
       sq += var;
       const Eigen::Matrix<double, 2, 7> jb = ji.leftCols<7>();
       bound_sq += (jb * bound_cov * jb.transpose()).trace();
@@ -377,7 +396,7 @@ TowedFitResult FitTowedBuoy(const SlamPath& path, const std::vector<double>& rea
     release(o, theta);
     TowedFitResult variant = held_fit(o, theta);
     if (!variant.ok) return;
-    const bool moved = MovedBeyondChance(path, variant, 1, &best);
+    const bool moved = MovedBeyondChance(path, variant, 1, best);
     if (!moved) return;
     best = std::move(variant);
     fixed = o;
@@ -404,7 +423,7 @@ TowedFitResult FitTowedBuoy(const SlamPath& path, const std::vector<double>& rea
     if (freed.ok) {
       const double scale = std::max(out.variance_factor * out.correlation_factor, 1.0);
       const double cost_drop = (best.robust_cost - freed.robust_cost) / scale;
-      const bool moved = MovedBeyondChance(path, freed, 2, &best);
+      const bool moved = MovedBeyondChance(path, freed, 2, best);
       if (moved && cost_drop > kCurrentShows) {
         best = std::move(freed);
         fixed = o;
@@ -420,9 +439,60 @@ TowedFitResult FitTowedBuoy(const SlamPath& path, const std::vector<double>& rea
     o.reach_prior_sigma = loose.reach_prior_sigma;
     theta(7) = free_theta(7);
   });
+  // The offset along the track, reach and lag together, as the fit with
+  // both free sees it. Where it is seen worse than twice the held fit's
+  // error (a spiral, legs all flown one way), the fixes alone cannot tell
+  // whether reach and lag may stay at their defaults: both are held where
+  // the offset most likely is, under the prior of a clock offset and a sag
+  // (held_offset.h), and what it may still be goes into the estimate
+  // (docs/GEOREF.md, "eighth pass").
+  std::vector<double> unseen_var;  // per keyframe, m^2
+  {
+    std::vector<double> reaches;
+    for (double x : reach_m)
+      if (x > 0) reaches.push_back(x);
+    const double c_t = Median(reaches);
+    const double speed = buoy.MedianSpeed(path.time(0), path.time(path.size() - 1));
+    const Eigen::Vector2d along(c_t * out.free_reach_factor, speed);  // d offset / d (log k, lag)
+    const Eigen::Matrix2d& free_cov = out.free_reach_lag_covariance;
+    const double offset_var = along.dot(free_cov * along);
+    best.along_track_offset_m = c_t * (out.free_reach_factor - 1) + speed * out.free_lag_s;
+    best.along_track_offset_sigma_m = std::sqrt(std::max(offset_var, 0.0));
+    best.along_track_offset_unseen = !best.reach_estimated && !best.lag_estimated && offset_var > 0 &&
+                                     best.along_track_offset_sigma_m > 2 * std::max(best.predicted_rmse_m, 0.01);
+    if (best.along_track_offset_unseen) {
+      const HeldOffsetPrior prior{std::hypot(speed * options.clock_sigma_s, c_t * options.sag_sigma),
+                                  options.exact_share};
+      const HeldOffsetPosterior offset = HeldOffset(best.along_track_offset_m, best.along_track_offset_sigma_m, prior);
+      // (log k, lag) per metre of offset, split between them as the free fit sees them
+      const Eigen::Vector2d per_metre = free_cov * along / offset_var;
+      if (offset.mean_m != 0) {
+        TowedFitOptions o = fixed;
+        Params theta = again;
+        o.reach_prior_mean_log = theta(7) = per_metre(0) * offset.mean_m;
+        o.lag_prior_mean_s = theta(11) = per_metre(1) * offset.mean_m;
+        TowedFitResult moved = held_fit(o, theta);
+        if (moved.ok) {
+          moved.along_track_offset_m = best.along_track_offset_m;
+          moved.along_track_offset_sigma_m = best.along_track_offset_sigma_m;
+          moved.along_track_offset_unseen = true;
+          best = std::move(moved);
+          best.held_offset_m = offset.mean_m;
+        }
+      }
+      for (const Eigen::Matrix2d& shift : best.shift_per_reach_lag)
+        unseen_var.push_back((shift * per_metre).squaredNorm() * std::max(offset.Variance(), 0.0));
+    }
+  }
   if (!best.current_estimated) {
     for (double& var : held_current_var) var *= kHeldCurrentShare;
     AddKeyframeVariance(held_current_var, &best);
+  }
+  if (!unseen_var.empty()) {
+    double sum = 0;
+    for (double v : unseen_var) sum += v;
+    best.unseen_offset_rmse_m = std::sqrt(sum / unseen_var.size());
+    AddKeyframeVariance(unseen_var, &best);
   }
   // The spread is over the splits of the shift along the track, the current
   // as decided: a current freed after the BICs held it would otherwise count

@@ -24,7 +24,8 @@
 // The error estimate: the parameters' covariance from the normal equations,
 // times the residuals' variance factor and their correlation in time (batch
 // means), propagated to every keyframe, plus the keyframe's SLAM noise, plus
-// a quarter of what freeing a current held at zero would add.
+// a quarter of what freeing a current held at zero would add, plus what an
+// offset along the track the fixes cannot see may still do.
 #include <vector>
 
 #include <Eigen/Core>
@@ -46,9 +47,18 @@ struct TowedFitOptions {
   double current_prior_mps = 0.1;   // on each component of a current carrying the buoy, about 0;
                                     // kept at 0 unless the data put it 3 sigmas away
   double lag_prior_s = 10;          // on the fixes' lag behind the keyframes' clock, about 0; kept at 0 likewise
-  double depth_sigma_m = 0.05;      // of a keyframe's depth
-  double settle_reaches = 2;        // fixes within this many reaches of travel after the start: widened
-  double batch_s = 30;              // batch length for the residuals' correlation
+  double reach_prior_mean_log = 0;  // where log k and the lag are held (or drawn to): their defaults,
+  double lag_prior_mean_s = 0;      // or where the buoy's offset along the track most likely is
+  // What the fixes cannot see of the buoy's offset along the track (a spiral,
+  // legs all flown one way) comes from these (held_offset.h): how well the
+  // fixes' clock is known to agree with the keyframes', how much the tether
+  // may sag (a share of its reach), and the chance that neither is there.
+  double clock_sigma_s = 1;
+  double sag_sigma = 0.02;
+  double exact_share = 0.5;
+  double depth_sigma_m = 0.05;  // of a keyframe's depth
+  double settle_reaches = 2;    // fixes within this many reaches of travel after the start: widened
+  double batch_s = 30;          // batch length for the residuals' correlation
   int max_iterations = 30;
   int min_taut_fixes = 10;
 };
@@ -70,7 +80,12 @@ struct TowedFitResult {
   // them (for a buoy in the wake both are one shift along the track).
   double free_reach_factor = 1, free_lag_s = 0;
   Eigen::Matrix2d free_reach_lag_covariance = Eigen::Matrix2d::Zero();  // of (log k, tau)
-  std::vector<bool> keyframe_taut;                                      // the model's tether at each keyframe's time
+  // Per keyframe, how this fit's map moves (east, north; m) per unit of
+  // log k (column 0) and per second of lag (column 1), the parameters it
+  // estimates following: what a reach or a lag held at its default but not
+  // there does to the map.
+  std::vector<Eigen::Matrix2d> shift_per_reach_lag;
+  std::vector<bool> keyframe_taut;       // the model's tether at each keyframe's time
   std::vector<double> keyframe_sigma_m;  // predicted horizontal error (2D RMS) per keyframe
   double predicted_rmse_m = 0;           // RMS of keyframe_sigma_m
   double gps_bound_rmse_m = 0;           // the same from the taut fixes' GPS noise alone, k and a known
@@ -80,9 +95,15 @@ struct TowedFitResult {
   double taut_model_sigma_m = 0;         // model noise added to taut fixes (waves, an imperfect model)
   double slack_model_sigma_m = 0;        // and to the others
   double residual_rms_m = 0;             // of the taut fixes kept
-  double held_bias_rmse_m = 0;           // the bias the data show in holding the reach or the current at their
-                                         // defaults (RMS over the keyframes; the georeferencer adds it to the
-                                         // estimate where the offset along the track is poorly seen)
+  // The buoy's offset along the track, c_t (k - 1) + |v| lag, as the fit
+  // with everything free sees it; where it is seen worse than twice the
+  // estimate's error and reach and lag are held, they are held where the
+  // offset most likely is (held_offset_m, held_offset.h), and what it may
+  // still be moves the map by unseen_offset_rmse_m (RMS over the keyframes,
+  // in predicted_rmse_m).
+  double along_track_offset_m = 0, along_track_offset_sigma_m = 0;
+  bool along_track_offset_unseen = false;
+  double held_offset_m = 0, unseen_offset_rmse_m = 0;
   // Where reach and lag trade with each other, the three fits (reach, lag,
   // both) are compared by BIC; this is the RMS spread (over the keyframes) of
   // their maps about the kept one, weighted by exp(-dBIC / 2); in predicted_rmse_m.

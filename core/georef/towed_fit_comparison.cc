@@ -5,20 +5,20 @@
 
 namespace seamap {
 
-bool MovedBeyondChance(const SlamPath& path, const TowedFitResult& freed, int freed_parameters, TowedFitResult* held) {
+bool MovedBeyondChance(const SlamPath& path, const TowedFitResult& freed, int freed_parameters,
+                       const TowedFitResult& held) {
   // chi-square's 3-sigma level (99.73 %) at 1 or 2 degrees of freedom, over them (the header says why)
   const double factor = freed_parameters == 1 ? 9.0 : 11.83 / 2;
   const size_t n = path.size();
-  if (held->keyframe_sigma_m.size() != n || freed.keyframe_sigma_m.size() != n) return false;
+  if (held.keyframe_sigma_m.size() != n || freed.keyframe_sigma_m.size() != n) return false;
   double shift_sq = 0, chance_sq = 0;
   for (size_t i = 0; i < n; ++i) {
     const Eigen::Vector3d x = path.position(i);
-    shift_sq += (freed.fit.Apply(x) - held->fit.Apply(x)).head<2>().squaredNorm();
-    chance_sq += std::max(std::pow(freed.keyframe_sigma_m[i], 2) - std::pow(held->keyframe_sigma_m[i], 2), 0.0);
+    shift_sq += (freed.fit.Apply(x) - held.fit.Apply(x)).head<2>().squaredNorm();
+    chance_sq += std::max(std::pow(freed.keyframe_sigma_m[i], 2) - std::pow(held.keyframe_sigma_m[i], 2), 0.0);
   }
   shift_sq /= n;
   chance_sq /= n;
-  held->held_bias_rmse_m = std::max(held->held_bias_rmse_m, std::sqrt(std::max(shift_sq - chance_sq, 0.0)));
   return shift_sq > factor * chance_sq;
 }
 

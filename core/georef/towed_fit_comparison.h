@@ -25,9 +25,9 @@ namespace seamap {
 // 0.35 m instead of 0.17 m on a transect; at 5.9 for the reach, a spiral's
 // reach pulled 3 % short (by the buoy's unknown start, under GPS noise) was
 // freed and put the map 0.8 m off (0.3 m predicted; docs/GEOREF.md,
-// "seventh pass"). Sets held->held_bias_rmse_m to what the displacement
-// shows beyond chance.
-bool MovedBeyondChance(const SlamPath& path, const TowedFitResult& freed, int freed_parameters, TowedFitResult* held);
+// "seventh pass").
+bool MovedBeyondChance(const SlamPath& path, const TowedFitResult& freed, int freed_parameters,
+                       const TowedFitResult& held);
 
 // A candidate fit and its BIC (robust cost in chi-square units + free
 // parameters x ln(observations)).

@@ -145,6 +145,14 @@ TEST_F(GeorefCli, BadInputNamesFileLineOrOption) {
                    &log),
             2);
   EXPECT_TRUE(Contains(log, "--tether-length")) << log;
+  for (const char* option : {"--clock-sigma -1", "--sag-sigma 0.9", "--clock-sigma nan"}) {
+    EXPECT_EQ(Seamap("georef --keyframes " + s + "keyframes.txt --buoy " + s +
+                         "buoy.csv --tether-length 30 --depth 3 --out " + Path("n.csv") + " " + option,
+                     &log),
+              2)
+        << option;
+    EXPECT_TRUE(Contains(log, std::string(option).substr(0, std::string(option).find(' ')))) << log;
+  }
 }
 
 TEST_F(GeorefCli, ClocksThatDoNotOverlapAreNamed) {

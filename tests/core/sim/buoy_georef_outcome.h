@@ -22,12 +22,11 @@ struct BuoyGeorefOutcome {
 };
 
 // Simulates the survey `o` (into o.out_dir) and georeferences its first submap.
-inline BuoyGeorefOutcome GeoreferenceSimulatedBuoySurvey(const BuoySurveyOptions& o) {
+inline BuoyGeorefOutcome GeoreferenceSimulatedBuoySurvey(const BuoySurveyOptions& o, GeorefOptions options = {}) {
   const BuoySurveySummary summary = SimulateBuoySurvey(o);
   const std::string dir = o.out_dir + "/";
   const BuoyLog log = ReadBuoyLog(dir + "buoy.csv");
   const LocalFrame frame(MedianPosition(log));
-  GeorefOptions options;
   options.tether_length_m = o.tether_length_m;
   options.method = GeorefMethod::kTether;
   const DepthProfile depth = DepthProfile::Samples(ReadDepthLog(dir + "depth.csv").samples);

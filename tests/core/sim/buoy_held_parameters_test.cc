@@ -37,7 +37,9 @@ class BuoyHeldParametersTest : public ::testing::Test {
     return o;
   }
 
-  Outcome Run(const BuoySurveyOptions& o) { return ::seamap::testing::GeoreferenceSimulatedBuoySurvey(o); }
+  Outcome Run(const BuoySurveyOptions& o, GeorefOptions options = {}) {
+    return ::seamap::testing::GeoreferenceSimulatedBuoySurvey(o, options);
+  }
 
   TempDir dir_;
 };
@@ -206,7 +208,11 @@ TEST_F(BuoyHeldParametersTest, TheBuoysUnknownStartDoesNotPullTheReachOnASpiral)
   }
   r.actual_m = std::sqrt(r.actual_m);
   r.predicted_m = std::sqrt(r.predicted_m);
-  EXPECT_GE(r.ratio(), 0.67);
+  // The spiral sees the buoy's offset along the track only to +-1.1 m, so
+  // the estimate carries what the prior's clock offset or sag may do
+  // (0.41 m; 0.13 m held at the default): pessimistic here, where there is
+  // none; no fix can tell (docs/GEOREF.md, "eighth pass").
+  EXPECT_GE(r.ratio(), 0.25);
   EXPECT_LE(r.ratio(), 1.5);
 }
 
@@ -242,13 +248,15 @@ TEST_F(BuoyHeldParametersTest, ACurrentFreedAfterTheSplitsHeldItIsNotCountedTwic
   EXPECT_GT(out.submap.predicted_rmse_m, out.rmse_m);
 }
 
-TEST_F(BuoyHeldParametersTest, WhereTheOffsetAlongTheTrackIsUnseenTheHeldBiasIsInTheEstimate) {
-  // Stress survey 10, GPS draw 1: a 43.5 m tether round a spiral, fixes
-  // stamped 1.56 s late, a 0.038 m/s current. On a spiral the buoy's
-  // distance behind is seen only to +-1 m, so reach and lag stay held; the
-  // map is 0.77 m off, and freeing the reach moves it 0.79 m beyond chance.
-  // That is now in predicted_rmse_m (0.13 m without it); a transect, which
-  // sees the offset, keeps its estimate (CurrentNotShownStaysHeld... above).
+TEST_F(BuoyHeldParametersTest, WhereTheOffsetAlongTheTrackIsUnseenItIsHeldWhereMostLikelyAndInTheEstimate) {
+  // Stress survey 10: a 43.5 m tether round a spiral, fixes stamped 1.56 s
+  // late (0.69 m along the track), a 0.038 m/s current. On a spiral the
+  // buoy's distance behind is seen only to +-1 m, so reach and lag stay
+  // held. Held at their defaults the map was 0.77 and 0.62 m off, predicted
+  // 0.80 and 0.13 m. Now they are held where the offset most likely is,
+  // given the fit's estimate and the prior of a 1 s clock offset or a 2 %
+  // sag, and what it may still be is in predicted_rmse_m: over the two GPS
+  // draws the estimate is calibrated.
   BuoySurveyOptions o = Transect();
   o.pattern = "spiral";
   o.speed_mps = 0.44;
@@ -267,14 +275,34 @@ TEST_F(BuoyHeldParametersTest, WhereTheOffsetAlongTheTrackIsUnseenTheHeldBiasIsI
   o.multipath_m = 25;
   o.keyframe_interval_s = 2.98;
   o.seed = 10;
+  DrawsRatio r;
+  for (int draw = 1; draw <= 2; ++draw) {
+    o.gps_seed = draw;
+    const Outcome out = Run(o);
+    ASSERT_FALSE(out.submap.warnings.empty());
+    EXPECT_NE(out.submap.warnings.front().find("seen only to"), std::string::npos);
+    EXPECT_GT(out.submap.unseen_offset_rmse_m, 0.3) << "draw " << draw;
+    EXPECT_GE(out.submap.predicted_rmse_m, out.submap.unseen_offset_rmse_m);
+    r.actual_m += out.rmse_m * out.rmse_m / 2;
+    r.predicted_m += out.submap.predicted_rmse_m * out.submap.predicted_rmse_m / 2;
+  }
+  r.actual_m = std::sqrt(r.actual_m);
+  r.predicted_m = std::sqrt(r.predicted_m);
+  EXPECT_GE(r.ratio(), 0.67);
+  EXPECT_LE(r.ratio(), 1.5);
+
+  // An operator who says the clocks agree and the tether is taut gets the
+  // defaults held and nothing added: here that is wrong (fixes 1.56 s
+  // late), and the map is 0.77 m off, predicted far less.
   o.gps_seed = 1;
-  const Outcome out = Run(o);
-  ASSERT_FALSE(out.submap.warnings.empty());
-  EXPECT_NE(out.submap.warnings.front().find("seen only to"), std::string::npos);
-  EXPECT_GT(out.submap.held_bias_rmse_m, 0.3);
-  EXPECT_GE(out.submap.predicted_rmse_m, out.submap.held_bias_rmse_m);
-  EXPECT_GE(out.rmse_m / out.submap.predicted_rmse_m, 0.67);
-  EXPECT_LE(out.rmse_m / out.submap.predicted_rmse_m, 1.5);
+  GeorefOptions known;
+  known.clock_sigma_s = 0;
+  known.sag_sigma = 0;
+  const Outcome held = Run(o, known);
+  EXPECT_EQ(held.submap.unseen_offset_rmse_m, 0);
+  EXPECT_EQ(held.submap.held_offset_m, 0);
+  EXPECT_NEAR(held.submap.reach_factor, 1, 1e-6);
+  EXPECT_GT(held.rmse_m, 0.6);
 }
 
 }  // namespace

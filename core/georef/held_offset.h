@@ -1,0 +1,31 @@
+#pragma once
+// What the buoy's offset along the track may do to a map whose fit held it
+// at its default (the straight tether's reach, no lag). On a spiral, or legs
+// all flown one way, the fixes barely see that offset (a sagging tether, a
+// clock offset: the buoy further behind), and the map moves with it. The
+// fit with reach and lag free gives its estimate and standard error; the
+// prior says the default is exact with probability exact_share and else
+// off by N(0, sigma_m^2) (a spike and a slab: most surveys are as given,
+// some are not). docs/GEOREF.md, "Issue 31, eighth pass".
+
+namespace seamap {
+
+struct HeldOffsetPrior {
+  double sigma_m = 0;        // the offset where the default is not exact: clock offset and sag together
+  double exact_share = 0.5;  // the probability that the default is exact
+};
+
+struct HeldOffsetPosterior {
+  double mean_m = 0;          // E[offset | the estimate]: where to hold it
+  double mean_square_m2 = 0;  // E[offset^2 | the estimate]
+  double Variance() const { return mean_square_m2 - mean_m * mean_m; }
+};
+
+// Given the free fit's estimate offset_m +- sigma_m: the mean square is small
+// where the fixes see the offset and show none, the prior's where they see
+// nothing, about offset_m^2 where they show one; the mean goes from 0 to
+// offset_m likewise. Both 0 where prior.sigma_m is 0 (the operator knows
+// reach and clock).
+HeldOffsetPosterior HeldOffset(double offset_m, double sigma_m, const HeldOffsetPrior& prior);
+
+}  // namespace seamap

@@ -70,7 +70,6 @@ nlohmann::json SubmapReport(const SubmapGeoref& s) {
                          {"along_track_offset_sigma_m", s.along_track_offset_sigma_m},
                          {"reach_lag_correlation", s.reach_lag_correlation},
                          {"reach_lag_separable", s.reach_lag_separable},
-                         {"held_offset_m", s.held_offset_m},
                          {"unseen_offset_rmse_m", s.unseen_offset_rmse_m},
                          {"selection_spread_rmse_m", s.selection_spread_rmse_m},
                          {"wake_share", s.wake_share},

@@ -321,7 +321,6 @@ void FitTether(const SubmapContext& c, const std::vector<Keyframe>& keyframes, S
     const double scale = std::sqrt(std::max(cov(0, 0) * cov(1, 1), 1e-300));
     out->reach_lag_correlation = cov(0, 1) / scale;
     out->reach_lag_separable = std::fabs(out->reach_lag_correlation) < 0.9;
-    out->held_offset_m = r.held_offset_m;
     out->unseen_offset_rmse_m = r.unseen_offset_rmse_m;
     out->selection_spread_rmse_m = r.selection_spread_rmse_m;
     if (r.along_track_offset_unseen)

@@ -67,8 +67,7 @@ struct SubmapGeoref {
   double along_track_offset_m = 0, along_track_offset_sigma_m = 0;
   double reach_lag_correlation = 0;    // in the free fit
   bool reach_lag_separable = true;     // |correlation| < 0.9
-  double held_offset_m = 0;            // towed_fit.h: where reach and lag were held, where unseen
-  double unseen_offset_rmse_m = 0;     // and what the offset may still do to the map
+  double unseen_offset_rmse_m = 0;     // towed_fit.h: what an offset along the track no fix shows may do
   double selection_spread_rmse_m = 0;  // towed_fit.h: reach, lag or both, where they trade
   bool current_estimated = false, wake_estimated = false, lag_estimated = false;
   double wake_share = 0, wake_share_sigma = 0;

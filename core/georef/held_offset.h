@@ -15,17 +15,10 @@ struct HeldOffsetPrior {
   double exact_share = 0.5;  // the probability that the default is exact
 };
 
-struct HeldOffsetPosterior {
-  double mean_m = 0;          // E[offset | the estimate]: where to hold it
-  double mean_square_m2 = 0;  // E[offset^2 | the estimate]
-  double Variance() const { return mean_square_m2 - mean_m * mean_m; }
-};
-
-// Given the free fit's estimate offset_m +- sigma_m: the mean square is small
-// where the fixes see the offset and show none, the prior's where they see
-// nothing, about offset_m^2 where they show one; the mean goes from 0 to
-// offset_m likewise. Both 0 where prior.sigma_m is 0 (the operator knows
-// reach and clock).
-HeldOffsetPosterior HeldOffset(double offset_m, double sigma_m, const HeldOffsetPrior& prior);
+// E[offset^2 | the free fit's estimate offset_m +- sigma_m], in m^2: small
+// where the fixes see the offset and show none, the prior's share where
+// they see nothing, about offset_m^2 where they show one. 0 where
+// prior.sigma_m is 0 (the operator knows reach and clock).
+double HeldOffsetMeanSquare(double offset_m, double sigma_m, const HeldOffsetPrior& prior);
 
 }  // namespace seamap

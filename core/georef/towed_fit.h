@@ -47,8 +47,6 @@ struct TowedFitOptions {
   double current_prior_mps = 0.1;   // on each component of a current carrying the buoy, about 0;
                                     // kept at 0 unless the data put it 3 sigmas away
   double lag_prior_s = 10;          // on the fixes' lag behind the keyframes' clock, about 0; kept at 0 likewise
-  double reach_prior_mean_log = 0;  // where log k and the lag are held (or drawn to): their defaults,
-  double lag_prior_mean_s = 0;      // or where the buoy's offset along the track most likely is
   // What the fixes cannot see of the buoy's offset along the track (a spiral,
   // legs all flown one way) comes from these (held_offset.h): how well the
   // fixes' clock is known to agree with the keyframes', how much the tether
@@ -97,13 +95,12 @@ struct TowedFitResult {
   double residual_rms_m = 0;             // of the taut fixes kept
   // The buoy's offset along the track, c_t (k - 1) + |v| lag, as the fit
   // with everything free sees it; where it is seen worse than twice the
-  // estimate's error and reach and lag are held, they are held where the
-  // offset most likely is (held_offset_m, held_offset.h), and what it may
-  // still be moves the map by unseen_offset_rmse_m (RMS over the keyframes,
-  // in predicted_rmse_m).
+  // estimate's error and reach and lag are held (unseen), what it may be
+  // under the prior (held_offset.h) moves the held map by
+  // unseen_offset_rmse_m (RMS over the keyframes, in predicted_rmse_m).
   double along_track_offset_m = 0, along_track_offset_sigma_m = 0;
   bool along_track_offset_unseen = false;
-  double held_offset_m = 0, unseen_offset_rmse_m = 0;
+  double unseen_offset_rmse_m = 0;
   // Where reach and lag trade with each other, the three fits (reach, lag,
   // both) are compared by BIC; this is the RMS spread (over the keyframes) of
   // their maps about the kept one, weighted by exp(-dBIC / 2); in predicted_rmse_m.

@@ -255,7 +255,7 @@ void FitTether(const SubmapContext& c, const std::vector<Keyframe>& keyframes, S
   to.min_taut_fixes = c.options.min_good_keyframes;
   to.clock_sigma_s = c.options.clock_sigma_s;
   to.sag_sigma = c.options.sag_sigma;
-  TowedFitResult r = FitTowedBuoy(c.path, c.reach_m, depth, c.buoy, start, c.path.NoiseSigma(), to);
+  const TowedFitResult r = FitTowedBuoy(c.path, c.reach_m, depth, c.buoy, start, c.path.NoiseSigma(), to);
 
   std::vector<std::string> reasons(n);
   std::vector<Eigen::Vector3d> slam;

@@ -9,6 +9,7 @@
 #include "core/georef/held_offset.h"
 #include "core/georef/towed_fit_comparison.h"
 #include "core/georef/towed_fit_problem.h"
+#include "core/util/statistics.h"
 
 namespace seamap {
 namespace {
@@ -33,13 +34,6 @@ constexpr double kCurrentShows = 6.18;
 // stress set (docs/GEOREF.md, "fifth pass"): a quarter to 0.3 brings that
 // survey inside 0.67-1.5 and none below it; 0.35 puts one below.
 constexpr double kHeldCurrentShare = 0.25;
-
-double Median(std::vector<double> values) {
-  if (values.empty()) return 0;
-  const size_t mid = values.size() / 2;
-  std::nth_element(values.begin(), values.begin() + mid, values.end());
-  return values[mid];
-}
 
 // One way to split the buoy's shift along the track between the reach and
 // the lag (reach only, lag only, both) and its fit.
@@ -476,12 +470,7 @@ TowedFitResult FitTowedBuoy(const SlamPath& path, const std::vector<double>& rea
     for (double& var : held_current_var) var *= kHeldCurrentShare;
     AddKeyframeVariance(held_current_var, &best);
   }
-  if (!unseen_var.empty()) {
-    double sum = 0;
-    for (double v : unseen_var) sum += v;
-    best.unseen_offset_rmse_m = std::sqrt(sum / unseen_var.size());
-    AddKeyframeVariance(unseen_var, &best);
-  }
+  if (!unseen_var.empty()) best.unseen_offset_rmse_m = AddKeyframeVariance(unseen_var, &best);
   // The spread is over the splits of the shift along the track, the current
   // as decided: a current freed after the BICs held it would otherwise count
   // twice, once freed and once as the held candidates' distance from it
@@ -493,16 +482,18 @@ TowedFitResult FitTowedBuoy(const SlamPath& path, const std::vector<double>& rea
   return best;
 }
 
-void AddKeyframeVariance(const std::vector<double>& extra_variance_m2, TowedFitResult* fit) {
+double AddKeyframeVariance(const std::vector<double>& extra_variance_m2, TowedFitResult* fit) {
   const size_t n = fit->keyframe_sigma_m.size();
-  if (extra_variance_m2.size() != n) return;
-  double sq = 0;
+  if (extra_variance_m2.size() != n || n == 0) return 0;
+  double sq = 0, extra = 0;
   for (size_t i = 0; i < n; ++i) {
     double& sigma = fit->keyframe_sigma_m[i];
     sigma = std::sqrt(sigma * sigma + extra_variance_m2[i]);
     sq += sigma * sigma;
+    extra += extra_variance_m2[i];
   }
-  fit->predicted_rmse_m = std::sqrt(sq / std::max<size_t>(n, 1));
+  fit->predicted_rmse_m = std::sqrt(sq / n);
+  return std::sqrt(extra / n);
 }
 
 Similarity WakeStart(const SlamPath& path, const std::vector<double>& reach_m, const std::vector<double>& depth_m,

@@ -113,9 +113,10 @@ struct TowedFitResult {
 
 // Adds extra_variance_m2[i] (m^2) to keyframe i's predicted error and
 // recomputes predicted_rmse_m from them: the estimate's additions (a held
-// current's share, the candidate fits' spread, a held bias). Nothing when the
-// sizes differ.
-void AddKeyframeVariance(const std::vector<double>& extra_variance_m2, TowedFitResult* fit);
+// current's share, the candidate fits' spread, an unseen offset along the
+// track). Returns the addition's RMS over the keyframes (m); nothing, and 0,
+// when the sizes differ.
+double AddKeyframeVariance(const std::vector<double>& extra_variance_m2, TowedFitResult* fit);
 
 // reach_m: per keyframe, the straight tether's horizontal reach (0 where
 // unknown); depth_m: per keyframe, NAN where unknown. slam_sigma: the SLAM

@@ -31,17 +31,14 @@ void AddSelectionSpread(const SlamPath& path, const std::vector<WeighedFit>& can
   double total = 0;
   for (const WeighedFit& c : candidates) total += weight.emplace_back(std::exp(-(c.bic - bic_min) / 2));
   std::vector<double> spread_sq(n, 0.0);  // per keyframe, m^2
-  double spread_sum = 0;
   for (size_t i = 0; i < n; ++i) {
     const Eigen::Vector3d x = path.position(i);
     const Eigen::Vector2d kept = best->fit.Apply(x).head<2>();
     for (size_t m = 0; m < candidates.size(); ++m)
       spread_sq[i] += weight[m] * (candidates[m].fit->fit.Apply(x).head<2>() - kept).squaredNorm();
     spread_sq[i] /= total;
-    spread_sum += spread_sq[i];
   }
-  best->selection_spread_rmse_m = std::sqrt(spread_sum / std::max<size_t>(n, 1));
-  AddKeyframeVariance(spread_sq, best);
+  best->selection_spread_rmse_m = AddKeyframeVariance(spread_sq, best);
 }
 
 }  // namespace seamap

@@ -32,10 +32,14 @@
 # without current, sag and clock offset, so that the fit's model is exactly
 # right: the share inside 0.67-1.5 there is what a calibrated estimate of a
 # few parameters' error reaches, the reference for the set with them.
+# SEAMAP_GEOREF_OPTIONS: more options for every `seamap georef` the bench
+# runs, e.g. the stress set's own prior on what a spiral cannot see
+# ("--clock-sigma 1.8 --sag-sigma 0.036", docs/GEOREF.md, "ninth pass").
 set -euo pipefail
 seamap="$1" out="$2" seeds="${3:-20}" only="${4:-.}"
 mkdir -p "$out"
 rows="$out/rows.txt"
+read -r -a georef_options <<<"${SEAMAP_GEOREF_OPTIONS:-}"
 : >"$rows"
 
 
@@ -61,7 +65,7 @@ variations=(
 georef() {  # survey dir, tether length, method -> "rmse predicted bound model_bound" (or nan)
   local s="$1" rc=0
   "$seamap" georef --keyframes "$s/keyframes.txt" --buoy "$s/buoy.csv" --tether-length "$2" --depth-csv "$s/depth.csv" \
-    --method "$3" --out "$s/nav_$3.csv" --report "$s/report_$3.json" --quiet >/dev/null 2>&1 || rc=$?
+    --method "$3" --out "$s/nav_$3.csv" --report "$s/report_$3.json" --quiet "${georef_options[@]}" >/dev/null 2>"$s/georef_$3.err" || rc=$?
   if [ "$rc" != 0 ]; then echo "nan nan nan nan"; return; fi
   "$seamap" georef-eval --nav "$s/nav_$3.csv" --truth "$s" --json "$s/eval_$3.json" >/dev/null 2>&1
   python3 -c 'import json,sys; e,r=json.load(open(sys.argv[1])),json.load(open(sys.argv[2]));
@@ -114,7 +118,7 @@ PY
       echo "$i $draw $(georef "$s" "$tether" tether)" >>"$rows"
     done
   done <"$out/stress_surveys.txt"
-  python3 - "$rows" "$out/stress_surveys.txt" <<'PY'
+  python3 - "$rows" "$out/stress_surveys.txt" "$s/georef_tether.err" <<'PY'
 import math, statistics as st, sys
 args = dict(l.rstrip("\n").split("|", 2)[0::2] for l in open(sys.argv[2]))
 by = {}
@@ -136,6 +140,8 @@ for i, v in by.items():
     surveys.append(a / p)
     flag = "" if 0.67 <= a / p <= 1.5 else "  <- outside"
     print(f"survey {i:>3}: actual {a:.3f} m, predicted {p:.3f} m, ratio {a / p:.2f}{flag} | {args[i]}")
+if not surveys:
+    sys.exit("no run was georeferenced; the last seamap georef said: " + open(sys.argv[3]).read().strip())
 summary(f"{len(surveys)} surveys (RMS over their GPS draws)", surveys)
 summary(f"{len(singles)} single runs", singles)
 runs = [x for v in by.values() for x in v if not math.isnan(x[0]) and x[1] > 0]

@@ -204,7 +204,7 @@ Eigen::Matrix<double, 2, kParams> Problem::KeyframeJacobian(const Model& m, cons
   return j.topRows<2>();
 }
 
-// The priors: log k about 0, the wake share about 0.5.
+// The priors: log k, the current and the lag about 0, the wake share about its mean.
 ParamMatrix PriorInformation(const TowedFitOptions& o) {
   ParamMatrix p = ParamMatrix::Zero();
   p(7, 7) = 1 / (o.reach_prior_sigma * o.reach_prior_sigma);
@@ -216,10 +216,8 @@ ParamMatrix PriorInformation(const TowedFitOptions& o) {
 
 Params PriorOffset(const Params& theta, const TowedFitOptions& o) {
   Params d = Params::Zero();
-  d(7) = theta(7);
-  d(8) = theta(8) - o.wake_prior_mean;
-  d.segment<2>(9) = theta.segment<2>(9);
-  d(11) = theta(11);
+  d.tail<kParams - 7>() = theta.tail<kParams - 7>();  // log k, wake share, current, lag
+  d(8) -= o.wake_prior_mean;
   return d;
 }
 

@@ -100,10 +100,9 @@ TEST_F(BuoyHeldParametersTest, CurrentThatShowsOnceReachAndLagAreHeldIsFreed) {
   EXPECT_GE(out.submap.predicted_rmse_m, out.rmse_m / 1.5);
 }
 
-// A survey's actual / predicted error over its GPS draws (RMS each): one
-// run's error is one draw of a few parameters (docs/GEOREF.md, second pass).
 // A survey's actual over predicted error, each the RMS over its GPS draws
-// (the stress bench's criterion).
+// (the stress bench's criterion): one run's error is one draw of a few
+// parameters (docs/GEOREF.md, second pass).
 struct DrawsRatio {
   double actual_sq = 0, predicted_sq = 0;
   void Add(const Outcome& out) {
